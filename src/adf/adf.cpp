@@ -1,0 +1,238 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file adf.cpp
+/// @brief Snapshot lookup, trilinear reconstruction, copy-on-write building and the accessor.
+#include "adf/adf.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <cassert>
+#include <stdexcept>
+#include <unordered_set>
+
+namespace kizamu::adf {
+
+namespace {
+
+/// Trilinear value and analytic gradient (per unit of the local [0,1]^3 coordinates).
+inline Sample trilinear(const float* v, const glm::vec3& f) {
+    const float a00 = v[0] + f.x * (v[1] - v[0]);
+    const float a10 = v[2] + f.x * (v[3] - v[2]);
+    const float a01 = v[4] + f.x * (v[5] - v[4]);
+    const float a11 = v[6] + f.x * (v[7] - v[6]);
+    const float b0 = a00 + f.y * (a10 - a00);
+    const float b1 = a01 + f.y * (a11 - a01);
+    const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
+    const float gx0 = dx00 + f.y * (dx10 - dx00);
+    const float gx1 = dx01 + f.y * (dx11 - dx01);
+    const float gy0 = a10 - a00, gy1 = a11 - a01;
+    Sample s;
+    s.distance = b0 + f.z * (b1 - b0);
+    s.gradient = {gx0 + f.z * (gx1 - gx0), gy0 + f.z * (gy1 - gy0), b1 - b0};
+    return s;
+}
+
+/// Lattice coordinates of `pWorld`, clamped into the domain; `outside` gets the clamped-off
+/// distance in lattice units.
+inline glm::vec3 toLattice(const Adf& adf, const glm::vec3& pWorld, float& outside) {
+    const glm::vec3 u = (pWorld - adf.originWorldF()) * adf.latticePerMetre();
+    const float top = float(adf.domain().latticeSize()) * (1.0f - 1e-7f);
+    const glm::vec3 c = glm::clamp(u, glm::vec3(0.0f), glm::vec3(top));
+    outside = (c == u) ? 0.0f : glm::length(u - c);
+    return c;
+}
+
+}  // namespace
+
+LeafRef Adf::findLeaf(glm::uvec3 p) const {
+    const int tileShift = mDomain.maxLevel - mDomain.tileLevel();
+    const Tile* tile = tileAtSlot(p >> uint32_t(tileShift));
+    const uint32_t* nodes = tile->nodes();
+    uint32_t w = nodes[0];
+    int level = tile->level();
+    while (!node::isLeaf(w)) {
+        const int shift = mDomain.maxLevel - level - 1;
+        const uint32_t child =
+            ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
+        w = nodes[w + child];
+        ++level;
+    }
+    LeafRef r;
+    r.tile = tile;
+    const int cellShift = mDomain.maxLevel - level;
+    r.latticeOrigin = (p >> uint32_t(cellShift)) << uint32_t(cellShift);
+    r.latticeSize = 1u << cellShift;
+    r.leaf = node::leafIndex(w);
+    r.type = node::leafType(w);
+    r.level = level;
+    return r;
+}
+
+Sample Adf::sample(const glm::vec3& pWorld) const {
+    float outside;
+    const glm::vec3 u = toLattice(*this, pWorld, outside);
+    const LeafRef leaf = findLeaf(glm::uvec3(u));
+    float v[8];
+    const int16_t* q = leaf.tile->corners() + 8 * leaf.leaf;
+    const float scale = leaf.tile->scale();
+    for (int c = 0; c < 8; ++c) v[c] = float(q[c]) * scale;
+    const float inv = 1.0f / float(leaf.latticeSize);
+    Sample s = trilinear(v, (u - glm::vec3(leaf.latticeOrigin)) * inv);
+    s.gradient *= inv * mLatticePerMetre;
+    s.distance += outside * mMetresPerLattice;
+    return s;
+}
+
+Sample AdfAccessor::sample(const glm::vec3& pWorld) {
+    float outside;
+    const glm::vec3 u = toLattice(*mAdf, pWorld, outside);
+    const glm::uvec3 p(u);
+    const glm::uvec3 rel = p - mOrigin;  // wraps around when below the origin
+    if (rel.x >= mSize || rel.y >= mSize || rel.z >= mSize) {
+        const LeafRef leaf = mAdf->findLeaf(p);
+        const int16_t* q = leaf.tile->corners() + 8 * leaf.leaf;
+        const float scale = leaf.tile->scale();
+        for (int c = 0; c < 8; ++c) mCorners[c] = float(q[c]) * scale;
+        mOrigin = leaf.latticeOrigin;
+        mSize = leaf.latticeSize;
+        mInvSize = 1.0f / float(mSize);
+    }
+    Sample s = trilinear(mCorners, (u - glm::vec3(mOrigin)) * mInvSize);
+    s.gradient *= mInvSize * mAdf->latticePerMetre();
+    s.distance += outside * mAdf->metresPerLattice();
+    return s;
+}
+
+void Adf::forEachTile(const std::function<void(const Tile&)>& fn) const {
+    const uint32_t n = mDomain.slotsPerAxis();
+    for (uint32_t z = 0; z < n; ++z)
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x) {
+                const Tile* t = tileAtSlot({x, y, z});
+                // A tile is visited at the slot of its own origin only.
+                const glm::uvec3 first = t->latticeOrigin() >> uint32_t(mDomain.tileSpan());
+                if (first == glm::uvec3(x, y, z)) fn(*t);
+            }
+}
+
+Adf::Stats Adf::computeStats() const {
+    Stats s;
+    forEachTile([&](const Tile& t) {
+        ++s.tiles;
+        if (t.level() < mDomain.tileLevel()) ++s.coarseTiles;
+        s.cells += t.leafCount();
+        s.nodes += t.nodeCount();
+        s.tileBytes += t.bytes();
+    });
+    s.tableBytes = mRoot.size() * (sizeof(uintptr_t) + sizeof(ChunkPtr) + sizeof(TilePtr));
+    std::unordered_set<const void*> chunks;
+    for (const auto& c : mChunkOwners)
+        if (c && chunks.insert(c.get()).second) s.tableBytes += sizeof(Chunk);
+    return s;
+}
+
+// ---- builder ----
+
+AdfBuilder::AdfBuilder(const Domain& domain, const GenerationSettings& settings)
+    : mAdf(new Adf()) {
+    if (!domain.valid()) throw std::invalid_argument("invalid ADF domain");
+    Adf& a = *mAdf;
+    a.mDomain = domain;
+    a.mSettings = settings;
+    a.mChunkLevels = std::min(3, domain.tileLevel());
+    a.mChunkDim = 1u << a.mChunkLevels;
+    a.mRootDim = 1u << (domain.tileLevel() - a.mChunkLevels);
+    const std::size_t rootSize = std::size_t(a.mRootDim) * a.mRootDim * a.mRootDim;
+    a.mRoot.assign(rootSize, 0);
+    a.mChunkOwners.resize(rootSize);
+    a.mRootTileOwners.resize(rootSize);
+    a.mOriginF = glm::vec3(domain.originWorld);
+    a.mLatticePerMetre = float(double(domain.latticeSize()) / domain.sizeWorld);
+    a.mMetresPerLattice = float(domain.finestCellSize());
+}
+
+AdfBuilder::AdfBuilder(const Adf& base) : mAdf(new Adf(base)) {
+    mOwnChunks.assign(mAdf->mRoot.size(), nullptr);
+}
+
+void AdfBuilder::setTile(TilePtr tile) {
+    Adf& a = *mAdf;
+    if (mOwnChunks.size() != a.mRoot.size()) mOwnChunks.resize(a.mRoot.size());
+    const Domain& d = a.mDomain;
+    assert(tile->level() <= d.tileLevel());
+    const int span = d.tileSpan();
+    const glm::uvec3 slot0 = tile->latticeOrigin() >> uint32_t(span);
+    const uint32_t slots = 1u << (d.tileLevel() - tile->level());
+    const uint32_t cd = a.mChunkDim;
+    if (slots >= cd) {
+        // The tile covers whole chunks: tag the root entries.
+        const glm::uvec3 r0 = slot0 / cd;
+        const uint32_t rn = slots / cd;
+        for (uint32_t z = r0.z; z < r0.z + rn; ++z)
+            for (uint32_t y = r0.y; y < r0.y + rn; ++y)
+                for (uint32_t x = r0.x; x < r0.x + rn; ++x) {
+                    const std::size_t i = (std::size_t(z) * a.mRootDim + y) * a.mRootDim + x;
+                    a.mRoot[i] = reinterpret_cast<uintptr_t>(tile.get()) | 1u;
+                    a.mRootTileOwners[i] = tile;
+                    a.mChunkOwners[i] = nullptr;
+                    mOwnChunks[i] = nullptr;
+                }
+        return;
+    }
+    // Inside one chunk: copy it on first write.
+    const glm::uvec3 r = slot0 / cd;
+    const std::size_t ri = (std::size_t(r.z) * a.mRootDim + r.y) * a.mRootDim + r.x;
+    Chunk* chunk = mOwnChunks[ri].get();
+    if (!chunk) {
+        auto fresh = std::make_shared<Chunk>();
+        const uintptr_t e = a.mRoot[ri];
+        if (e & 1u) {
+            const TilePtr& owner = a.mRootTileOwners[ri];
+            fresh->tiles.fill(owner.get());
+            fresh->owners.fill(owner);
+        } else if (e != 0) {
+            *fresh = *reinterpret_cast<const Chunk*>(e);
+        }
+        chunk = fresh.get();
+        mOwnChunks[ri] = fresh;
+        a.mRoot[ri] = reinterpret_cast<uintptr_t>(chunk);
+        a.mChunkOwners[ri] = fresh;
+        a.mRootTileOwners[ri] = nullptr;
+    }
+    const glm::uvec3 c0 = slot0 % cd;
+    for (uint32_t z = c0.z; z < c0.z + slots; ++z)
+        for (uint32_t y = c0.y; y < c0.y + slots; ++y)
+            for (uint32_t x = c0.x; x < c0.x + slots; ++x) {
+                const std::size_t i = (std::size_t(z) * cd + y) * cd + x;
+                chunk->tiles[i] = tile.get();
+                chunk->owners[i] = tile;
+            }
+}
+
+const Tile* AdfBuilder::tileAtSlot(glm::uvec3 slot) const {
+    const Adf& a = *mAdf;
+    const glm::uvec3 r = slot / a.mChunkDim;
+    const uintptr_t e = a.mRoot[(r.z * a.mRootDim + r.y) * a.mRootDim + r.x];
+    if (e == 0) return nullptr;
+    if (e & 1u) return reinterpret_cast<const Tile*>(e & ~uintptr_t(1));
+    const glm::uvec3 c = slot % a.mChunkDim;
+    return reinterpret_cast<const Chunk*>(e)->tiles[(c.z * a.mChunkDim + c.y) * a.mChunkDim + c.x];
+}
+
+AdfPtr AdfBuilder::build(uint64_t version) {
+    Adf& a = *mAdf;
+    for (std::size_t i = 0; i < a.mRoot.size(); ++i) {
+        if (a.mRoot[i] == 0) throw std::logic_error("ADF builder: a chunk was never assigned");
+        if (a.mRoot[i] & 1u) continue;
+        const auto& tiles = reinterpret_cast<const Chunk*>(a.mRoot[i])->tiles;
+        for (std::size_t j = 0; j < std::size_t(a.mChunkDim) * a.mChunkDim * a.mChunkDim; ++j)
+            if (!tiles[j]) throw std::logic_error("ADF builder: a tile slot was never assigned");
+    }
+    a.mVersion = version;
+    mOwnChunks.clear();
+    AdfPtr out = std::move(mAdf);
+    mAdf.reset();
+    return out;
+}
+
+}  // namespace kizamu::adf

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file adf.h
+/// @brief An immutable ADF snapshot: the tile table and distance/gradient reconstruction.
+///
+/// A snapshot maps every tile slot of the domain to a tile (a coarse tile above the tile level
+/// covers many slots). The table has two levels, a root array and chunks of up to 8^3 slots,
+/// so that an edit copies only the chunks it touches. Snapshots and the tiles they point to
+/// are immutable: every thread may query one concurrently, and the haptic thread does so with
+/// an AdfAccessor. Reconstruction is trilinear in the leaf cell (Kizamu 2.1, Frisken et al.),
+/// and the gradient is the analytic derivative of that trilinear function.
+#pragma once
+
+#include "adf/domain.h"
+#include "adf/error_bound.h"
+#include "adf/tile.h"
+
+#include <glm/vec3.hpp>
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <vector>
+
+namespace kizamu::adf {
+
+/// Distance (m, negative inside) and its gradient (unit-less, about unit length near the surface).
+struct Sample {
+    float distance = 0.0f;
+    glm::vec3 gradient{0.0f};
+};
+
+/// A leaf cell found by a lookup: its tile, its extent in lattice units and its leaf index.
+struct LeafRef {
+    const Tile* tile = nullptr;
+    glm::uvec3 latticeOrigin{0};
+    uint32_t latticeSize = 0;
+    uint32_t leaf = 0;
+    CellType type = CellType::Exterior;
+    int level = 0;
+};
+
+/// A block of up to 8^3 tile slots. Immutable once published.
+struct Chunk {
+    static constexpr int kMaxDim = 8;
+    std::array<const Tile*, 512> tiles{};  ///< what readers use
+    std::array<TilePtr, 512> owners{};     ///< keeps them alive (writer side only)
+};
+using ChunkPtr = std::shared_ptr<const Chunk>;
+
+class AdfBuilder;
+
+/// One immutable version of the field. Owned by std::shared_ptr on the writer side; readers
+/// reach it through SnapshotStore guards or plain references and never touch reference counts.
+class Adf {
+public:
+    const Domain& domain() const { return mDomain; }
+    const GenerationSettings& settings() const { return mSettings; }
+    uint64_t version() const { return mVersion; }
+
+    /// Tile covering tile slot `slot` (never null in a built snapshot).
+    /// Complexity: O(1), two dependent loads. Threading: any thread. Memory: none.
+    const Tile* tileAtSlot(glm::uvec3 slot) const {
+        const glm::uvec3 r = slot >> uint32_t(mChunkLevels);
+        const uintptr_t e = mRoot[(r.z * mRootDim + r.y) * mRootDim + r.x];
+        if (e & 1u) return reinterpret_cast<const Tile*>(e & ~uintptr_t(1));
+        const glm::uvec3 c = slot & (mChunkDim - 1);
+        return reinterpret_cast<const Chunk*>(e)->tiles[(c.z * mChunkDim + c.y) * mChunkDim + c.x];
+    }
+
+    /// Leaf cell containing lattice point `p` (each coordinate < latticeSize()).
+    /// Complexity: O(tile span) node loads. Threading: any thread. Memory: none.
+    LeafRef findLeaf(glm::uvec3 p) const;
+
+    /// Distance and gradient at `pWorld` (m). Outside the domain the distance grows by the
+    /// distance to the domain and the gradient is the one at the nearest domain point.
+    /// Complexity: O(tile span). Threading: any thread. Memory: none. For coherent queries
+    /// use AdfAccessor, which skips the lookup while the point stays in the same leaf.
+    Sample sample(const glm::vec3& pWorld) const;
+    float distance(const glm::vec3& pWorld) const { return sample(pWorld).distance; }
+
+    /// Calls `fn` once for every distinct tile (coarse tiles once, not once per slot), in slot order.
+    void forEachTile(const std::function<void(const Tile&)>& fn) const;
+
+    /// Totals over distinct tiles.
+    struct Stats {
+        std::size_t tiles = 0;        ///< distinct tiles
+        std::size_t coarseTiles = 0;  ///< tiles above the tile level
+        std::size_t cells = 0;        ///< leaf cells
+        std::size_t nodes = 0;        ///< node words (leaves and internal)
+        std::size_t tileBytes = 0;    ///< bytes of all tile blocks
+        std::size_t tableBytes = 0;   ///< root array and chunks
+        std::size_t bytes() const { return tileBytes + tableBytes; }
+    };
+    /// Complexity: O(slots). Threading: any thread. Memory: one small set.
+    Stats computeStats() const;
+
+    // ---- internals shared with AdfAccessor ----
+    glm::vec3 originWorldF() const { return mOriginF; }
+    float latticePerMetre() const { return mLatticePerMetre; }
+    float metresPerLattice() const { return mMetresPerLattice; }
+
+private:
+    friend class AdfBuilder;
+    Adf() = default;
+
+    Domain mDomain;
+    GenerationSettings mSettings;
+    uint64_t mVersion = 0;
+    int mChunkLevels = 0;     ///< log2 of chunk dim
+    uint32_t mChunkDim = 1;   ///< slots per chunk axis
+    uint32_t mRootDim = 1;    ///< chunks per root axis
+    std::vector<uintptr_t> mRoot;  ///< Chunk* or (Tile* | 1) for a chunk covered by one tile
+    std::vector<ChunkPtr> mChunkOwners;
+    std::vector<TilePtr> mRootTileOwners;
+    glm::vec3 mOriginF{0.0f};
+    float mLatticePerMetre = 1.0f;
+    float mMetresPerLattice = 1.0f;
+};
+
+using AdfPtr = std::shared_ptr<const Adf>;
+
+/// Builds a snapshot, either from scratch or as a copy-on-write edit of another one.
+/// Owned by one writer thread; not thread-safe.
+class AdfBuilder {
+public:
+    /// Empty table for `domain` (every slot must be assigned before build()).
+    AdfBuilder(const Domain& domain, const GenerationSettings& settings);
+    /// Starts from `base`: untouched chunks are shared with it.
+    explicit AdfBuilder(const Adf& base);
+
+    /// Assigns `tile` to every slot it covers (its level and origin say which).
+    /// Complexity: O(slots covered / 512 + touched chunk copies). Memory: copies touched chunks once.
+    void setTile(TilePtr tile);
+    /// Tile currently assigned at `slot` (null if none yet).
+    const Tile* tileAtSlot(glm::uvec3 slot) const;
+    /// Finishes with `version`. Throws std::logic_error if a slot is unassigned.
+    AdfPtr build(uint64_t version);
+
+private:
+    std::shared_ptr<Adf> mAdf;
+    std::vector<std::shared_ptr<Chunk>> mOwnChunks;  ///< chunks this builder may still mutate
+};
+
+/// Per-thread cached reader for coherent queries (the haptic thread's path).
+/// Remembers the last leaf and its decoded corners; a query inside it costs one trilinear
+/// evaluation. Not thread-safe: one per thread. Must not outlive the snapshot it reads.
+class AdfAccessor {
+public:
+    explicit AdfAccessor(const Adf& adf) : mAdf(&adf) {}
+    /// Same result as Adf::sample.
+    /// Complexity: O(1) inside the cached leaf, else O(tile span). Memory: none. Never blocks.
+    Sample sample(const glm::vec3& pWorld);
+    /// Switch to another snapshot (drops the cache).
+    void reset(const Adf& adf) {
+        mAdf = &adf;
+        mSize = 0;
+    }
+
+private:
+    const Adf* mAdf;
+    glm::uvec3 mOrigin{0};
+    uint32_t mSize = 0;  ///< 0: nothing cached
+    float mInvSize = 0.0f;
+    float mCorners[8] = {};
+};
+
+}  // namespace kizamu::adf

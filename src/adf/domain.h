@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file domain.h
+/// @brief The cubic region an ADF covers, its octree levels and its tile grid.
+///
+/// Everything in kizamu::adf is in SI units (metres) unless a name says otherwise. Three frames:
+/// world (`...World`, metres), lattice (`...Lattice`, integer corner coordinates of the finest
+/// level, 0..2^maxLevel per axis) and tile slots (`...Slot`, one per tile at the tile level).
+/// Read by every thread; plain value type.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <algorithm>
+#include <cstdint>
+
+namespace kizamu::adf {
+
+/// Largest supported maximum level: lattice coordinates must stay exact in a float query.
+inline constexpr int kMaxSupportedLevel = 16;
+
+/// The cube [originWorld, originWorld + sizeWorld]^3 subdivided as an octree down to `maxLevel`.
+/// A stored tile is the subtree below `tileLevel()`, spanning 2^tileSpanLevels finest cells.
+struct Domain {
+    glm::dvec3 originWorld{0.0};  ///< minimum corner, m
+    double sizeWorld = 1.0;       ///< edge length, m
+    int maxLevel = 10;            ///< finest octree level (root is level 0)
+    int tileSpanLevels = 5;       ///< levels inside one tile; see docs/ARCHITECTURE.md for why 5
+
+    /// Level of the stored tiles (the tile roots).
+    int tileLevel() const { return std::max(0, maxLevel - tileSpanLevels); }
+    /// Levels actually inside a tile (smaller than tileSpanLevels for tiny maxLevel).
+    int tileSpan() const { return maxLevel - tileLevel(); }
+    /// Tiles per axis.
+    uint32_t slotsPerAxis() const { return 1u << tileLevel(); }
+    /// Finest cells per axis; lattice corner coordinates run 0..latticeSize().
+    uint32_t latticeSize() const { return 1u << maxLevel; }
+    /// Edge of a finest cell, m.
+    double finestCellSize() const { return sizeWorld / double(latticeSize()); }
+    /// Edge of a cell at `level`, in lattice units.
+    uint32_t cellLattice(int level) const { return 1u << (maxLevel - level); }
+
+    /// World position of a lattice corner. Computed the same way everywhere so that a lattice
+    /// point evaluated from two tiles gets bit-identical coordinates.
+    glm::dvec3 latticeToWorld(uint32_t x, uint32_t y, uint32_t z) const {
+        const double h = finestCellSize();
+        return {originWorld.x + double(x) * h, originWorld.y + double(y) * h,
+                originWorld.z + double(z) * h};
+    }
+
+    /// True when the parameters describe a usable domain.
+    bool valid() const {
+        return sizeWorld > 0.0 && maxLevel >= 1 && maxLevel <= kMaxSupportedLevel &&
+               tileSpanLevels >= 1 && tileSpanLevels <= 10;
+    }
+
+    bool operator==(const Domain&) const = default;
+};
+
+}  // namespace kizamu::adf

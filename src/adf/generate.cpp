@@ -1,0 +1,483 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file generate.cpp
+/// @brief Tiled generation: the upper pass (above the tile level), tile phases, coalescing.
+#include "adf/generate.h"
+
+#include "util/thread_pool.h"
+
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <memory>
+#include <mutex>
+#include <stdexcept>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace kizamu::adf {
+
+namespace {
+
+// ---- the 3x3x3 half grid of a cell: point g = i + 3j + 9k, i, j, k in {0, 1, 2} ----
+
+constexpr int cornerToGrid(int c) { return 2 * (c & 1) + 6 * ((c >> 1) & 1) + 18 * ((c >> 2) & 1); }
+constexpr int kCentre = 13;
+
+/// Fraction of ε̂ the 19-point test allows (see CellRule::firstLook).
+constexpr double kCriterionMargin = 0.6;
+
+/// The 18 half-grid points that are neither corners nor the centre.
+constexpr std::array<int, 18> kFaceEdgePoints = [] {
+    std::array<int, 18> out{};
+    int n = 0;
+    for (int g = 0; g < 27; ++g) {
+        const int i = g % 3, j = (g / 3) % 3, k = g / 9;
+        const bool corner = i != 1 && j != 1 && k != 1;
+        if (!corner && g != kCentre) out[n++] = g;
+    }
+    return out;
+}();
+
+/// Trilinear weights of the 8 corners at each half-grid point.
+const std::array<std::array<float, 8>, 27> kReconWeights = [] {
+    std::array<std::array<float, 8>, 27> w{};
+    for (int g = 0; g < 27; ++g) {
+        const float t[3] = {float(g % 3) * 0.5f, float((g / 3) % 3) * 0.5f, float(g / 9) * 0.5f};
+        for (int c = 0; c < 8; ++c) {
+            float v = 1.0f;
+            for (int a = 0; a < 3; ++a) v *= ((c >> a) & 1) ? t[a] : 1.0f - t[a];
+            w[g][c] = v;
+        }
+    }
+    return w;
+}();
+
+constexpr glm::uvec3 gridOffset(int g) { return {uint32_t(g % 3), uint32_t((g / 3) % 3), uint32_t(g / 9)}; }
+constexpr glm::uvec3 childOffset(int c) { return {uint32_t(c & 1), uint32_t((c >> 1) & 1), uint32_t(c >> 2)}; }
+
+constexpr uint64_t latticeKey(glm::uvec3 p) {
+    return uint64_t(p.x) | (uint64_t(p.y) << 21) | (uint64_t(p.z) << 42);
+}
+
+/// The subdivision rule shared by the upper pass and the tiles (Kizamu 5.1 with 5.2).
+struct CellRule {
+    const Domain& domain;
+    ErrorBound bound;
+    double band;
+
+    struct FirstLook {
+        bool leaf;      ///< trivially interior or exterior, outside the band: stop here
+        bool nearBand;  ///< some of the cell lies within the accurate band
+        float threshold;
+    };
+    /// Decision from the centre distance alone. The threshold is the bound at the cell point
+    /// nearest the surface, so every point of the cell gets at least its own ε̂, times a
+    /// margin: the 19 test points see the largest error of a smooth field, but 16-bit
+    /// quantisation and the curvature seams of rounded shapes add a little elsewhere.
+    FirstLook firstLook(float centre, int level) const {
+        const double halfDiag = double(domain.cellLattice(level)) * domain.finestCellSize() * 0.8660254037844386;
+        const double dc = std::abs(double(centre));
+        const bool mayContainSurface = dc <= halfDiag;
+        const bool nearBand = band > 0.0 && dc - halfDiag < band;
+        return {!mayContainSurface && !nearBand, nearBand,
+                float(kCriterionMargin * bound(std::max(0.0, dc - halfDiag)))};
+    }
+    /// Largest |computed - reconstructed| over the 19 centre, face and edge points.
+    static float error(const float* v27) {
+        float corners[8];
+        for (int c = 0; c < 8; ++c) corners[c] = v27[cornerToGrid(c)];
+        float err = 0.0f;
+        auto test = [&](int g) {
+            float r = 0.0f;
+            for (int c = 0; c < 8; ++c) r += kReconWeights[g][c] * corners[c];
+            err = std::max(err, std::abs(v27[g] - r));
+        };
+        test(kCentre);
+        for (int g : kFaceEdgePoints) test(g);
+        return err;
+    }
+};
+
+TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version) {
+    const CellType t = cellTypeOf(std::span<const float, 8>(corners, 8));
+    const uint32_t nodeWord = node::makeLeaf(0, t);
+    return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, version);
+}
+
+/// Samples a tile computed on its faces, handed to the neighbours generated after it.
+/// Face f: 0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z. Points are packed local coordinates.
+struct FaceSamples {
+    std::array<std::vector<std::pair<uint32_t, float>>, 6> faces;
+};
+
+constexpr uint32_t packLocal(glm::uvec3 p) { return p.x | (p.y << 11) | (p.z << 22); }
+constexpr glm::uvec3 unpackLocal(uint32_t k) { return {k & 2047u, (k >> 11) & 2047u, k >> 22}; }
+
+struct TileJob {
+    glm::uvec3 slot;
+    std::array<float, 8> corners;
+};
+
+/// Generates one tile at a time; one instance per worker, reused across tiles.
+class TileGenerator {
+public:
+    TileGenerator(const Domain& d, const GenerationSettings& s, const DistanceSource& src)
+        : mDomain(d), mRule{d, s.errorBound(d), s.bandWorld(d)}, mSource(src),
+          mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
+          mValues(std::size_t(mDim) * mDim * mDim), mStamp(mValues.size(), 0) {}
+
+    /// Builds the tile for `job`; reads neighbours' face samples, writes its own to `faces`.
+    TilePtr build(const TileJob& job, const std::array<const FaceSamples*, 26>& neighbours,
+                  const std::array<glm::ivec3, 26>& offsets, FaceSamples& faces, uint64_t version) {
+        if (++mCurrent == 0) {  // stamp wrapped: clear once every 4 billion tiles
+            std::fill(mStamp.begin(), mStamp.end(), 0u);
+            mCurrent = 1;
+        }
+        mBase = job.slot * mSpan;
+        for (int c = 0; c < 8; ++c) set(index(childOffset(c) * mSpan), job.corners[c]);
+        for (int i = 0; i < 26; ++i)
+            if (neighbours[i]) importFrom(*neighbours[i], offsets[i]);
+        mNodes.assign(1, 0u);
+        mLeafCorners.clear();
+        subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
+        exportFaces(faces);
+        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, version);
+    }
+
+    uint64_t evaluations() const { return mEvaluations; }
+
+private:
+    uint32_t index(glm::uvec3 p) const { return (p.z * mDim + p.y) * mDim + p.x; }
+    bool valid(uint32_t i) const { return mStamp[i] == mCurrent; }
+    void set(uint32_t i, float v) {
+        mValues[i] = v;
+        mStamp[i] = mCurrent;
+    }
+
+    void importFrom(const FaceSamples& n, glm::ivec3 o) {
+        // The neighbour at offset o shares our face/edge; its face facing us is the one on the
+        // opposite side of the first nonzero axis.
+        int axis = o.x != 0 ? 0 : (o.y != 0 ? 1 : 2);
+        const int face = 2 * axis + (o[axis] > 0 ? 0 : 1);
+        const glm::ivec3 shift = o * int(mSpan);
+        for (const auto& [key, v] : n.faces[face]) {
+            const glm::ivec3 p = glm::ivec3(unpackLocal(key)) + shift;
+            if (p.x < 0 || p.y < 0 || p.z < 0 || p.x > int(mSpan) || p.y > int(mSpan) || p.z > int(mSpan))
+                continue;
+            const uint32_t i = index(glm::uvec3(p));
+            if (!valid(i)) set(i, v);
+        }
+    }
+
+    void exportFaces(FaceSamples& out) const {
+        for (auto& f : out.faces) f.clear();
+        for (uint32_t a = 0; a < mDim; ++a)
+            for (uint32_t b = 0; b < mDim; ++b) {
+                const glm::uvec3 pts[6] = {{0, a, b}, {mSpan, a, b}, {a, 0, b}, {a, mSpan, b}, {a, b, 0}, {a, b, mSpan}};
+                for (int f = 0; f < 6; ++f) {
+                    const uint32_t i = index(pts[f]);
+                    if (valid(i)) out.faces[f].emplace_back(packLocal(pts[f]), mValues[i]);
+                }
+            }
+    }
+
+    /// Evaluates the listed scratch points that are not valid yet, in one batch.
+    void ensure(const uint32_t* idx, const glm::uvec3* local, int n) {
+        glm::dvec3 pts[27];
+        double out[27];
+        uint32_t todo[27];
+        int m = 0;
+        for (int i = 0; i < n; ++i) {
+            if (valid(idx[i])) continue;
+            const glm::uvec3 p = mBase + local[i];
+            pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
+            todo[m++] = idx[i];
+            mStamp[idx[i]] = mCurrent;  // marks duplicates within the batch too
+        }
+        if (m == 0) return;
+        mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
+        mEvaluations += uint64_t(m);
+        for (int i = 0; i < m; ++i) mValues[todo[i]] = float(out[i]);
+    }
+
+    void makeLeaf(uint32_t nodeIndex, const float* corners) {
+        const auto leaf = uint32_t(mLeafCorners.size() / 8);
+        mLeafCorners.insert(mLeafCorners.end(), corners, corners + 8);
+        mNodes[nodeIndex] = node::makeLeaf(leaf, cellTypeOf(std::span<const float, 8>(corners, 8)));
+    }
+
+    void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level) {
+        float v[27];
+        for (int c = 0; c < 8; ++c) {
+            const uint32_t i = index(o + childOffset(c) * s);
+            assert(valid(i));
+            v[cornerToGrid(c)] = mValues[i];
+        }
+        float corners[8];
+        for (int c = 0; c < 8; ++c) corners[c] = v[cornerToGrid(c)];
+        if (level == mDomain.maxLevel) return makeLeaf(nodeIndex, corners);
+
+        const uint32_t half = s / 2;
+        uint32_t idx[27];
+        glm::uvec3 local[27];
+        for (int g = 0; g < 27; ++g) {
+            local[g] = o + gridOffset(g) * half;
+            idx[g] = index(local[g]);
+        }
+        ensure(&idx[kCentre], &local[kCentre], 1);
+        v[kCentre] = mValues[idx[kCentre]];
+        const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
+        if (look.leaf) return makeLeaf(nodeIndex, corners);
+
+        uint32_t fi[18];
+        glm::uvec3 fl[18];
+        for (int k = 0; k < 18; ++k) {
+            fi[k] = idx[kFaceEdgePoints[k]];
+            fl[k] = local[kFaceEdgePoints[k]];
+        }
+        ensure(fi, fl, 18);
+        for (int g : kFaceEdgePoints) v[g] = mValues[idx[g]];
+        if (CellRule::error(v) <= look.threshold) return makeLeaf(nodeIndex, corners);
+
+        const auto first = uint32_t(mNodes.size());
+        const std::size_t leafMark = mLeafCorners.size();
+        mNodes.resize(first + 8);
+        for (int c = 0; c < 8; ++c) subdivide(first + c, o + childOffset(c) * half, half, level + 1);
+        if (!look.nearBand && sameNonBoundaryLeaves(first)) {
+            // Coalesce (Kizamu 5.1): the surface did not pass through after all.
+            mNodes.resize(first);
+            mLeafCorners.resize(leafMark);
+            return makeLeaf(nodeIndex, corners);
+        }
+        mNodes[nodeIndex] = first;
+    }
+
+    bool sameNonBoundaryLeaves(uint32_t first) const {
+        const uint32_t w0 = mNodes[first];
+        if (!node::isLeaf(w0) || node::leafType(w0) == CellType::Boundary) return false;
+        for (int c = 1; c < 8; ++c) {
+            const uint32_t w = mNodes[first + c];
+            if (!node::isLeaf(w) || node::leafType(w) != node::leafType(w0)) return false;
+        }
+        return true;
+    }
+
+    const Domain& mDomain;
+    CellRule mRule;
+    const DistanceSource& mSource;
+    uint32_t mSpan, mDim;
+    std::vector<float> mValues;
+    std::vector<uint32_t> mStamp;
+    uint32_t mCurrent = 0;
+    glm::uvec3 mBase{0};
+    std::vector<uint32_t> mNodes;
+    std::vector<float> mLeafCorners;
+    uint64_t mEvaluations = 0;
+};
+
+/// One generation or regeneration run.
+class Run {
+public:
+    Run(const Domain& d, const GenerationSettings& s, const DistanceSource& src, const Adf* base,
+        glm::uvec3 regionMin, glm::uvec3 regionMax, util::ThreadPool* pool)
+        : mDomain(d), mSettings(s), mRule{d, s.errorBound(d), s.bandWorld(d)}, mSource(src),
+          mBase(base), mRegionMin(regionMin), mRegionMax(regionMax), mPool(pool),
+          mVersion(base ? base->version() + 1 : 1),
+          mBuilder(base ? AdfBuilder(*base) : AdfBuilder(d, s)) {}
+
+    AdfPtr execute(GenerationStats* stats) {
+        visitUpper(glm::uvec3(0), 0);
+        generateTiles();
+        coalesceUpper();
+        if (stats) {
+            stats->samples = mEvaluations;
+            stats->tilesGenerated = mJobs.size();
+            stats->coarseTiles = mCoarseTiles;
+            stats->cells = mCells;
+        }
+        return mBuilder.build(mVersion);
+    }
+
+private:
+    float sample(glm::uvec3 p) {
+        const auto [it, fresh] = mUpperSamples.try_emplace(latticeKey(p), 0.0f);
+        if (fresh) {
+            it->second = float(mSource.distance(mDomain.latticeToWorld(p.x, p.y, p.z)));
+            ++mEvaluations;
+        }
+        return it->second;
+    }
+
+    bool overlapsRegion(glm::uvec3 o, uint32_t s) const {
+        return o.x <= mRegionMax.x && o.y <= mRegionMax.y && o.z <= mRegionMax.z &&
+               o.x + s >= mRegionMin.x && o.y + s >= mRegionMin.y && o.z + s >= mRegionMin.z;
+    }
+    /// True when the base snapshot has no cell of its own here (a coarser tile covers it).
+    bool baseIsCoarser(glm::uvec3 o, int level) const {
+        if (!mBase) return true;
+        return mBase->tileAtSlot(o >> uint32_t(mDomain.tileSpan()))->level() < level;
+    }
+
+    void addTile(TilePtr t) {
+        mCells += t->leafCount();
+        mBuilder.setTile(std::move(t));
+    }
+
+    void visitUpper(glm::uvec3 o, int level) {
+        const uint32_t s = mDomain.cellLattice(level);
+        if (!overlapsRegion(o, s) && !baseIsCoarser(o, level)) return;  // keep the base's cells
+        std::array<float, 8> corners;
+        for (int c = 0; c < 8; ++c) corners[c] = sample(o + childOffset(c) * s);
+        if (level == mDomain.tileLevel()) {
+            mJobs.push_back({o / mDomain.cellLattice(mDomain.tileLevel()), corners});
+            return;
+        }
+        const uint32_t half = s / 2;
+        float v[27];
+        for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
+        const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
+        if (look.leaf || CellRule::error(v) <= look.threshold) {
+            ++mCoarseTiles;
+            addTile(makeSingleCellTile(level, o, corners.data(), mVersion));
+            return;
+        }
+        for (int c = 0; c < 8; ++c) visitUpper(o + childOffset(c) * half, level + 1);
+        if (!look.nearBand) mCoalesceCandidates.push_back({o, level, corners});
+    }
+
+    void generateTiles() {
+        if (mJobs.empty()) return;
+        std::unordered_map<uint64_t, std::size_t> jobOfSlot;
+        for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.emplace(latticeKey(mJobs[j].slot), j);
+        std::vector<FaceSamples> faces(mJobs.size());
+        std::vector<TilePtr> tiles(mJobs.size());
+        std::vector<int> colour(mJobs.size());
+        std::array<std::vector<std::size_t>, 8> byColour;
+        for (std::size_t j = 0; j < mJobs.size(); ++j) {
+            const glm::uvec3 s = mJobs[j].slot;
+            colour[j] = int((s.x & 1u) | ((s.y & 1u) << 1) | ((s.z & 1u) << 2));
+            byColour[colour[j]].push_back(j);
+        }
+        // Face and edge neighbours (corners come from the upper pass).
+        std::array<glm::ivec3, 26> offsets{};
+        int nOffsets = 0;
+        for (int z = -1; z <= 1; ++z)
+            for (int y = -1; y <= 1; ++y)
+                for (int x = -1; x <= 1; ++x) {
+                    const int nonzero = (x != 0) + (y != 0) + (z != 0);
+                    if (nonzero == 1 || nonzero == 2) offsets[nOffsets++] = {x, y, z};
+                }
+
+        // One generator (and scratch volume) per concurrently running item, reused.
+        std::mutex freeMutex;
+        std::vector<std::unique_ptr<TileGenerator>> generators;
+        std::vector<TileGenerator*> freeList;
+        auto acquire = [&] {
+            std::lock_guard lock(freeMutex);
+            if (freeList.empty()) {
+                generators.push_back(std::make_unique<TileGenerator>(mDomain, mSettings, mSource));
+                return generators.back().get();
+            }
+            TileGenerator* g = freeList.back();
+            freeList.pop_back();
+            return g;
+        };
+        auto release = [&](TileGenerator* g) {
+            std::lock_guard lock(freeMutex);
+            freeList.push_back(g);
+        };
+
+        for (int c = 0; c < 8; ++c) {
+            const auto& items = byColour[c];
+            util::parallelFor(mPool, items.size(), [&](std::size_t k) {
+                const std::size_t j = items[k];
+                std::array<const FaceSamples*, 26> neighbours{};
+                const glm::ivec3 slot(mJobs[j].slot);
+                for (int i = 0; i < nOffsets; ++i) {
+                    const glm::ivec3 n = slot + offsets[i];
+                    if (glm::any(glm::lessThan(n, glm::ivec3(0)))) continue;
+                    const auto it = jobOfSlot.find(latticeKey(glm::uvec3(n)));
+                    if (it != jobOfSlot.end() && colour[it->second] < c) neighbours[i] = &faces[it->second];
+                }
+                TileGenerator* g = acquire();
+                tiles[j] = g->build(mJobs[j], neighbours, offsets, faces[j], mVersion);
+                release(g);
+            });
+        }
+        for (const auto& g : generators) mEvaluations += g->evaluations();
+        for (auto& t : tiles) addTile(std::move(t));
+    }
+
+    void coalesceUpper() {
+        // Post-order: children were merged before their parents are looked at.
+        for (auto it = mCoalesceCandidates.rbegin(); it != mCoalesceCandidates.rend(); ++it) {
+            const uint32_t half = mDomain.cellLattice(it->level + 1);
+            CellType first = CellType::Boundary;
+            bool same = true;
+            for (int c = 0; c < 8 && same; ++c) {
+                const glm::uvec3 o = it->origin + childOffset(c) * half;
+                const Tile* t = mBuilder.tileAtSlot(o >> uint32_t(mDomain.tileSpan()));
+                same = t->level() == it->level + 1 && t->singleLeaf() &&
+                       t->rootType() != CellType::Boundary && (c == 0 || t->rootType() == first);
+                if (c == 0) first = t->rootType();
+            }
+            if (same) {
+                ++mCoarseTiles;
+                addTile(makeSingleCellTile(it->level, it->origin, it->corners.data(), mVersion));
+            }
+        }
+    }
+
+    struct Candidate {
+        glm::uvec3 origin;
+        int level;
+        std::array<float, 8> corners;
+    };
+
+    const Domain& mDomain;
+    const GenerationSettings& mSettings;
+    CellRule mRule;
+    const DistanceSource& mSource;
+    const Adf* mBase;
+    glm::uvec3 mRegionMin, mRegionMax;
+    util::ThreadPool* mPool;
+    uint64_t mVersion;
+    AdfBuilder mBuilder;
+    std::unordered_map<uint64_t, float> mUpperSamples;
+    std::vector<TileJob> mJobs;
+    std::vector<Candidate> mCoalesceCandidates;
+    uint64_t mEvaluations = 0, mCoarseTiles = 0, mCells = 0;
+};
+
+}  // namespace
+
+AdfPtr generate(const DistanceSource& source, const Domain& domain, const GenerationSettings& settings,
+                util::ThreadPool* pool, GenerationStats* stats) {
+    if (!domain.valid()) throw std::invalid_argument("invalid ADF domain");
+    if (!settings.valid()) throw std::invalid_argument("invalid generation settings");
+    const uint32_t n = domain.latticeSize();
+    Run run(domain, settings, source, nullptr, glm::uvec3(0), glm::uvec3(n), pool);
+    return run.execute(stats);
+}
+
+AdfPtr regenerate(const Adf& base, const DistanceSource& source, const BoxWorld& regionWorld,
+                  util::ThreadPool* pool, GenerationStats* stats) {
+    const Domain& d = base.domain();
+    const double n = double(d.latticeSize());
+    auto toLattice = [&](const glm::dvec3& p, bool up) {
+        glm::dvec3 u = (p - d.originWorld) / d.finestCellSize();
+        u = up ? glm::ceil(u) : glm::floor(u);
+        return glm::uvec3(glm::clamp(u, glm::dvec3(0.0), glm::dvec3(n)));
+    };
+    if (glm::any(glm::greaterThan(regionWorld.min, regionWorld.max)))
+        throw std::invalid_argument("regeneration region is empty");
+    Run run(d, base.settings(), source, &base, toLattice(regionWorld.min, false),
+            toLattice(regionWorld.max, true), pool);
+    return run.execute(stats);
+}
+
+}  // namespace kizamu::adf

@@ -1,0 +1,61 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file generate.h
+/// @brief Tiled ADF generation (Kizamu 5.1, 5.2) and local regeneration, the edit primitive.
+///
+/// Top-down subdivision against an error criterion evaluated at the cell, face and edge centres
+/// (the 19 points that become the children's corners), with Bremer's adaptive bound inside a
+/// band around the surface (bounded-surface generation). Every lattice point is evaluated at
+/// most once per run: points above the tile level are cached in a table, points inside a tile
+/// in the tile's scratch volume, and points on a shared tile face or edge are handed from the
+/// tile that computed them to its neighbours. Tiles are generated in 8 colour phases (slot
+/// parity) so that no two tiles that share a face, edge or corner run at once; that keeps the
+/// hand-over race free and the evaluation count the same in serial and parallel runs.
+#pragma once
+
+#include "adf/adf.h"
+#include "adf/distance_source.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+
+namespace kizamu::util {
+class ThreadPool;
+}
+
+namespace kizamu::adf {
+
+/// Counters of one generation or regeneration run.
+struct GenerationStats {
+    uint64_t samples = 0;         ///< distance-function evaluations
+    uint64_t tilesGenerated = 0;  ///< tiles (tile level) built by this run
+    uint64_t coarseTiles = 0;     ///< single-cell tiles above the tile level built by this run
+    uint64_t cells = 0;           ///< leaf cells in the tiles built by this run
+};
+
+/// Axis-aligned box in world space, m.
+struct BoxWorld {
+    glm::dvec3 min{0.0}, max{0.0};
+};
+
+/// Generates the ADF of `source` over `domain`.
+/// @param pool   worker threads, or null for a serial run (same bytes either way)
+/// @param stats  optional counters
+/// Complexity: O(cells near the surface and band) evaluations, each distance evaluated once.
+/// Threading: parallel over tiles on `pool`; `source` must be thread-safe. Memory: the ADF plus
+/// one scratch volume of (2^span+1)^3 floats per worker and the shared tile faces.
+/// @throw std::invalid_argument for an invalid domain or settings.
+AdfPtr generate(const DistanceSource& source, const Domain& domain,
+                const GenerationSettings& settings, util::ThreadPool* pool = nullptr,
+                GenerationStats* stats = nullptr);
+
+/// Regenerates every tile of `base` that overlaps `regionWorld` from `source`, and the cells
+/// above them, sharing everything else with `base`. The result equals (bit for bit) a full
+/// generation of `source` provided `source` equals the field `base` was generated from outside
+/// the region. The new snapshot's version is base.version() + 1.
+/// Complexity: O(cells in the touched tiles) evaluations plus O(root + touched chunks) copying.
+/// Threading: as generate(). Memory: the new tiles and copied chunks.
+AdfPtr regenerate(const Adf& base, const DistanceSource& source, const BoxWorld& regionWorld,
+                  util::ThreadPool* pool = nullptr, GenerationStats* stats = nullptr);
+
+}  // namespace kizamu::adf

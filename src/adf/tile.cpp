@@ -1,0 +1,115 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file tile.cpp
+/// @brief Tile allocation, quantisation and checksums.
+#include "adf/tile.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstring>
+#include <new>
+
+namespace kizamu::adf {
+
+CellType cellTypeOf(std::span<const float, 8> corners) {
+    bool anyInside = false, anyOutside = false;
+    for (float v : corners) (v < 0.0f ? anyInside : anyOutside) = true;
+    if (anyInside && anyOutside) return CellType::Boundary;
+    return anyInside ? CellType::Interior : CellType::Exterior;
+}
+
+namespace {
+
+constexpr std::size_t alignUp(std::size_t n, std::size_t a) { return (n + a - 1) / a * a; }
+constexpr std::size_t kHeaderBytes = alignUp(sizeof(Tile), 8);
+
+uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) {
+        h ^= p[i];
+        h *= 0x100000001b3ull;
+    }
+    return h;
+}
+
+}  // namespace
+
+Tile* Tile::allocate(uint32_t nodeCount, uint32_t leafCount) {
+    const std::size_t bytes = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8) +
+                              std::size_t(leafCount) * 16;
+    void* mem = ::operator new(bytes);
+    Tile* t = new (mem) Tile();
+    auto* base = static_cast<unsigned char*>(mem);
+    t->mNodes = reinterpret_cast<const uint32_t*>(base + kHeaderBytes);
+    t->mCorners =
+        reinterpret_cast<const int16_t*>(base + kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8));
+    t->mNodeCount = nodeCount;
+    t->mLeafCount = leafCount;
+    return t;
+}
+
+void Tile::Deleter::operator()(const Tile* t) const {
+    t->~Tile();
+    ::operator delete(const_cast<Tile*>(t));
+}
+
+Tile::~Tile() { mMagic = 0xdeadbeefdeadbeefull; }
+
+std::size_t Tile::bytes() const {
+    return kHeaderBytes + alignUp(std::size_t(mNodeCount) * 4, 8) + std::size_t(mLeafCount) * 16;
+}
+
+uint64_t Tile::computeChecksum() const {
+    uint64_t h = 0xcbf29ce484222325ull;
+    h = fnv1a(h, &mLevel, sizeof mLevel);
+    h = fnv1a(h, &mOrigin, sizeof mOrigin);
+    h = fnv1a(h, &mScale, sizeof mScale);
+    h = fnv1a(h, mNodes, std::size_t(mNodeCount) * 4);
+    h = fnv1a(h, mCorners, std::size_t(mLeafCount) * 16);
+    return h;
+}
+
+TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
+                     std::span<const float> leafCorners, uint64_t version) {
+    assert(leafCorners.size() % 8 == 0);
+    const auto leafCount = uint32_t(leafCorners.size() / 8);
+    float maxAbs = 0.0f;
+    for (float v : leafCorners) maxAbs = std::max(maxAbs, std::abs(v));
+    // One scale per tile: a tile spans at most 2^span finest cells, so its surface cells keep
+    // a step of about diagonal/32767 (0.002 finest cells at span 5).
+    const float scale = maxAbs > 0.0f ? maxAbs / 32767.0f : 1.0f;
+    Tile* t = allocate(uint32_t(nodes.size()), leafCount);
+    std::memcpy(const_cast<uint32_t*>(t->mNodes), nodes.data(), nodes.size() * 4);
+    auto* q = const_cast<int16_t*>(t->mCorners);
+    for (std::size_t i = 0; i < leafCorners.size(); ++i) {
+        const float v = leafCorners[i];
+        long r = std::lround(v / scale);
+        r = std::clamp(r, -32767l, 32767l);
+        if (v < 0.0f && r == 0) r = -1;  // keep the sign: inside stays inside
+        q[i] = int16_t(r);
+    }
+    t->mLevel = level;
+    t->mOrigin = latticeOrigin;
+    t->mScale = scale;
+    t->mVersion = version;
+    t->mChecksum = t->computeChecksum();
+    t->mMagic = kAlive;
+    return TilePtr(t, Deleter{});
+}
+
+TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
+                              std::span<const int16_t> leafCorners, float scale, uint64_t version) {
+    assert(leafCorners.size() % 8 == 0);
+    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8));
+    std::memcpy(const_cast<uint32_t*>(t->mNodes), nodes.data(), nodes.size() * 4);
+    std::memcpy(const_cast<int16_t*>(t->mCorners), leafCorners.data(), leafCorners.size() * 2);
+    t->mLevel = level;
+    t->mOrigin = latticeOrigin;
+    t->mScale = scale;
+    t->mVersion = version;
+    t->mChecksum = t->computeChecksum();
+    t->mMagic = kAlive;
+    return TilePtr(t, Deleter{});
+}
+
+}  // namespace kizamu::adf

@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: Apache-2.0
+// Generation: accuracy against the analytic field within Bremer's bound, gradients, determinism,
+// the compute-once evaluation count, coalescing, and local regeneration == full generation.
+#include "adf/generate.h"
+
+#include "adf/surface_points.h"
+#include "adf/test_part.h"
+#include "tests/util/adf_compare.h"
+#include "util/thread_pool.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace kizamu;
+using namespace kizamu::adf;
+
+namespace {
+
+Domain unitDomain(int level, int span = 5) {
+    Domain d;
+    d.originWorld = glm::dvec3(-0.5);
+    d.maxLevel = level;
+    d.tileSpanLevels = span;
+    return d;
+}
+
+struct ErrorReport {
+    double worstRatio = 0.0;  ///< max |adf - source| / ε̂(d) away from creases
+    int checked = 0;
+};
+
+/// Random points within the band around the surface, away from creases.
+ErrorReport checkBand(const Adf& adf, const DistanceSource& src, uint64_t seed, int count) {
+    const Domain& d = adf.domain();
+    const double h = d.finestCellSize();
+    const ErrorBound bound = adf.settings().errorBound(d);
+    const double band = adf.settings().bandWorld(d);
+    const BoxWorld box{d.originWorld + glm::dvec3(2 * h), d.originWorld + glm::dvec3(d.sizeWorld - 2 * h)};
+    const auto surface = randomSurfacePoints(src, box, std::size_t(count), seed, h * 0.25);
+    std::mt19937_64 rng(seed + 1);
+    std::uniform_real_distribution<double> offset(-band, band);
+    ErrorReport r;
+    for (const auto& s : surface) {
+        const glm::dvec3 n = glm::normalize(sourceGradient(src, s, h * 0.25));
+        const glm::dvec3 p = s + n * offset(rng);
+        const double exact = src.distance(p);
+        if (std::abs(exact) > band || nearCrease(src, p, 2.0 * h)) continue;
+        // Cells up to the finest are only guaranteed away from creases by their own size: check
+        // the leaf containing p for a crease within its diagonal.
+        const double err = std::abs(double(adf.distance(glm::vec3(p))) - exact);
+        const double ratio = err / bound(exact);
+        if (ratio > r.worstRatio) r.worstRatio = ratio;
+        ++r.checked;
+        if (ratio > 1.0) {
+ const LeafRef leaf = adf.findLeaf(glm::uvec3((glm::vec3(p) - adf.originWorldF()) * adf.latticePerMetre()));
+            ADD_FAILURE() << "error " << err / h << " cells in a leaf of level " << leaf.level << " at " << p.x << "," << p.y << "," << p.z
+                          << " (d = " << exact / h << " cells, bound " << bound(exact) / h << ", seed " << seed << ")";
+            return r;
+        }
+    }
+    return r;
+}
+
+struct NamedSource {
+    const char* name;
+    SourcePtr source;
+};
+
+std::vector<NamedSource> primitives() {
+    const glm::dquat tilt = glm::angleAxis(0.4, glm::normalize(glm::dvec3(1, 2, 3)));
+    return {
+        {"sphere", makeSphere(0.3)},
+        {"box", makeTransformed(makeBox({0.25, 0.15, 0.2}), {0.01, -0.02, 0.03}, tilt)},
+        {"rounded_box", makeTransformed(makeRoundedBox({0.25, 0.2, 0.15}, 0.06), {0, 0, 0}, tilt)},
+        {"capsule", makeCapsule({-0.2, -0.1, 0.0}, {0.2, 0.15, 0.05}, 0.12)},
+        {"cylinder", makeTransformed(makeCylinder(0.15, 0.25), {0, 0, 0}, tilt)},
+        {"torus", makeTransformed(makeTorus(0.25, 0.08), {0, 0, 0}, tilt)},
+        {"half_space", makeHalfSpace({0.2, 0.3, 1.0}, 0.05)},
+    };
+}
+
+TEST(Generate, EveryPrimitiveIsWithinTheAdaptiveBoundInTheBand) {
+    util::ThreadPool pool(2);
+    for (const auto& [name, src] : primitives()) {
+        SCOPED_TRACE(name);
+        const Domain d = unitDomain(7, 4);
+        GenerationStats stats;
+        const AdfPtr adf = generate(*src, d, GenerationSettings{}, &pool, &stats);
+        EXPECT_GT(stats.cells, 0u);
+        const ErrorReport r = checkBand(*adf, *src, 11, 3000);
+        EXPECT_GT(r.checked, 1000) << "too few points away from creases";
+    }
+}
+
+TEST(Generate, CsgTreesAreWithinTheBoundNearTheSurface) {
+    util::ThreadPool pool(2);
+    const Domain d = testPartDomain(8);
+    const SourcePtr part = makeTestPart(d);
+    const AdfPtr adf = generate(*part, d, testPartSettings(), &pool);
+    const ErrorReport r = checkBand(*adf, *part, 5, 4000);
+    EXPECT_GT(r.checked, 2000);
+    // A smooth-blended tree too.
+    const SourcePtr blended = makeCsg(CsgOp::Union, makeSphere(0.2),
+                                      makeTranslated(makeBox({0.1, 0.1, 0.3}), {0.2, 0, 0}), 0.05);
+    const Domain d2 = unitDomain(8);
+    const ErrorReport r2 = checkBand(*generate(*blended, d2, GenerationSettings{}, &pool), *blended, 9, 3000);
+    EXPECT_GT(r2.checked, 1000);
+}
+
+TEST(Generate, GradientMatchesTheSourceAwayFromCreases) {
+    const Domain d = unitDomain(8);
+    const SourcePtr src = makeTransformed(makeTorus(0.25, 0.1), {0, 0, 0}, glm::angleAxis(0.5, glm::dvec3(1, 0, 0)));
+    const AdfPtr adf = generate(*src, d, GenerationSettings{});
+    const double h = d.finestCellSize();
+    const auto pts = randomSurfacePoints(*src, {glm::dvec3(-0.45), glm::dvec3(0.45)}, 2000, 3, h * 0.25);
+    std::mt19937_64 rng(4);
+    std::uniform_real_distribution<double> off(-4 * h, 4 * h);
+    AdfAccessor acc(*adf);
+    std::vector<double> errors;
+    for (const auto& s : pts) {
+        const glm::dvec3 n = glm::normalize(sourceGradient(*src, s, h * 0.25));
+        const glm::dvec3 p = s + n * off(rng);
+        const glm::dvec3 exact = sourceGradient(*src, p, h * 0.01);
+        const Sample a = adf->sample(glm::vec3(p));
+        const Sample b = acc.sample(glm::vec3(p));
+        ASSERT_EQ(a.distance, b.distance);
+        ASSERT_EQ(a.gradient, b.gradient);
+        // Trilinear cells sized for ε = 0.25 finest cell have gradient error ~ sqrt(2 ε κ).
+        const double err = glm::length(glm::dvec3(a.gradient) - exact);
+        ASSERT_LT(err, 0.2) << "at " << p.x << "," << p.y << "," << p.z;
+        errors.push_back(err);
+    }
+    std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+    EXPECT_LT(errors[errors.size() / 2], 0.05) << "median gradient error";
+}
+
+TEST(Generate, IsDeterministicSerialOrParallel) {
+    const Domain d = testPartDomain(8);
+    const SourcePtr part = makeTestPart(d);
+    util::ThreadPool pool(3);
+    const AdfPtr serial = generate(*part, d, testPartSettings());
+    const AdfPtr again = generate(*part, d, testPartSettings());
+    const AdfPtr parallel = generate(*part, d, testPartSettings(), &pool);
+    EXPECT_TRUE(test::sameAdf(*serial, *again));
+    EXPECT_TRUE(test::sameAdf(*serial, *parallel));
+}
+
+TEST(Generate, EvaluatesEachDistinctLatticePointOnce) {
+    const Domain d = testPartDomain(8);
+    util::ThreadPool pool(3);
+    for (util::ThreadPool* p : {static_cast<util::ThreadPool*>(nullptr), &pool}) {
+        test::CountingSource counting(makeTestPart(d));
+        GenerationStats stats;
+        generate(counting, d, testPartSettings(), p, &stats);
+        EXPECT_EQ(counting.evaluations(), counting.distinctPoints()) << (p ? "parallel" : "serial");
+        EXPECT_EQ(stats.samples, counting.evaluations());
+        EXPECT_GT(stats.samples, 1000u);
+    }
+    // Same count in serial and parallel runs.
+    GenerationStats s1, s2;
+    generate(*makeTestPart(d), d, testPartSettings(), nullptr, &s1);
+    generate(*makeTestPart(d), d, testPartSettings(), &pool, &s2);
+    EXPECT_EQ(s1.samples, s2.samples);
+}
+
+TEST(Generate, SurfaceOnlyGenerationCoalescesCellsWithoutSurface) {
+    const Domain d = unitDomain(8);
+    const SourcePtr src = makeTorus(0.25, 0.1);
+    GenerationSettings surfaceOnly;
+    surfaceOnly.bandCells = 0.0;
+    GenerationStats band, bare;
+    const AdfPtr banded = generate(*src, d, GenerationSettings{}, nullptr, &band);
+    const AdfPtr coalesced = generate(*src, d, surfaceOnly, nullptr, &bare);
+    EXPECT_LT(bare.cells, band.cells);
+    // No internal node keeps 8 leaf children that are all interior or all exterior.
+    coalesced->forEachTile([](const Tile& t) {
+        for (uint32_t i = 0; i < t.nodeCount(); ++i) {
+            const uint32_t w = t.nodes()[i];
+            if (node::isLeaf(w)) continue;
+            bool allSame = true;
+            for (int c = 0; c < 8; ++c) {
+                const uint32_t cw = t.nodes()[w + c];
+                allSame = allSame && node::isLeaf(cw) && node::leafType(cw) != CellType::Boundary &&
+                          node::leafType(cw) == node::leafType(t.nodes()[w]);
+            }
+            ASSERT_FALSE(allSame) << "uncoalesced node in tile at level " << t.level();
+        }
+    });
+}
+
+TEST(Generate, LocalRegenerationEqualsFullGeneration) {
+    util::ThreadPool pool(2);
+    for (int span : {3, 5}) {
+        SCOPED_TRACE(span);
+        const Domain d = testPartDomain(8);
+        Domain ds = d;
+        ds.tileSpanLevels = span;
+        const SourcePtr part = makeTestPart(ds);
+        const AdfPtr base = generate(*part, ds, testPartSettings(), &pool);
+        // A carve that straddles a tile corner: the rounded corner of the part at (0.75, 0.75,
+        // 0.75), a slot corner for every span used here. The tool acts inside a box only (as a
+        // band-limited tool does), so the new source equals the old one outside the region.
+        const glm::dvec3 c(0.75);
+        const double r = 0.06;
+        const double pad = r + 2 * ds.finestCellSize();
+        const BoxWorld region{c - pad, c + pad};
+        const auto carved = std::make_shared<test::RegionOverride>(
+            part, makeCsg(CsgOp::Difference, part, makeTranslated(makeSphere(r), c)), region);
+        GenerationStats stats;
+        const AdfPtr edited = regenerate(*base, *carved, region, &pool, &stats);
+        const AdfPtr full = generate(*carved, ds, testPartSettings(), &pool);
+        EXPECT_TRUE(test::sameAdf(*edited, *full));
+        EXPECT_EQ(edited->version(), base->version() + 1);
+        EXPECT_GE(stats.tilesGenerated, 8u) << "the edit should straddle 8 tiles";
+        EXPECT_LT(stats.tilesGenerated, base->computeStats().tiles / 4);
+        // Untouched tiles are shared, not copied.
+        EXPECT_EQ(edited->tileAtSlot({0, 0, 0}), base->tileAtSlot({0, 0, 0}));
+    }
+}
+
+TEST(Generate, RegeneratingAnUnchangedRegionChangesNothing) {
+    const Domain d = testPartDomain(7);
+    const SourcePtr part = makeTestPart(d);
+    const AdfPtr base = generate(*part, d, testPartSettings());
+    const AdfPtr again = regenerate(*base, *part, {glm::dvec3(0.1), glm::dvec3(0.6)});
+    EXPECT_TRUE(test::sameAdf(*base, *again));
+}
+
+TEST(Generate, RejectsBadParameters) {
+    Domain d = unitDomain(7);
+    d.maxLevel = 40;
+    EXPECT_THROW(generate(*makeSphere(0.2), d, GenerationSettings{}), std::invalid_argument);
+    GenerationSettings s;
+    s.epsilonCells = -1;
+    EXPECT_THROW(generate(*makeSphere(0.2), unitDomain(6), s), std::invalid_argument);
+}
+
+}  // namespace

@@ -1,0 +1,86 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file adf_compare.h
+/// @brief Test helpers: byte-wise comparison of two snapshots, a counting source.
+#pragma once
+
+#include "adf/adf.h"
+#include "adf/distance_source.h"
+#include "adf/generate.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <mutex>
+#include <set>
+#include <tuple>
+
+namespace kizamu::test {
+
+/// Every slot maps to tiles with identical level, origin, scale, nodes and corners.
+inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b) {
+    if (!(a.domain() == b.domain())) return ::testing::AssertionFailure() << "domains differ";
+    const uint32_t n = a.domain().slotsPerAxis();
+    for (uint32_t z = 0; z < n; ++z)
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x) {
+                const adf::Tile* ta = a.tileAtSlot({x, y, z});
+                const adf::Tile* tb = b.tileAtSlot({x, y, z});
+                auto fail = [&](const char* what) {
+                    return ::testing::AssertionFailure() << what << " differs at slot " << x << "," << y << "," << z;
+                };
+                if (ta->level() != tb->level()) return fail("tile level");
+                if (ta->latticeOrigin() != tb->latticeOrigin()) return fail("tile origin");
+                if (ta->nodeCount() != tb->nodeCount() || ta->leafCount() != tb->leafCount())
+                    return fail("cell count");
+                if (ta->scale() != tb->scale()) return fail("quantisation scale");
+                if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
+                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0)
+                    return fail("corner distances");
+            }
+    return ::testing::AssertionSuccess();
+}
+
+/// Wraps a source and records every point it is asked for (thread-safe, slow: tests only).
+class CountingSource final : public adf::DistanceSource {
+public:
+    explicit CountingSource(adf::SourcePtr inner) : mInner(std::move(inner)) {}
+    double distance(const glm::dvec3& p) const override {
+        record(p);
+        return mInner->distance(p);
+    }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        for (const auto& q : p) record(q);
+        mInner->distances(p, out);
+    }
+    std::size_t evaluations() const { return mEvaluations; }
+    std::size_t distinctPoints() const { return mPoints.size(); }
+
+private:
+    void record(const glm::dvec3& p) const {
+        std::lock_guard lock(mMutex);
+        ++mEvaluations;
+        mPoints.emplace(p.x, p.y, p.z);
+    }
+    adf::SourcePtr mInner;
+    mutable std::mutex mMutex;
+    mutable std::size_t mEvaluations = 0;
+    mutable std::set<std::tuple<double, double, double>> mPoints;
+};
+
+/// `inside` within the closed box `region`, `outside` elsewhere: an edit whose influence is
+/// limited to a region, so that regeneration of that region must equal full generation.
+class RegionOverride final : public adf::DistanceSource {
+public:
+    RegionOverride(adf::SourcePtr outside, adf::SourcePtr inside, adf::BoxWorld region)
+        : mOutside(std::move(outside)), mInside(std::move(inside)), mRegion(region) {}
+    double distance(const glm::dvec3& p) const override {
+        const bool in = glm::all(glm::greaterThanEqual(p, mRegion.min)) && glm::all(glm::lessThanEqual(p, mRegion.max));
+        return in ? mInside->distance(p) : mOutside->distance(p);
+    }
+
+private:
+    adf::SourcePtr mOutside, mInside;
+    adf::BoxWorld mRegion;
+};
+
+}  // namespace kizamu::test
