@@ -115,9 +115,43 @@ void Adf::forEachTile(const std::function<void(const Tile&)>& fn) const {
             }
 }
 
+namespace {
+/// Visits the leaves of a tile with their lattice origin and size.
+template <class Fn>
+void forEachLeaf(const Tile& t, int maxLevel, Fn&& fn) {
+    struct Item {
+        uint32_t node;
+        glm::uvec3 origin;
+        int level;
+    };
+    Item stack[8 * (kMaxSupportedLevel + 1)];
+    int top = 0;
+    stack[top++] = {0, t.latticeOrigin(), t.level()};
+    while (top > 0) {
+        const Item it = stack[--top];
+        const uint32_t w = t.nodes()[it.node];
+        if (node::isLeaf(w)) {
+            fn(w, it.origin, 1u << (maxLevel - it.level));
+            continue;
+        }
+        const uint32_t half = 1u << (maxLevel - it.level - 1);
+        for (int c = 7; c >= 0; --c)
+            stack[top++] = {w + uint32_t(c),
+                            it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, it.level + 1};
+    }
+}
+}  // namespace
+
 Adf::Stats Adf::computeStats() const {
     Stats s;
+    glm::uvec3 lo(~0u), hi(0u);
     forEachTile([&](const Tile& t) {
+        forEachLeaf(t, mDomain.maxLevel, [&](uint32_t w, glm::uvec3 o, uint32_t size) {
+            if (node::leafType(w) != CellType::Boundary) return;
+            ++s.boundaryCells;
+            lo = glm::min(lo, o);
+            hi = glm::max(hi, o + size);
+        });
         ++s.tiles;
         if (t.level() < mDomain.tileLevel()) ++s.coarseTiles;
         s.cells += t.leafCount();
@@ -128,6 +162,10 @@ Adf::Stats Adf::computeStats() const {
     std::unordered_set<const void*> chunks;
     for (const auto& c : mChunkOwners)
         if (c && chunks.insert(c.get()).second) s.tableBytes += sizeof(Chunk);
+    if (s.boundaryCells > 0) {
+        const double h = mDomain.finestCellSize();
+        s.surfaceBounds = {mDomain.originWorld + glm::dvec3(lo) * h, mDomain.originWorld + glm::dvec3(hi) * h};
+    }
     return s;
 }
 

@@ -90,7 +90,10 @@ public:
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks
         std::size_t tableBytes = 0;   ///< root array and chunks
+        std::size_t boundaryCells = 0;  ///< leaves whose corners change sign
+        BoxWorld surfaceBounds;         ///< box around the boundary cells (zero box if none)
         std::size_t bytes() const { return tileBytes + tableBytes; }
+        double bytesPerCell() const { return cells ? double(bytes()) / double(cells) : 0.0; }
     };
     /// Complexity: O(slots). Threading: any thread. Memory: one small set.
     Stats computeStats() const;

@@ -11,12 +11,15 @@
 #include <glm/vec3.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace kizamu::adf {
 
 /// Largest supported maximum level: lattice coordinates must stay exact in a float query.
 inline constexpr int kMaxSupportedLevel = 16;
+/// Largest supported tile level (tiles per axis = 2^tileLevel).
+inline constexpr int kMaxTileLevel = 10;
 
 /// The cube [originWorld, originWorld + sizeWorld]^3 subdivided as an octree down to `maxLevel`.
 /// A stored tile is the subtree below `tileLevel()`, spanning 2^tileSpanLevels finest cells.
@@ -47,13 +50,21 @@ struct Domain {
                 originWorld.z + double(z) * h};
     }
 
-    /// True when the parameters describe a usable domain.
+    /// True when the parameters describe a usable domain. The tile level is capped so that
+    /// the tile table stays small (at most 1024 tiles per axis).
     bool valid() const {
-        return sizeWorld > 0.0 && maxLevel >= 1 && maxLevel <= kMaxSupportedLevel &&
-               tileSpanLevels >= 1 && tileSpanLevels <= 10;
+        return sizeWorld > 0.0 && std::isfinite(sizeWorld) && std::isfinite(originWorld.x) &&
+               std::isfinite(originWorld.y) && std::isfinite(originWorld.z) && maxLevel >= 1 &&
+               maxLevel <= kMaxSupportedLevel && tileSpanLevels >= 1 && tileSpanLevels <= 10 &&
+               tileLevel() <= kMaxTileLevel;
     }
 
     bool operator==(const Domain&) const = default;
+};
+
+/// Axis-aligned box in world space, m.
+struct BoxWorld {
+    glm::dvec3 min{0.0}, max{0.0};
 };
 
 }  // namespace kizamu::adf

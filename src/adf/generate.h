@@ -33,11 +33,6 @@ struct GenerationStats {
     uint64_t cells = 0;           ///< leaf cells in the tiles built by this run
 };
 
-/// Axis-aligned box in world space, m.
-struct BoxWorld {
-    glm::dvec3 min{0.0}, max{0.0};
-};
-
 /// Generates the ADF of `source` over `domain`.
 /// @param pool   worker threads, or null for a serial run (same bytes either way)
 /// @param stats  optional counters

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file openvdb_peer.h
+/// @brief The OpenVDB side of the peer benchmarks: the same part as a narrow-band level set.
+///
+/// Only benchmark code includes this; nothing in src/ sees OpenVDB. The level set samples the
+/// same DistanceSource at the same lattice points as the ADF (voxel = finest cell), so both
+/// answer queries about the same field at the same resolution. Queries use OpenVDB's own
+/// BoxStencil (trilinear value and gradient, cached ValueAccessor), its fastest path.
+/// Threading: build is parallel (TBB inside OpenVDB); one OpenVdbPeer queries on one thread.
+#pragma once
+
+#include "adf/adf.h"
+#include "adf/distance_source.h"
+#include "adf/domain.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <memory>
+
+namespace kizamu::bench {
+
+class OpenVdbPeer {
+public:
+    /// Narrow-band level set of `source`: voxels at the lattice points of `domain` with
+    /// |d| < halfWidthVoxels finest cells are active; inside/outside tiles carry -/+ background.
+    /// Complexity: O(voxels in the band) distance evaluations. Memory: the grid.
+    OpenVdbPeer(const adf::DistanceSource& source, const adf::Domain& domain, float halfWidthVoxels = 3.0f);
+    ~OpenVdbPeer();
+    OpenVdbPeer(const OpenVdbPeer&) = delete;
+    OpenVdbPeer& operator=(const OpenVdbPeer&) = delete;
+
+    /// Grid::memUsage() of the level set, bytes.
+    std::size_t memoryBytes() const;
+    /// Active voxels.
+    std::size_t activeVoxels() const;
+    /// Wall time of the build, s.
+    double buildSeconds() const;
+    /// Trilinear distance (m) and gradient at `pWorld` through a BoxStencil with a cached accessor.
+    /// Not thread-safe (the stencil caches). Memory: none.
+    adf::Sample sample(const glm::vec3& pWorld);
+
+private:
+    struct Impl;
+    std::unique_ptr<Impl> mImpl;
+};
+
+}  // namespace kizamu::bench

@@ -1,0 +1,229 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file adf_file.cpp
+/// @brief .kza encoding and validating decoding.
+#include "adf/adf_file.h"
+
+#include "util/atomic_file.h"
+#include "util/file_error.h"
+
+#include <glm/vector_relational.hpp>
+#include <zlib.h>
+
+#include <cmath>
+#include <cstring>
+#include <string_view>
+
+namespace kizamu::adf {
+
+namespace {
+
+// PNG-style magic: a high byte and CR/LF catch 7-bit and text-mode mangling.
+constexpr char kMagic[8] = {'\x89', 'K', 'Z', 'A', '\r', '\n', '\x1a', '\n'};
+static_assert(std::endian::native == std::endian::little, ".kza I/O assumes a little-endian host");
+
+class Writer {
+public:
+    template <class T>
+    void put(const T& v) {
+        putBytes(&v, sizeof(T));
+    }
+    void putBytes(const void* p, std::size_t n) {
+        const std::size_t at = mBytes.size();
+        mBytes.resize(at + n);
+        if (n) std::memcpy(mBytes.data() + at, p, n);
+    }
+    std::vector<std::byte>& bytes() { return mBytes; }
+
+private:
+    std::vector<std::byte> mBytes;
+};
+
+class Reader {
+public:
+    Reader(std::string_view bytes, const std::string& name) : mBytes(bytes), mName(name) {}
+    template <class T>
+    T get(const char* what) {
+        T v;
+        getBytes(&v, sizeof(T), what);
+        return v;
+    }
+    void getBytes(void* out, std::size_t n, const std::string& what) {
+        if (n > mBytes.size() - mPos) fail("truncated: " + what + " ends past the end of the file");
+        std::memcpy(out, mBytes.data() + mPos, n);
+        mPos += n;
+    }
+    std::size_t remaining() const { return mBytes.size() - mPos; }
+    [[noreturn]] void fail(const std::string& problem) const { throw FileError(mName, problem); }
+
+private:
+    std::string_view mBytes;
+    std::size_t mPos = 0;
+    const std::string& mName;
+};
+
+/// Checks that the node words form a tree rooted at 0 whose children always follow their
+/// parent (so walking it terminates), no deeper than `maxDepth`, with leaf indices in range
+/// and each leaf's type matching the signs of its corners.
+bool validTree(const Tile& t, int maxDepth, std::string& why) {
+    struct Item {
+        uint32_t node;
+        int depth;
+    };
+    std::vector<Item> stack{{0, 0}};
+    std::vector<uint8_t> seenLeaf(t.leafCount(), 0);
+    std::size_t visited = 0;
+    while (!stack.empty()) {
+        const Item it = stack.back();
+        stack.pop_back();
+        if (++visited > t.nodeCount()) return why = "a node is reachable twice", false;
+        const uint32_t w = t.nodes()[it.node];
+        if (node::isLeaf(w)) {
+            const uint32_t leaf = node::leafIndex(w);
+            if (leaf >= t.leafCount()) return why = "leaf index out of range", false;
+            if (seenLeaf[leaf]++) return why = "two cells share one leaf", false;
+            float c[8];
+            for (int k = 0; k < 8; ++k) c[k] = t.corner(leaf, k);
+            if (node::leafType(w) != cellTypeOf(std::span<const float, 8>(c, 8)))
+                return why = "cell type does not match its corner signs", false;
+            continue;
+        }
+        if (w <= it.node || uint64_t(w) + 8 > t.nodeCount()) return why = "child index out of range", false;
+        if (it.depth + 1 > maxDepth) return why = "cells deeper than the maximum level", false;
+        for (uint32_t c = 0; c < 8; ++c) stack.push_back({w + c, it.depth + 1});
+    }
+    if (visited != t.nodeCount()) return why = "unreachable nodes", false;
+    return true;
+}
+
+}  // namespace
+
+std::vector<std::byte> encodeAdf(const Adf& adf) {
+    Writer w;
+    const Domain& d = adf.domain();
+    const GenerationSettings& s = adf.settings();
+    w.putBytes(kMagic, sizeof kMagic);
+    w.put(kAdfFormatVersion);
+    w.put(d.originWorld.x);
+    w.put(d.originWorld.y);
+    w.put(d.originWorld.z);
+    w.put(d.sizeWorld);
+    w.put(int32_t(d.maxLevel));
+    w.put(int32_t(d.tileSpanLevels));
+    w.put(s.epsilonCells);
+    w.put(s.boundK);
+    w.put(s.boundC);
+    w.put(s.bandCells);
+    w.put(adf.version());
+    const std::size_t countAt = w.bytes().size();
+    w.put(uint64_t(0));
+    uint64_t tiles = 0;
+    adf.forEachTile([&](const Tile& t) {
+        ++tiles;
+        w.put(int32_t(t.level()));
+        w.put(t.latticeOrigin().x);
+        w.put(t.latticeOrigin().y);
+        w.put(t.latticeOrigin().z);
+        w.put(t.scale());
+        w.put(t.nodeCount());
+        w.put(t.leafCount());
+        w.putBytes(t.nodes(), std::size_t(t.nodeCount()) * 4);
+        w.putBytes(t.corners(), std::size_t(t.leafCount()) * 16);
+    });
+    std::memcpy(w.bytes().data() + countAt, &tiles, sizeof tiles);
+    const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), uInt(w.bytes().size()));
+    w.put(uint32_t(crc));
+    return std::move(w.bytes());
+}
+
+AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
+    Reader r(bytes, name);
+    char magic[8];
+    if (bytes.size() < sizeof magic || std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0)
+        r.fail("not a Kizamu ADF file (.kza magic missing)");
+    r.getBytes(magic, sizeof magic, "magic");
+    const auto version = r.get<uint32_t>("format version");
+    if (version != kAdfFormatVersion)
+        r.fail("unsupported .kza format version " + std::to_string(version) + " (this build reads " +
+               std::to_string(kAdfFormatVersion) + ")");
+    if (bytes.size() < 4 + 8 + 4) r.fail("truncated: no room for the checksum");
+    uint32_t stored;
+    std::memcpy(&stored, bytes.data() + bytes.size() - 4, 4);
+    const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size() - 4));
+    // A shorter file usually fails the checksum; say "truncated" when the tiles run out first.
+    const bool crcOk = uint32_t(crc) == stored;
+
+    Domain d;
+    d.originWorld.x = r.get<double>("domain origin");
+    d.originWorld.y = r.get<double>("domain origin");
+    d.originWorld.z = r.get<double>("domain origin");
+    d.sizeWorld = r.get<double>("domain size");
+    d.maxLevel = r.get<int32_t>("maximum level");
+    d.tileSpanLevels = r.get<int32_t>("tile span");
+    GenerationSettings s;
+    s.epsilonCells = r.get<double>("epsilon");
+    s.boundK = r.get<double>("bound k");
+    s.boundC = r.get<double>("bound C");
+    s.bandCells = r.get<double>("band");
+    const auto snapshotVersion = r.get<uint64_t>("snapshot version");
+    const auto tileCount = r.get<uint64_t>("tile count");
+    if (!crcOk && r.remaining() < 4) r.fail("truncated: the file ends inside its header");
+    if (!d.valid()) r.fail("invalid domain in header (level " + std::to_string(d.maxLevel) + ")");
+    if (!s.valid()) r.fail("invalid generation settings in header");
+    const uint64_t totalSlots = uint64_t(d.slotsPerAxis()) * d.slotsPerAxis() * d.slotsPerAxis();
+    if (tileCount == 0 || tileCount > totalSlots) r.fail("tile count " + std::to_string(tileCount) + " is impossible");
+
+    AdfBuilder builder(d, s);
+    uint64_t coveredSlots = 0;
+    for (uint64_t i = 0; i < tileCount; ++i) {
+        const std::string what = "tile " + std::to_string(i) + " of " + std::to_string(tileCount);
+        if (!crcOk && r.remaining() < 4 + 32) r.fail("truncated: " + what + " is missing");
+        const auto level = r.get<int32_t>(what.c_str());
+        glm::uvec3 origin;
+        origin.x = r.get<uint32_t>(what.c_str());
+        origin.y = r.get<uint32_t>(what.c_str());
+        origin.z = r.get<uint32_t>(what.c_str());
+        const auto scale = r.get<float>(what.c_str());
+        const auto nodeCount = r.get<uint32_t>(what.c_str());
+        const auto leafCount = r.get<uint32_t>(what.c_str());
+        if (level < 0 || level > d.tileLevel()) r.fail(what + " has level " + std::to_string(level) + " above its tile level");
+        const uint32_t cell = d.cellLattice(level);
+        if (origin.x % cell || origin.y % cell || origin.z % cell ||
+            glm::any(glm::greaterThanEqual(origin, glm::uvec3(d.latticeSize()))))
+            r.fail(what + " lies outside the domain or off its grid");
+        if (!(scale > 0.0f) || !std::isfinite(scale)) r.fail(what + " has an invalid distance scale");
+        if (nodeCount == 0 || leafCount == 0 || leafCount > nodeCount ||
+            uint64_t(nodeCount) * 4 + uint64_t(leafCount) * 16 > r.remaining())
+            r.fail(crcOk ? what + " has impossible cell counts" : "truncated: " + what + " ends past the end of the file");
+        std::vector<uint32_t> nodes(nodeCount);
+        std::vector<int16_t> corners(std::size_t(leafCount) * 8);
+        r.getBytes(nodes.data(), nodes.size() * 4, what);
+        r.getBytes(corners.data(), corners.size() * 2, what);
+        if (!crcOk) continue;  // reported below, once the structure has been read
+        TilePtr tile = Tile::createQuantised(level, origin, nodes, corners, scale, snapshotVersion);
+        std::string why;
+        if (!validTree(*tile, d.maxLevel - level, why)) r.fail(what + ": " + why);
+        const uint64_t side = uint64_t(1) << (d.tileLevel() - level);
+        coveredSlots += side * side * side;
+        builder.setTile(std::move(tile));
+    }
+    if (!crcOk) {
+        if (r.remaining() < 4) r.fail("truncated: the checksum is missing");
+        r.fail("checksum mismatch: the file is corrupt");
+    }
+    if (r.remaining() != 4) r.fail("unexpected data after the last tile");
+    if (coveredSlots != totalSlots) r.fail("tiles overlap or leave holes in the domain");
+    try {
+        return builder.build(snapshotVersion);
+    } catch (const std::logic_error&) {
+        r.fail("tiles overlap or leave holes in the domain");
+    }
+}
+
+void saveAdf(const Adf& adf, const std::string& path) {
+    const std::vector<std::byte> bytes = encodeAdf(adf);
+    util::writeFileAtomically(path, bytes);
+}
+
+AdfPtr loadAdf(const std::string& path) { return decodeAdf(util::readWholeFile(path), path); }
+
+}  // namespace kizamu::adf
