@@ -122,7 +122,8 @@ LeafT* fillLeaf(const adf::DistanceSource& source, const adf::Domain& domain,
         if (std::abs(d[p]) < double(background)) {
             leaf->setValueOn(offsets[p], v);
         } else {
-            // Inactive voxels get the sign of their side; flood fill only fixes tiles then.
+            // The sign of their side, which flood fill's scanline pass reproduces anyway; set
+            // here so the leaf does not depend on that pass being exact.
             leaf->setValueOff(offsets[p], d[p] < 0.0 ? -background : background);
         }
     }

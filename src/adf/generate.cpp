@@ -42,20 +42,6 @@ constexpr std::array<int, 18> kFaceEdgePoints = [] {
     return out;
 }();
 
-/// Trilinear weights of the 8 corners at each half-grid point.
-const std::array<std::array<float, 8>, 27> kReconWeights = [] {
-    std::array<std::array<float, 8>, 27> w{};
-    for (int g = 0; g < 27; ++g) {
-        const float t[3] = {float(g % 3) * 0.5f, float((g / 3) % 3) * 0.5f, float(g / 9) * 0.5f};
-        for (int c = 0; c < 8; ++c) {
-            float v = 1.0f;
-            for (int a = 0; a < 3; ++a) v *= ((c >> a) & 1) ? t[a] : 1.0f - t[a];
-            w[g][c] = v;
-        }
-    }
-    return w;
-}();
-
 constexpr glm::uvec3 gridOffset(int g) { return {uint32_t(g % 3), uint32_t((g / 3) % 3), uint32_t(g / 9)}; }
 constexpr glm::uvec3 childOffset(int c) { return {uint32_t(c & 1), uint32_t((c >> 1) & 1), uint32_t(c >> 2)}; }
 
@@ -86,18 +72,30 @@ struct CellRule {
         return {!mayContainSurface && !nearBand, nearBand,
                 float(kCriterionMargin * bound(std::max(0.0, dc - halfDiag)))};
     }
-    /// Largest |computed - reconstructed| over the 19 centre, face and edge points.
-    static float error(const float* v27) {
-        float corners[8];
-        for (int c = 0; c < 8; ++c) corners[c] = v27[cornerToGrid(c)];
+    /// Largest |computed - reconstructed| over the 19 centre, face and edge points. The
+    /// trilinear value at a half-grid point is the mean of the corners it lies between, built
+    /// up edge -> face -> centre.
+    static float error(const float* v) {
+        auto g = [](int i, int j, int k) { return i + 3 * j + 9 * k; };
         float err = 0.0f;
-        auto test = [&](int g) {
-            float r = 0.0f;
-            for (int c = 0; c < 8; ++c) r += kReconWeights[g][c] * corners[c];
-            err = std::max(err, std::abs(v27[g] - r));
-        };
-        test(kCentre);
-        for (int g : kFaceEdgePoints) test(g);
+        auto test = [&](int at, float recon) { err = std::max(err, std::abs(v[at] - recon)); };
+        float ex[3][3], ey[3][3];  // x-edge centres at (j, k), y-edge centres at (i, k)
+        for (int a = 0; a <= 2; a += 2)
+            for (int b = 0; b <= 2; b += 2) {
+                ex[a][b] = 0.5f * (v[g(0, a, b)] + v[g(2, a, b)]);
+                ey[a][b] = 0.5f * (v[g(a, 0, b)] + v[g(a, 2, b)]);
+                test(g(1, a, b), ex[a][b]);
+                test(g(a, 1, b), ey[a][b]);
+                test(g(a, b, 1), 0.5f * (v[g(a, b, 0)] + v[g(a, b, 2)]));
+            }
+        const float fz0 = 0.5f * (ex[0][0] + ex[2][0]), fz2 = 0.5f * (ex[0][2] + ex[2][2]);
+        test(g(1, 1, 0), fz0);
+        test(g(1, 1, 2), fz2);
+        test(g(1, 0, 1), 0.5f * (ex[0][0] + ex[0][2]));
+        test(g(1, 2, 1), 0.5f * (ex[2][0] + ex[2][2]));
+        test(g(0, 1, 1), 0.5f * (ey[0][0] + ey[0][2]));
+        test(g(2, 1, 1), 0.5f * (ey[2][0] + ey[2][2]));
+        test(kCentre, 0.5f * (fz0 + fz2));
         return err;
     }
 };
@@ -108,10 +106,29 @@ TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, u
     return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, version);
 }
 
-/// Samples a tile computed on its faces, handed to the neighbours generated after it.
-/// Face f: 0 -x, 1 +x, 2 -y, 3 +y, 4 -z, 5 +z. Points are packed local coordinates.
-struct FaceSamples {
-    std::array<std::vector<std::pair<uint32_t, float>>, 6> faces;
+/// The face and edge neighbours of a tile (corners are shared through the upper pass).
+constexpr int kNeighbours = 18;
+constexpr std::array<glm::ivec3, kNeighbours> kNeighbourOffsets = [] {
+    std::array<glm::ivec3, kNeighbours> out{};
+    int n = 0;
+    for (int z = -1; z <= 1; ++z)
+        for (int y = -1; y <= 1; ++y)
+            for (int x = -1; x <= 1; ++x) {
+                const int nonzero = (x != 0) + (y != 0) + (z != 0);
+                if (nonzero == 1 || nonzero == 2) out[n++] = {x, y, z};
+            }
+    return out;
+}();
+constexpr int neighbourIndex(glm::ivec3 o) {
+    for (int i = 0; i < kNeighbours; ++i)
+        if (kNeighbourOffsets[i] == o) return i;
+    return -1;
+}
+
+/// Samples a tile evaluated itself on its border, filed under each neighbour that shares them;
+/// read by the neighbours generated in later colour phases. Points are packed local coordinates.
+struct BorderSamples {
+    std::array<std::vector<std::pair<uint32_t, float>>, kNeighbours> shared;
 };
 
 constexpr uint32_t packLocal(glm::uvec3 p) { return p.x | (p.y << 11) | (p.z << 22); }
@@ -131,20 +148,21 @@ public:
           mValues(std::size_t(mDim) * mDim * mDim), mStamp(mValues.size(), 0) {}
 
     /// Builds the tile for `job`; reads neighbours' face samples, writes its own to `faces`.
-    TilePtr build(const TileJob& job, const std::array<const FaceSamples*, 26>& neighbours,
-                  const std::array<glm::ivec3, 26>& offsets, FaceSamples& faces, uint64_t version) {
+    TilePtr build(const TileJob& job, const std::array<const BorderSamples*, kNeighbours>& neighbours,
+                  BorderSamples& border, uint64_t version) {
         if (++mCurrent == 0) {  // stamp wrapped: clear once every 4 billion tiles
             std::fill(mStamp.begin(), mStamp.end(), 0u);
             mCurrent = 1;
         }
         mBase = job.slot * mSpan;
         for (int c = 0; c < 8; ++c) set(index(childOffset(c) * mSpan), job.corners[c]);
-        for (int i = 0; i < 26; ++i)
-            if (neighbours[i]) importFrom(*neighbours[i], offsets[i]);
+        for (int i = 0; i < kNeighbours; ++i)
+            if (neighbours[i]) importFrom(*neighbours[i], kNeighbourOffsets[i]);
+        mBorder = &border;
+        for (auto& list : border.shared) list.clear();
         mNodes.assign(1, 0u);
         mLeafCorners.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
-        exportFaces(faces);
         return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, version);
     }
 
@@ -158,31 +176,26 @@ private:
         mStamp[i] = mCurrent;
     }
 
-    void importFrom(const FaceSamples& n, glm::ivec3 o) {
-        // The neighbour at offset o shares our face/edge; its face facing us is the one on the
-        // opposite side of the first nonzero axis.
-        int axis = o.x != 0 ? 0 : (o.y != 0 ? 1 : 2);
-        const int face = 2 * axis + (o[axis] > 0 ? 0 : 1);
+    /// Copies the samples neighbour `n` (at offset `o` from us) evaluated on our shared border.
+    void importFrom(const BorderSamples& n, glm::ivec3 o) {
         const glm::ivec3 shift = o * int(mSpan);
-        for (const auto& [key, v] : n.faces[face]) {
-            const glm::ivec3 p = glm::ivec3(unpackLocal(key)) + shift;
-            if (p.x < 0 || p.y < 0 || p.z < 0 || p.x > int(mSpan) || p.y > int(mSpan) || p.z > int(mSpan))
-                continue;
-            const uint32_t i = index(glm::uvec3(p));
+        for (const auto& [key, v] : n.shared[neighbourIndex(-o)]) {
+            const uint32_t i = index(glm::uvec3(glm::ivec3(unpackLocal(key)) + shift));
             if (!valid(i)) set(i, v);
         }
     }
 
-    void exportFaces(FaceSamples& out) const {
-        for (auto& f : out.faces) f.clear();
-        for (uint32_t a = 0; a < mDim; ++a)
-            for (uint32_t b = 0; b < mDim; ++b) {
-                const glm::uvec3 pts[6] = {{0, a, b}, {mSpan, a, b}, {a, 0, b}, {a, mSpan, b}, {a, b, 0}, {a, b, mSpan}};
-                for (int f = 0; f < 6; ++f) {
-                    const uint32_t i = index(pts[f]);
-                    if (valid(i)) out.faces[f].emplace_back(packLocal(pts[f]), mValues[i]);
-                }
-            }
+    /// Files a freshly evaluated border point under every face/edge neighbour sharing it.
+    void recordBorder(glm::uvec3 p, float v) {
+        const glm::ivec3 side(p.x == 0 ? -1 : (p.x == mSpan ? 1 : 0), p.y == 0 ? -1 : (p.y == mSpan ? 1 : 0),
+                              p.z == 0 ? -1 : (p.z == mSpan ? 1 : 0));
+        const int onBorder = (side.x != 0) + (side.y != 0) + (side.z != 0);
+        if (onBorder == 0 || onBorder == 3) return;  // interior, or a tile corner (upper pass)
+        for (int m = 1; m < 8; ++m) {
+            const glm::ivec3 o((m & 1) ? side.x : 0, (m & 2) ? side.y : 0, (m & 4) ? side.z : 0);
+            if (o == glm::ivec3(0) || ((m & 1) && !side.x) || ((m & 2) && !side.y) || ((m & 4) && !side.z)) continue;
+            mBorder->shared[neighbourIndex(o)].emplace_back(packLocal(p), v);
+        }
     }
 
     /// Evaluates the listed scratch points that are not valid yet, in one batch.
@@ -190,18 +203,24 @@ private:
         glm::dvec3 pts[27];
         double out[27];
         uint32_t todo[27];
+        int todoLocal[27];
         int m = 0;
         for (int i = 0; i < n; ++i) {
             if (valid(idx[i])) continue;
             const glm::uvec3 p = mBase + local[i];
             pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
+            todoLocal[m] = i;
             todo[m++] = idx[i];
             mStamp[idx[i]] = mCurrent;  // marks duplicates within the batch too
         }
         if (m == 0) return;
         mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
         mEvaluations += uint64_t(m);
-        for (int i = 0; i < m; ++i) mValues[todo[i]] = float(out[i]);
+        for (int i = 0; i < m; ++i) {
+            const float v = float(out[i]);
+            mValues[todo[i]] = v;
+            recordBorder(local[todoLocal[i]], v);
+        }
     }
 
     void makeLeaf(uint32_t nodeIndex, const float* corners) {
@@ -274,6 +293,7 @@ private:
     std::vector<uint32_t> mStamp;
     uint32_t mCurrent = 0;
     glm::uvec3 mBase{0};
+    BorderSamples* mBorder = nullptr;
     std::vector<uint32_t> mNodes;
     std::vector<float> mLeafCorners;
     uint64_t mEvaluations = 0;
@@ -353,7 +373,7 @@ private:
         if (mJobs.empty()) return;
         std::unordered_map<uint64_t, std::size_t> jobOfSlot;
         for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.emplace(latticeKey(mJobs[j].slot), j);
-        std::vector<FaceSamples> faces(mJobs.size());
+        std::vector<BorderSamples> borders(mJobs.size());
         std::vector<TilePtr> tiles(mJobs.size());
         std::vector<int> colour(mJobs.size());
         std::array<std::vector<std::size_t>, 8> byColour;
@@ -362,16 +382,6 @@ private:
             colour[j] = int((s.x & 1u) | ((s.y & 1u) << 1) | ((s.z & 1u) << 2));
             byColour[colour[j]].push_back(j);
         }
-        // Face and edge neighbours (corners come from the upper pass).
-        std::array<glm::ivec3, 26> offsets{};
-        int nOffsets = 0;
-        for (int z = -1; z <= 1; ++z)
-            for (int y = -1; y <= 1; ++y)
-                for (int x = -1; x <= 1; ++x) {
-                    const int nonzero = (x != 0) + (y != 0) + (z != 0);
-                    if (nonzero == 1 || nonzero == 2) offsets[nOffsets++] = {x, y, z};
-                }
-
         // One generator (and scratch volume) per concurrently running item, reused.
         std::mutex freeMutex;
         std::vector<std::unique_ptr<TileGenerator>> generators;
@@ -395,16 +405,16 @@ private:
             const auto& items = byColour[c];
             util::parallelFor(mPool, items.size(), [&](std::size_t k) {
                 const std::size_t j = items[k];
-                std::array<const FaceSamples*, 26> neighbours{};
+                std::array<const BorderSamples*, kNeighbours> neighbours{};
                 const glm::ivec3 slot(mJobs[j].slot);
-                for (int i = 0; i < nOffsets; ++i) {
-                    const glm::ivec3 n = slot + offsets[i];
+                for (int i = 0; i < kNeighbours; ++i) {
+                    const glm::ivec3 n = slot + kNeighbourOffsets[i];
                     if (glm::any(glm::lessThan(n, glm::ivec3(0)))) continue;
                     const auto it = jobOfSlot.find(latticeKey(glm::uvec3(n)));
-                    if (it != jobOfSlot.end() && colour[it->second] < c) neighbours[i] = &faces[it->second];
+                    if (it != jobOfSlot.end() && colour[it->second] < c) neighbours[i] = &borders[it->second];
                 }
                 TileGenerator* g = acquire();
-                tiles[j] = g->build(mJobs[j], neighbours, offsets, faces[j], mVersion);
+                tiles[j] = g->build(mJobs[j], neighbours, borders[j], mVersion);
                 release(g);
             });
         }

@@ -23,9 +23,17 @@ namespace {
 constexpr std::size_t alignUp(std::size_t n, std::size_t a) { return (n + a - 1) / a * a; }
 constexpr std::size_t kHeaderBytes = alignUp(sizeof(Tile), 8);
 
+/// FNV-1a over 64-bit words (the tail byte by byte): fast enough to run on every tile.
 uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
     const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < n; ++i) {
+    std::size_t i = 0;
+    for (; i + 8 <= n; i += 8) {
+        uint64_t w;
+        std::memcpy(&w, p + i, 8);
+        h ^= w;
+        h *= 0x100000001b3ull;
+    }
+    for (; i < n; ++i) {
         h ^= p[i];
         h *= 0x100000001b3ull;
     }
@@ -83,7 +91,8 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
     auto* q = const_cast<int16_t*>(t->mCorners);
     for (std::size_t i = 0; i < leafCorners.size(); ++i) {
         const float v = leafCorners[i];
-        long r = std::lround(v / scale);
+        const float x = v / scale;
+        long r = long(x + (x >= 0.0f ? 0.5f : -0.5f));  // round half away from zero, like lround
         r = std::clamp(r, -32767l, 32767l);
         if (v < 0.0f && r == 0) r = -1;  // keep the sign: inside stays inside
         q[i] = int16_t(r);

@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file adf_bench.cpp
+/// @brief The ADF benchmark. Both sides answer the same points in the same process.
+#include "bench/adf_bench.h"
+
+#include "adf/adf.h"
+#include "adf/generate.h"
+#include "adf/surface_points.h"
+#include "adf/test_part.h"
+#include "bench/figures.h"
+#include "bench/timing.h"
+#include "util/thread_pool.h"
+
+#ifdef KIZAMU_HAVE_OPENVDB
+#include "bench/openvdb_peer.h"
+#endif
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+
+namespace kizamu::bench {
+
+namespace {
+
+using namespace adf;
+
+/// Points within ±maxOffset (m) of the surface: random surface points moved along the normal.
+std::vector<glm::vec3> nearSurfacePoints(const DistanceSource& src, const Domain& d, std::size_t count,
+                                         double maxOffset, uint64_t seed, util::ThreadPool& pool) {
+    const std::size_t chunk = 10'000;
+    const std::size_t chunks = (count + chunk - 1) / chunk;
+    const double h = d.finestCellSize();
+    const BoxWorld box{d.originWorld + glm::dvec3(4 * h), d.originWorld + glm::dvec3(d.sizeWorld - 4 * h)};
+    std::vector<glm::vec3> out(count);
+    util::parallelFor(&pool, chunks, [&](std::size_t c) {
+        const std::size_t begin = c * chunk, n = std::min(chunk, count - begin);
+        const auto surface = randomSurfacePoints(src, box, n, seed + c, h * 0.25);
+        std::mt19937_64 rng(seed ^ (c * 0x9e3779b97f4a7c15ull));
+        std::uniform_real_distribution<double> off(-maxOffset, maxOffset);
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::dvec3 nrm = glm::normalize(sourceGradient(src, surface[i], h * 0.25));
+            out[begin + i] = glm::vec3(surface[i] + nrm * off(rng));
+        }
+    });
+    return out;
+}
+
+struct Latency {
+    double p50 = 0, p99 = 0;
+};
+
+template <class Sampler>
+Latency timeQueries(const std::vector<glm::vec3>& pts, Sampler&& sampler, float& sink) {
+    // Warm-up pass over a tenth of the points, then the measured pass over all of them.
+    for (std::size_t i = 0; i < pts.size() / 10; ++i) sink += sampler(pts[i]).distance;
+    const auto ns = batchedLatenciesNs(pts.size(), [&](std::size_t i) {
+        const Sample s = sampler(pts[i]);
+        return s.distance + s.gradient.x;
+    }, sink);
+    return {quantile(ns, 0.5), quantile(ns, 0.99)};
+}
+
+struct Accuracy {
+    double smoothMax = 0, creaseMax = 0;
+    std::size_t smooth = 0, crease = 0;
+};
+
+/// Max |adf - source| / ε̂(d) over random points within the band, smooth and crease points apart.
+Accuracy measureAccuracy(const Adf& adf, const DistanceSource& src, std::size_t count, util::ThreadPool& pool) {
+    const Domain& d = adf.domain();
+    const double h = d.finestCellSize();
+    const double band = adf.settings().bandWorld(d);
+    const ErrorBound bound = adf.settings().errorBound(d);
+    const auto pts = nearSurfacePoints(src, d, count, band, 77, pool);
+    const std::size_t parts = pool.threadCount() * 4;
+    std::vector<Accuracy> partial(parts);
+    util::parallelFor(&pool, parts, [&](std::size_t k) {
+        Accuracy& a = partial[k];
+        for (std::size_t i = k; i < pts.size(); i += parts) {
+            const glm::dvec3 p(pts[i]);
+            const double exact = src.distance(p);
+            if (std::abs(exact) > band) continue;
+            const double ratio = std::abs(double(adf.distance(pts[i])) - exact) / bound(exact);
+            if (nearCrease(src, p, 2.0 * h)) {
+                a.creaseMax = std::max(a.creaseMax, ratio);
+                ++a.crease;
+            } else {
+                a.smoothMax = std::max(a.smoothMax, ratio);
+                ++a.smooth;
+            }
+        }
+    });
+    Accuracy total;
+    for (const auto& a : partial) {
+        total.smoothMax = std::max(total.smoothMax, a.smoothMax);
+        total.creaseMax = std::max(total.creaseMax, a.creaseMax);
+        total.smooth += a.smooth;
+        total.crease += a.crease;
+    }
+    return total;
+}
+
+std::string fmt(const char* f, double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, f, v);
+    return buf;
+}
+
+}  // namespace
+
+int runAdfBench(const AdfBenchOptions& opt) {
+    FigureSink out(opt.json);
+    util::ThreadPool pool(opt.threads);
+    const int top = *std::max_element(opt.levels.begin(), opt.levels.end());
+    float sink = 0.0f;
+    if (!opt.json) {
+        std::printf("kizamu bench adf: the test part (docs/TEST-PART.md); %u threads; times are medians\n"
+                    "of %d runs after a warm-up; query latency = time of batches of %zu consecutive\n"
+                    "queries / %zu (distance + gradient), over %zu points.\n",
+                    pool.threadCount(), opt.repeats, kQueryBatch, kQueryBatch, opt.queries);
+    }
+    for (const int level : opt.levels) {
+        Domain d = testPartDomain(level);
+        if (opt.tileSpan > 0) d.tileSpanLevels = opt.tileSpan;
+        const SourcePtr src = makeTestPart(d);
+        const std::string L = ".level" + std::to_string(level);
+        out.section("level " + std::to_string(level) + " (" + std::to_string(d.latticeSize()) + "^3 finest cells, tile span " +
+                    std::to_string(d.tileSpan()) + ")");
+        out.progress("level " + std::to_string(level) + ": generating");
+
+        AdfPtr adf;
+        GenerationStats gen;
+        std::vector<double> ms;
+        adf = generate(*src, d, testPartSettings(), &pool, &gen);  // warm-up
+        for (int r = 0; r < opt.repeats; ++r) {
+            adf.reset();
+            const double t0 = nowSeconds();
+            adf = generate(*src, d, testPartSettings(), &pool, &gen);
+            ms.push_back((nowSeconds() - t0) * 1e3);
+        }
+        const Adf::Stats st = adf->computeStats();
+        out.add("adf.generate_ms" + L, median(ms), "ms", "median of " + std::to_string(opt.repeats));
+        out.add("adf.cells" + L, double(st.cells), "cells", "leaf cells");
+        out.add("adf.boundary_cells" + L, double(st.boundaryCells), "cells");
+        out.add("adf.tiles" + L, double(st.tiles), "tiles", std::to_string(st.coarseTiles) + " of them coarse");
+        out.add("adf.samples" + L, double(gen.samples), "samples", "distance evaluations");
+        out.add("adf.bytes" + L, double(st.bytes()), "B", fmt("%.1f MB", double(st.bytes()) / 1e6));
+        out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B", "16-bit corners, one scale per tile");
+        const double floatBytes = double(st.bytes() + 16 * st.cells);
+        out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
+        out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
+        float maxStep = 0.0f;
+        adf->forEachTile([&](const Tile& t) {
+            if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
+        });
+        out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
+                "largest 16-bit step in any stored tile");
+
+        out.progress("level " + std::to_string(level) + ": query points");
+        const double h = d.finestCellSize();
+        const auto randomPts = nearSurfacePoints(*src, d, opt.queries, 2.0 * h, 1234, pool);
+        std::vector<glm::vec3> walk;
+        {
+            // 0.4 finest cells per step: 10 cm/s at 1 kHz in a 1 m domain at level 12.
+            const auto w = surfaceWalk(*src, glm::dvec3(randomPts[0]), opt.queries, 0.4 * h, 99, h * 0.25);
+            walk.assign(w.begin(), w.end());
+        }
+        out.progress("level " + std::to_string(level) + ": queries");
+        AdfAccessor acc(*adf);
+        const Latency walkNs = timeQueries(walk, [&](const glm::vec3& p) { return acc.sample(p); }, sink);
+        const Latency randNs = timeQueries(randomPts, [&](const glm::vec3& p) { return acc.sample(p); }, sink);
+        const std::string top_ = level == top ? "" : L;
+        out.add("adf.query_coherent_ns.p50" + top_, walkNs.p50, "ns", "surface walk, 0.4 cell steps");
+        out.add("adf.query_coherent_ns.p99" + top_, walkNs.p99, "ns");
+        out.add("adf.query_random_ns.p50" + top_, randNs.p50, "ns", "random, within 2 cells of the surface");
+        out.add("adf.query_random_ns.p99" + top_, randNs.p99, "ns");
+
+        out.progress("level " + std::to_string(level) + ": accuracy");
+        const Accuracy acc2 = measureAccuracy(*adf, *src, opt.errorPoints, pool);
+        out.add("adf.max_error_in_band" + L, acc2.smoothMax, "x eps^",
+                "max |error|/ε̂(d) over " + std::to_string(acc2.smooth) + " band points off creases");
+        out.add("adf.max_error_at_creases" + L, acc2.creaseMax, "x eps^",
+                "same within 2 cells of a crease (" + std::to_string(acc2.crease) + " points)");
+
+#ifdef KIZAMU_HAVE_OPENVDB
+        if (opt.vsOpenVdb && level >= 10) {
+            out.progress("level " + std::to_string(level) + ": OpenVDB level set");
+            OpenVdbPeer peer(*src, d);
+            out.add("openvdb.bytes" + L, double(peer.memoryBytes()), "B",
+                    fmt("%.1f MB, narrow band 3 voxels", double(peer.memoryBytes()) / 1e6));
+            out.add("openvdb.build_ms" + L, peer.buildSeconds() * 1e3, "ms", "same source, parallel");
+            out.add("adf.vs_openvdb.memory_saving" + L, double(peer.memoryBytes()) / double(st.bytes()), "x",
+                    "OpenVDB bytes / ADF bytes");
+            const Latency vWalk = timeQueries(walk, [&](const glm::vec3& p) { return peer.sample(p); }, sink);
+            const Latency vRand = timeQueries(randomPts, [&](const glm::vec3& p) { return peer.sample(p); }, sink);
+            // Re-time ours right after the peer, so the ratio compares runs made back to back.
+            const Latency walk2 = timeQueries(walk, [&](const glm::vec3& p) { return acc.sample(p); }, sink);
+            const Latency rand2 = timeQueries(randomPts, [&](const glm::vec3& p) { return acc.sample(p); }, sink);
+            out.add("openvdb.query_coherent_ns.p50" + top_, vWalk.p50, "ns", "BoxStencil, cached accessor");
+            out.add("openvdb.query_coherent_ns.p99" + top_, vWalk.p99, "ns");
+            out.add("openvdb.query_random_ns.p50" + top_, vRand.p50, "ns");
+            out.add("openvdb.query_random_ns.p99" + top_, vRand.p99, "ns");
+            out.add("adf.vs_openvdb.query_coherent_speedup" + top_, vWalk.p50 / walk2.p50, "x",
+                    "OpenVDB p50 / ADF p50");
+            out.add("adf.vs_openvdb.query_random_speedup" + top_, vRand.p50 / rand2.p50, "x");
+        }
+#else
+        if (opt.vsOpenVdb && level == top) out.progress("OpenVDB peer not built: install libopenvdb-dev");
+#endif
+    }
+    if (sink == 12345.678f) std::fprintf(stderr, " ");  // keeps the query results alive
+    return 0;
+}
+
+}  // namespace kizamu::bench

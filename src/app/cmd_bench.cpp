@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file cmd_bench.cpp
+/// @brief `kizamu bench <area>`: the benchmarks, with the figure contract of the design brief.
+#include "app/commands.h"
+#include "bench/adf_bench.h"
+
+#include <CLI/CLI.hpp>
+
+#include <memory>
+
+namespace kizamu::app {
+
+void addBenchCommand(CLI::App& app) {
+    auto* bench = app.add_subcommand("bench", "Run a benchmark: prints a table, or JSON lines with --json");
+    bench->require_subcommand(1);
+
+    auto* adfCmd = bench->add_subcommand(
+        "adf", "ADF generation, memory, distance+gradient query latency and accuracy for the test part");
+    auto o = std::make_shared<bench::AdfBenchOptions>();
+    adfCmd->add_flag("--json", o->json, "One JSON object per figure per line, nothing else on stdout");
+    adfCmd->add_flag("--vs-openvdb", o->vsOpenVdb,
+                     "Also build the same part as an OpenVDB level set (levels >= 10) and compare");
+    adfCmd->add_option("--levels", o->levels, "Maximum levels to run")->delimiter(',')->capture_default_str();
+    adfCmd->add_option("--queries", o->queries, "Random points and walk steps per level")->capture_default_str();
+    adfCmd->add_option("--error-points", o->errorPoints, "Band points for the accuracy figure")->capture_default_str();
+    adfCmd->add_option("--repeats", o->repeats, "Generation runs per level (median)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
+    adfCmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
+    adfCmd->add_option("--tile-span", o->tileSpan, "Octree levels inside a stored tile (0: default)")
+        ->check(CLI::Range(0, 10));
+    adfCmd->callback([o] {
+        const int rc = bench::runAdfBench(*o);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+}
+
+}  // namespace kizamu::app

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file cmd_info.cpp
+/// @brief `kizamu info FILE`: level, tiles, cells, memory and bounds of a .kza file.
+#include "adf/adf_file.h"
+#include "app/commands.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+
+namespace kizamu::app {
+
+namespace {
+
+void printInfo(const std::string& path) {
+    const adf::AdfPtr a = adf::loadAdf(path);
+    const adf::Domain& d = a->domain();
+    const adf::GenerationSettings& s = a->settings();
+    const adf::Adf::Stats st = a->computeStats();
+    const double h = d.finestCellSize();
+    std::printf("%s: Kizamu ADF, format %u, snapshot version %llu\n", path.c_str(), adf::kAdfFormatVersion,
+                static_cast<unsigned long long>(a->version()));
+    std::printf("  domain      origin (%g, %g, %g) m, size %g m\n", d.originWorld.x, d.originWorld.y,
+                d.originWorld.z, d.sizeWorld);
+    std::printf("  level       %d (%u^3 finest cells of %.4g mm); tiles at level %d, %d levels deep\n",
+                d.maxLevel, d.latticeSize(), h * 1e3, d.tileLevel(), d.tileSpan());
+    std::printf("  accuracy    eps %.3g cells at the surface (Bremer k %.3g, C %.3g) within a band of %.3g cells\n",
+                s.epsilonCells, s.boundK, s.boundC, s.bandCells);
+    std::printf("  tiles       %zu (%zu coarse, above the tile level)\n", st.tiles, st.coarseTiles);
+    std::printf("  cells       %zu leaves (%zu on the surface), %zu nodes\n", st.cells, st.boundaryCells, st.nodes);
+    std::printf("  memory      %.2f MB (%.1f bytes per cell; tiles %.2f MB, table %.2f MB)\n",
+                double(st.bytes()) / 1e6, st.bytesPerCell(), double(st.tileBytes) / 1e6,
+                double(st.tableBytes) / 1e6);
+    if (st.boundaryCells > 0)
+        std::printf("  bounds      (%.6g, %.6g, %.6g) .. (%.6g, %.6g, %.6g) m (surface cells)\n",
+                    st.surfaceBounds.min.x, st.surfaceBounds.min.y, st.surfaceBounds.min.z,
+                    st.surfaceBounds.max.x, st.surfaceBounds.max.y, st.surfaceBounds.max.z);
+    else
+        std::printf("  bounds      no surface in the domain\n");
+}
+
+}  // namespace
+
+void addInfoCommand(CLI::App& app) {
+    auto* cmd = app.add_subcommand("info", "Print level, tiles, cells, memory and bounds of a .kza file");
+    auto path = std::make_shared<std::string>();
+    cmd->add_option("file", *path, "ADF file (.kza)")->required();
+    cmd->callback([path] { printInfo(*path); });
+}
+
+}  // namespace kizamu::app

@@ -1,0 +1,19 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file commands.h
+/// @brief The `kizamu` subcommands: each registers its options on a CLI11 app and runs.
+#pragma once
+
+namespace CLI {
+class App;
+}
+
+namespace kizamu::app {
+
+/// Registers `info`: summary of a .kza file.
+void addInfoCommand(CLI::App& app);
+/// Registers `generate`: builds the test part (or a primitive) and writes a .kza file.
+void addGenerateCommand(CLI::App& app);
+/// Registers `bench` with its areas (`bench adf`).
+void addBenchCommand(CLI::App& app);
+
+}  // namespace kizamu::app

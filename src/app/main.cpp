@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file main.cpp
+/// @brief The `kizamu` executable: one binary, one subcommand per job.
+///
+/// Only the app decides to end the process: library code reports errors by exception (cold
+/// paths) or state (hot paths), and this file turns them into a one-line message and exit code.
+#include "app/commands.h"
+#include "util/file_error.h"
+
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+    CLI::App app{"Kizamu: sculpt digital clay held in an adaptively sampled distance field.\n"
+                 "Run `kizamu <command> --help` for the options of each command."};
+    app.require_subcommand(1);
+    kizamu::app::addInfoCommand(app);
+    kizamu::app::addGenerateCommand(app);
+    kizamu::app::addBenchCommand(app);
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::ParseError& e) {
+        return app.exit(e);
+    } catch (const kizamu::FileError& e) {
+        std::fprintf(stderr, "kizamu: %s\n", e.what());
+        return 2;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "kizamu: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
