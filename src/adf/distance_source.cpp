@@ -125,7 +125,8 @@ class Transformed final : public DistanceSource {
 public:
     Transformed(SourcePtr child, const glm::dvec3& t, const glm::dquat& r, double s)
         : mChild(std::move(child)), mTranslation(t),
-          mInverseRotation(glm::mat3_cast(glm::conjugate(glm::normalize(r)))), mScale(s) {}
+          mInverseRotation(glm::mat3_cast(glm::conjugate(glm::normalize(r)))), mScale(s),
+          mTranslationOnly(s == 1.0 && mInverseRotation == glm::dmat3(1.0)) {}
 
     double distance(const glm::dvec3& p) const override {
         return mScale * mChild->distance(toLocal(p));
@@ -136,18 +137,21 @@ public:
             const std::size_t n = std::min(kSourceBatch, p.size() - begin);
             for (std::size_t i = 0; i < n; ++i) local[i] = toLocal(p[begin + i]);
             mChild->distances({local, n}, out.subspan(begin, n));
-            for (std::size_t i = 0; i < n; ++i) out[begin + i] *= mScale;
+            if (mScale != 1.0)
+                for (std::size_t i = 0; i < n; ++i) out[begin + i] *= mScale;
         }
     }
 
 private:
     glm::dvec3 toLocal(const glm::dvec3& p) const {
+        if (mTranslationOnly) return p - mTranslation;
         return (mInverseRotation * (p - mTranslation)) / mScale;
     }
     SourcePtr mChild;
     glm::dvec3 mTranslation;
     glm::dmat3 mInverseRotation;
     double mScale;
+    bool mTranslationOnly;  ///< skips the matrix for the common pure translation
 };
 
 /// Polynomial smooth minimum (quadratic): equals min(a, b) once |a - b| >= k.

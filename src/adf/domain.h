@@ -27,7 +27,7 @@ struct Domain {
     glm::dvec3 originWorld{0.0};  ///< minimum corner, m
     double sizeWorld = 1.0;       ///< edge length, m
     int maxLevel = 10;            ///< finest octree level (root is level 0)
-    int tileSpanLevels = 5;       ///< levels inside one tile; see docs/ARCHITECTURE.md for why 5
+    int tileSpanLevels = 6;       ///< levels inside one tile; docs/ARCHITECTURE.md says why 6
 
     /// Level of the stored tiles (the tile roots).
     int tileLevel() const { return std::max(0, maxLevel - tileSpanLevels); }

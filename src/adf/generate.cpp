@@ -9,12 +9,12 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cassert>
 #include <cmath>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -119,11 +119,71 @@ constexpr std::array<glm::ivec3, kNeighbours> kNeighbourOffsets = [] {
             }
     return out;
 }();
-constexpr int neighbourIndex(glm::ivec3 o) {
-    for (int i = 0; i < kNeighbours; ++i)
-        if (kNeighbourOffsets[i] == o) return i;
-    return -1;
-}
+/// Index into kNeighbourOffsets of offset o, by table (-1 for the centre and the corners).
+constexpr std::array<int8_t, 27> kNeighbourOfOffset = [] {
+    std::array<int8_t, 27> t{};
+    for (auto& v : t) v = -1;
+    for (int i = 0; i < kNeighbours; ++i) {
+        const glm::ivec3 o = kNeighbourOffsets[i];
+        t[(o.x + 1) + 3 * (o.y + 1) + 9 * (o.z + 1)] = int8_t(i);
+    }
+    return t;
+}();
+constexpr int neighbourIndex(glm::ivec3 o) { return kNeighbourOfOffset[(o.x + 1) + 3 * (o.y + 1) + 9 * (o.z + 1)]; }
+
+/// Open-addressing map from packed lattice keys to values: the tile pass looks up 18
+/// neighbours per tile and the upper pass caches its samples here, both hot enough that
+/// std::unordered_map's node allocations showed in profiles.
+template <class V>
+class FlatKeyMap {
+public:
+    /// Pointer to the value of `key`, inserting `fresh` first if absent; `inserted` says which.
+    V* findOrInsert(uint64_t key, V fresh, bool& inserted) {
+        if ((mSize + 1) * 2 > mKeys.size()) grow();
+        std::size_t i = slotOf(key);
+        while (mKeys[i] != kEmpty) {
+            if (mKeys[i] == key) {
+                inserted = false;
+                return &mValues[i];
+            }
+            i = (i + 1) & (mKeys.size() - 1);
+        }
+        mKeys[i] = key;
+        mValues[i] = fresh;
+        ++mSize;
+        inserted = true;
+        return &mValues[i];
+    }
+    const V* find(uint64_t key) const {
+        if (mKeys.empty()) return nullptr;
+        for (std::size_t i = slotOf(key);; i = (i + 1) & (mKeys.size() - 1)) {
+            if (mKeys[i] == key) return &mValues[i];
+            if (mKeys[i] == kEmpty) return nullptr;
+        }
+    }
+    void reserve(std::size_t n) {
+        while (mKeys.size() < 2 * n + 2) grow();
+    }
+
+private:
+    static constexpr uint64_t kEmpty = ~uint64_t(0);
+    std::size_t slotOf(uint64_t key) const {
+        return std::size_t((key * 0x9e3779b97f4a7c15ull) >> 20) & (mKeys.size() - 1);
+    }
+    void grow() {
+        std::vector<uint64_t> keys = std::move(mKeys);
+        std::vector<V> values = std::move(mValues);
+        mKeys.assign(std::max<std::size_t>(64, keys.size() * 2), kEmpty);
+        mValues.assign(mKeys.size(), V{});
+        mSize = 0;
+        bool inserted;
+        for (std::size_t i = 0; i < keys.size(); ++i)
+            if (keys[i] != kEmpty) *findOrInsert(keys[i], values[i], inserted) = values[i];
+    }
+    std::vector<uint64_t> mKeys;
+    std::vector<V> mValues;
+    std::size_t mSize = 0;
+};
 
 /// Samples a tile evaluated itself on its border, filed under each neighbour that shares them;
 /// read by the neighbours generated in later colour phases. Points are packed local coordinates.
@@ -139,13 +199,61 @@ struct TileJob {
     std::array<float, 8> corners;
 };
 
-/// Generates one tile at a time; one instance per worker, reused across tiles.
+/// Working memory of one tile generation: the (2^span+1)^3 sample volume with validity
+/// stamps (a new stamp per tile instead of clearing), and the node and corner arrays.
+struct TileScratch {
+    explicit TileScratch(uint32_t d) : dim(d), values(std::size_t(d) * d * d), stamp(values.size(), 0) {}
+    uint32_t dim;
+    std::vector<float> values;
+    std::vector<uint32_t> stamp;
+    uint32_t current = 0;
+    std::vector<uint32_t> nodes;
+    std::vector<float> leafCorners;
+};
+
+/// Process-wide free list of scratch volumes, so that an edit (a few tiles) does not pay for
+/// allocating and zeroing megabytes each time. Thread-safe (a mutex, held for a push or pop).
+class ScratchPool {
+public:
+    static ScratchPool& instance() {
+        static ScratchPool pool;
+        return pool;
+    }
+    std::unique_ptr<TileScratch> acquire(uint32_t dim) {
+        {
+            std::lock_guard lock(mMutex);
+            for (std::size_t i = 0; i < mFree.size(); ++i)
+                if (mFree[i]->dim == dim) {
+                    std::unique_ptr<TileScratch> s = std::move(mFree[i]);
+                    mFree.erase(mFree.begin() + std::ptrdiff_t(i));
+                    return s;
+                }
+        }
+        return std::make_unique<TileScratch>(dim);
+    }
+    void release(std::unique_ptr<TileScratch> s) {
+        std::lock_guard lock(mMutex);
+        if (mFree.size() < kKeep) mFree.push_back(std::move(s));
+    }
+
+private:
+    static constexpr std::size_t kKeep = 8;
+    std::mutex mMutex;
+    std::vector<std::unique_ptr<TileScratch>> mFree;
+};
+
+/// Generates one tile; lives for one tile, borrowing a scratch volume from the pool.
 class TileGenerator {
 public:
     TileGenerator(const Domain& d, const GenerationSettings& s, const DistanceSource& src)
         : mDomain(d), mRule{d, s.errorBound(d), s.bandWorld(d)}, mSource(src),
           mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
-          mValues(std::size_t(mDim) * mDim * mDim), mStamp(mValues.size(), 0) {}
+          mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
+          mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
+          mLeafCorners(mScratch->leafCorners) {}
+    ~TileGenerator() { ScratchPool::instance().release(std::move(mScratch)); }
+    TileGenerator(const TileGenerator&) = delete;
+    TileGenerator& operator=(const TileGenerator&) = delete;
 
     /// Builds the tile for `job`; reads neighbours' face samples, writes its own to `faces`.
     TilePtr build(const TileJob& job, const std::array<const BorderSamples*, kNeighbours>& neighbours,
@@ -289,13 +397,14 @@ private:
     CellRule mRule;
     const DistanceSource& mSource;
     uint32_t mSpan, mDim;
-    std::vector<float> mValues;
-    std::vector<uint32_t> mStamp;
-    uint32_t mCurrent = 0;
+    std::unique_ptr<TileScratch> mScratch;
+    std::vector<float>& mValues;
+    std::vector<uint32_t>& mStamp;
+    uint32_t& mCurrent;
+    std::vector<uint32_t>& mNodes;
+    std::vector<float>& mLeafCorners;
     glm::uvec3 mBase{0};
     BorderSamples* mBorder = nullptr;
-    std::vector<uint32_t> mNodes;
-    std::vector<float> mLeafCorners;
     uint64_t mEvaluations = 0;
 };
 
@@ -324,12 +433,13 @@ public:
 
 private:
     float sample(glm::uvec3 p) {
-        const auto [it, fresh] = mUpperSamples.try_emplace(latticeKey(p), 0.0f);
+        bool fresh;
+        float* v = mUpperSamples.findOrInsert(latticeKey(p), 0.0f, fresh);
         if (fresh) {
-            it->second = float(mSource.distance(mDomain.latticeToWorld(p.x, p.y, p.z)));
+            *v = float(mSource.distance(mDomain.latticeToWorld(p.x, p.y, p.z)));
             ++mEvaluations;
         }
-        return it->second;
+        return *v;
     }
 
     bool overlapsRegion(glm::uvec3 o, uint32_t s) const {
@@ -358,8 +468,12 @@ private:
         }
         const uint32_t half = s / 2;
         float v[27];
-        for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
+        v[kCentre] = sample(o + gridOffset(kCentre) * half);
         const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
+        // The same order as in tiles (centre first), so the set of sampled points does not
+        // depend on where the tile level sits.
+        if (!look.leaf)
+            for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
         if (look.leaf || CellRule::error(v) <= look.threshold) {
             ++mCoarseTiles;
             addTile(makeSingleCellTile(level, o, corners.data(), mVersion));
@@ -371,8 +485,10 @@ private:
 
     void generateTiles() {
         if (mJobs.empty()) return;
-        std::unordered_map<uint64_t, std::size_t> jobOfSlot;
-        for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.emplace(latticeKey(mJobs[j].slot), j);
+        FlatKeyMap<uint32_t> jobOfSlot;
+        jobOfSlot.reserve(mJobs.size());
+        bool inserted;
+        for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.findOrInsert(latticeKey(mJobs[j].slot), uint32_t(j), inserted);
         std::vector<BorderSamples> borders(mJobs.size());
         std::vector<TilePtr> tiles(mJobs.size());
         std::vector<int> colour(mJobs.size());
@@ -382,25 +498,7 @@ private:
             colour[j] = int((s.x & 1u) | ((s.y & 1u) << 1) | ((s.z & 1u) << 2));
             byColour[colour[j]].push_back(j);
         }
-        // One generator (and scratch volume) per concurrently running item, reused.
-        std::mutex freeMutex;
-        std::vector<std::unique_ptr<TileGenerator>> generators;
-        std::vector<TileGenerator*> freeList;
-        auto acquire = [&] {
-            std::lock_guard lock(freeMutex);
-            if (freeList.empty()) {
-                generators.push_back(std::make_unique<TileGenerator>(mDomain, mSettings, mSource));
-                return generators.back().get();
-            }
-            TileGenerator* g = freeList.back();
-            freeList.pop_back();
-            return g;
-        };
-        auto release = [&](TileGenerator* g) {
-            std::lock_guard lock(freeMutex);
-            freeList.push_back(g);
-        };
-
+        std::atomic<uint64_t> evaluations{0};
         for (int c = 0; c < 8; ++c) {
             const auto& items = byColour[c];
             util::parallelFor(mPool, items.size(), [&](std::size_t k) {
@@ -410,15 +508,15 @@ private:
                 for (int i = 0; i < kNeighbours; ++i) {
                     const glm::ivec3 n = slot + kNeighbourOffsets[i];
                     if (glm::any(glm::lessThan(n, glm::ivec3(0)))) continue;
-                    const auto it = jobOfSlot.find(latticeKey(glm::uvec3(n)));
-                    if (it != jobOfSlot.end() && colour[it->second] < c) neighbours[i] = &borders[it->second];
+                    const uint32_t* job = jobOfSlot.find(latticeKey(glm::uvec3(n)));
+                    if (job && colour[*job] < c) neighbours[i] = &borders[*job];
                 }
-                TileGenerator* g = acquire();
-                tiles[j] = g->build(mJobs[j], neighbours, borders[j], mVersion);
-                release(g);
+                TileGenerator g(mDomain, mSettings, mSource);
+                tiles[j] = g.build(mJobs[j], neighbours, borders[j], mVersion);
+                evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
             });
         }
-        for (const auto& g : generators) mEvaluations += g->evaluations();
+        mEvaluations += evaluations.load();
         for (auto& t : tiles) addTile(std::move(t));
     }
 
@@ -457,7 +555,7 @@ private:
     util::ThreadPool* mPool;
     uint64_t mVersion;
     AdfBuilder mBuilder;
-    std::unordered_map<uint64_t, float> mUpperSamples;
+    FlatKeyMap<float> mUpperSamples;
     std::vector<TileJob> mJobs;
     std::vector<Candidate> mCoalesceCandidates;
     uint64_t mEvaluations = 0, mCoarseTiles = 0, mCells = 0;
