@@ -1,0 +1,59 @@
+#!/usr/bin/env bash
+# End-to-end checks of the kizamu executable: generate, info, damaged files, and the
+# benchmark's JSON contract. Usage: cli_test.sh path/to/kizamu
+set -uo pipefail
+kizamu="$1"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# generate + info
+"$kizamu" generate --level 7 --out "$tmp/p.kza" >/dev/null || fail "generate exited non-zero"
+info=$("$kizamu" info "$tmp/p.kza") || fail "info exited non-zero"
+for field in "level       7" "tiles" "cells" "memory" "bounds"; do
+    grep -q "$field" <<<"$info" || fail "info lacks '$field'"
+done
+
+# damaged files: exit code 2, one line on stderr naming the file, nothing on stdout
+check_bad() {
+    local file="$1" expect="$2"
+    out=$("$kizamu" info "$file" 2>"$tmp/err"); rc=$?
+    [ "$rc" -eq 2 ] || fail "info on $(basename "$file") exited $rc, expected 2"
+    [ -z "$out" ] || fail "info on $(basename "$file") printed to stdout"
+    [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "error for $(basename "$file") is not one line"
+    grep -q "$expect" "$tmp/err" || fail "error for $(basename "$file") lacks '$expect': $(cat "$tmp/err")"
+}
+size=$(stat -c %s "$tmp/p.kza")
+head -c $((size / 2)) "$tmp/p.kza" >"$tmp/half.kza"
+check_bad "$tmp/half.kza" "truncated"
+echo "solid nothing" >"$tmp/foreign.kza"
+check_bad "$tmp/foreign.kza" "not a Kizamu ADF file"
+cp "$tmp/p.kza" "$tmp/flip.kza"
+printf '\xff' | dd of="$tmp/flip.kza" bs=1 seek=$((size / 3)) conv=notrunc 2>/dev/null
+check_bad "$tmp/flip.kza" "checksum mismatch"
+check_bad "$tmp/missing.kza" "cannot open"
+
+# bench contract: only JSON objects on stdout, every figure the contract names present
+"$kizamu" bench adf --json --levels 6,7 --queries 4000 --error-points 2000 --repeats 1 \
+    >"$tmp/bench.json" 2>/dev/null || fail "bench adf exited non-zero"
+python3 - "$tmp/bench.json" <<'PY' || failures=$((failures + 1))
+import json, sys, math
+names = {}
+for line in open(sys.argv[1]):
+    obj = json.loads(line)
+    assert set(obj) == {"figure", "value", "unit"}, obj
+    names[obj["figure"]] = obj["value"]
+need = ["adf.generate_ms.level6", "adf.generate_ms.level7", "adf.cells.level7", "adf.samples.level7",
+        "adf.bytes.level7", "adf.bytes_per_cell.level7", "adf.query_coherent_ns.p50",
+        "adf.query_coherent_ns.p99", "adf.query_random_ns.p50", "adf.query_random_ns.p99",
+        "adf.max_error_in_band.level7"]
+missing = [n for n in need if n not in names]
+assert not missing, f"missing figures: {missing}"
+assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
+assert names["adf.max_error_in_band.level7"] <= 1.0, "band error above the bound"
+PY
+"$kizamu" bench adf --help | grep -q -- "--vs-openvdb" || fail "bench adf --help lacks --vs-openvdb"
+
+if [ "$failures" -eq 0 ]; then echo "cli: all checks passed"; exit 0; fi
+echo "cli: $failures check(s) failed"; exit 1
