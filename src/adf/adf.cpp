@@ -48,23 +48,36 @@ LeafRef Adf::findLeaf(glm::uvec3 p) const {
     const int tileShift = mDomain.maxLevel - mDomain.tileLevel();
     const Tile* tile = tileAtSlot(p >> uint32_t(tileShift));
     const uint32_t* nodes = tile->nodes();
+    const int maxLevel = mDomain.maxLevel;
+    auto childAt = [&](int level) {
+        const int shift = maxLevel - level - 1;
+        return int(((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2));
+    };
+    uint32_t at = 0;
     uint32_t w = nodes[0];
     int level = tile->level();
-    while (!node::isLeaf(w)) {
-        const int shift = mDomain.maxLevel - level - 1;
-        const uint32_t child =
-            ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
-        w = nodes[w + child];
+    while (node::isInternal(w)) {
+        at = w + uint32_t(childAt(level));
+        w = nodes[at];
         ++level;
     }
     LeafRef r;
     r.tile = tile;
-    const int cellShift = mDomain.maxLevel - level;
+    r.node = at;
+    const float scale = tile->scale();
+    if (node::isLeaf(w)) {
+        const int16_t* q = tile->corners() + 8 * node::leafIndex(w);
+        for (int c = 0; c < 8; ++c) r.corners[c] = float(q[c]) * scale;
+    } else {
+        r.brickChild = childAt(level);
+        const int16_t* q = tile->bricks() + 27 * node::brickIndex(w);
+        for (int c = 0; c < 8; ++c) r.corners[c] = float(q[brickPoint(r.brickChild, c)]) * scale;
+        ++level;
+    }
+    const int cellShift = maxLevel - level;
+    r.level = level;
     r.latticeOrigin = (p >> uint32_t(cellShift)) << uint32_t(cellShift);
     r.latticeSize = 1u << cellShift;
-    r.leaf = node::leafIndex(w);
-    r.type = node::leafType(w);
-    r.level = level;
     return r;
 }
 
@@ -72,12 +85,8 @@ Sample Adf::sample(const glm::vec3& pWorld) const {
     float outside;
     const glm::vec3 u = toLattice(*this, pWorld, outside);
     const LeafRef leaf = findLeaf(glm::uvec3(u));
-    float v[8];
-    const int16_t* q = leaf.tile->corners() + 8 * leaf.leaf;
-    const float scale = leaf.tile->scale();
-    for (int c = 0; c < 8; ++c) v[c] = float(q[c]) * scale;
     const float inv = 1.0f / float(leaf.latticeSize);
-    Sample s = trilinear(v, (u - glm::vec3(leaf.latticeOrigin)) * inv);
+    Sample s = trilinear(leaf.corners, (u - glm::vec3(leaf.latticeOrigin)) * inv);
     s.gradient *= inv * mLatticePerMetre;
     s.distance += outside * mMetresPerLattice;
     return s;
@@ -90,9 +99,7 @@ Sample AdfAccessor::sample(const glm::vec3& pWorld) {
     const glm::uvec3 rel = p - mOrigin;  // wraps around when below the origin
     if (rel.x >= mSize || rel.y >= mSize || rel.z >= mSize) {
         const LeafRef leaf = mAdf->findLeaf(p);
-        const int16_t* q = leaf.tile->corners() + 8 * leaf.leaf;
-        const float scale = leaf.tile->scale();
-        for (int c = 0; c < 8; ++c) mCorners[c] = float(q[c]) * scale;
+        for (int c = 0; c < 8; ++c) mCorners[c] = leaf.corners[c];
         mOrigin = leaf.latticeOrigin;
         mSize = leaf.latticeSize;
         mInvSize = 1.0f / float(mSize);
@@ -115,46 +122,20 @@ void Adf::forEachTile(const std::function<void(const Tile&)>& fn) const {
             }
 }
 
-namespace {
-/// Visits the leaves of a tile with their lattice origin and size.
-template <class Fn>
-void forEachLeaf(const Tile& t, int maxLevel, Fn&& fn) {
-    struct Item {
-        uint32_t node;
-        glm::uvec3 origin;
-        int level;
-    };
-    Item stack[8 * (kMaxSupportedLevel + 1)];
-    int top = 0;
-    stack[top++] = {0, t.latticeOrigin(), t.level()};
-    while (top > 0) {
-        const Item it = stack[--top];
-        const uint32_t w = t.nodes()[it.node];
-        if (node::isLeaf(w)) {
-            fn(w, it.origin, 1u << (maxLevel - it.level));
-            continue;
-        }
-        const uint32_t half = 1u << (maxLevel - it.level - 1);
-        for (int c = 7; c >= 0; --c)
-            stack[top++] = {w + uint32_t(c),
-                            it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, it.level + 1};
-    }
-}
-}  // namespace
-
 Adf::Stats Adf::computeStats() const {
     Stats s;
     glm::uvec3 lo(~0u), hi(0u);
     forEachTile([&](const Tile& t) {
-        forEachLeaf(t, mDomain.maxLevel, [&](uint32_t w, glm::uvec3 o, uint32_t size) {
-            if (node::leafType(w) != CellType::Boundary) return;
+        forEachLeaf(t, mDomain.maxLevel, [&](const LeafRef& leaf) {
+            if (leaf.type() != CellType::Boundary) return;
             ++s.boundaryCells;
-            lo = glm::min(lo, o);
-            hi = glm::max(hi, o + size);
+            lo = glm::min(lo, leaf.latticeOrigin);
+            hi = glm::max(hi, leaf.latticeOrigin + leaf.latticeSize);
         });
         ++s.tiles;
         if (t.level() < mDomain.tileLevel()) ++s.coarseTiles;
-        s.cells += t.leafCount();
+        s.cells += t.cellCount();
+        s.bricks += t.brickCount();
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();
     });

@@ -30,14 +30,16 @@ struct Sample {
     glm::vec3 gradient{0.0f};
 };
 
-/// A leaf cell found by a lookup: its tile, its extent in lattice units and its leaf index.
+/// A leaf cell found by a lookup: its tile, extent, identity and decoded corner distances.
 struct LeafRef {
     const Tile* tile = nullptr;
     glm::uvec3 latticeOrigin{0};
     uint32_t latticeSize = 0;
-    uint32_t leaf = 0;
-    CellType type = CellType::Exterior;
     int level = 0;
+    uint32_t node = 0;    ///< index of the leaf's node word, or of its brick's
+    int brickChild = -1;  ///< which child of the brick, or -1 for a lone leaf
+    float corners[8] = {};  ///< m, corner order of tile.h
+    CellType type() const { return cellTypeOf(std::span<const float, 8>(corners, 8)); }
 };
 
 /// A block of up to 8^3 tile slots. Immutable once published.
@@ -86,7 +88,8 @@ public:
     struct Stats {
         std::size_t tiles = 0;        ///< distinct tiles
         std::size_t coarseTiles = 0;  ///< tiles above the tile level
-        std::size_t cells = 0;        ///< leaf cells
+        std::size_t cells = 0;        ///< leaf cells (lone leaves and 8 per brick)
+        std::size_t bricks = 0;       ///< cells stored as bricks of 8 leaves
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks
         std::size_t tableBytes = 0;   ///< root array and chunks
@@ -167,5 +170,56 @@ private:
     float mInvSize = 0.0f;
     float mCorners[8] = {};
 };
+
+/// Calls fn(leafRef) for every leaf cell of `tile` (bricks expanded), depth first.
+/// Complexity: O(nodes + cells). Memory: none. Any thread.
+template <class Fn>
+void forEachLeaf(const Tile& tile, int maxLevel, Fn&& fn);
+
+// ---- definitions ----
+
+template <class Fn>
+void forEachLeaf(const Tile& t, int maxLevel, Fn&& fn) {
+    struct Item {
+        uint32_t node;
+        glm::uvec3 origin;
+        int level;
+    };
+    Item stack[8 * (kMaxSupportedLevel + 1)];
+    int top = 0;
+    stack[top++] = {0, t.latticeOrigin(), t.level()};
+    LeafRef r;
+    r.tile = &t;
+    while (top > 0) {
+        const Item it = stack[--top];
+        const uint32_t w = t.nodes()[it.node];
+        if (node::isInternal(w)) {
+            const uint32_t half = 1u << (maxLevel - it.level - 1);
+            for (int c = 7; c >= 0; --c)
+                stack[top++] = {w + uint32_t(c), it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half,
+                                it.level + 1};
+            continue;
+        }
+        r.node = it.node;
+        if (node::isLeaf(w)) {
+            r.latticeOrigin = it.origin;
+            r.latticeSize = 1u << (maxLevel - it.level);
+            r.level = it.level;
+            r.brickChild = -1;
+            for (int c = 0; c < 8; ++c) r.corners[c] = t.corner(node::leafIndex(w), c);
+            fn(static_cast<const LeafRef&>(r));
+            continue;
+        }
+        const uint32_t half = 1u << (maxLevel - it.level - 1);
+        r.latticeSize = half;
+        r.level = it.level + 1;
+        for (int child = 0; child < 8; ++child) {
+            r.latticeOrigin = it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half;
+            r.brickChild = child;
+            for (int c = 0; c < 8; ++c) r.corners[c] = t.brickCorner(node::brickIndex(w), child, c);
+            fn(static_cast<const LeafRef&>(r));
+        }
+    }
+}
 
 }  // namespace kizamu::adf

@@ -62,15 +62,15 @@ private:
 };
 
 /// Checks that the node words form a tree rooted at 0 whose children always follow their
-/// parent (so walking it terminates), no deeper than `maxDepth`, with leaf indices in range
-/// and each leaf's type matching the signs of its corners.
+/// parent (so walking it terminates), no deeper than `maxDepth`, with every leaf and brick
+/// used exactly once and each lone leaf's type matching the signs of its corners.
 bool validTree(const Tile& t, int maxDepth, std::string& why) {
     struct Item {
         uint32_t node;
         int depth;
     };
     std::vector<Item> stack{{0, 0}};
-    std::vector<uint8_t> seenLeaf(t.leafCount(), 0);
+    std::vector<uint8_t> seenLeaf(t.leafCount(), 0), seenBrick(t.brickCount(), 0);
     std::size_t visited = 0;
     while (!stack.empty()) {
         const Item it = stack.back();
@@ -87,11 +87,22 @@ bool validTree(const Tile& t, int maxDepth, std::string& why) {
                 return why = "cell type does not match its corner signs", false;
             continue;
         }
+        if (node::isBrick(w)) {
+            const uint32_t brick = node::brickIndex(w);
+            if (brick >= t.brickCount()) return why = "brick index out of range", false;
+            if (seenBrick[brick]++) return why = "two cells share one brick", false;
+            if (it.depth + 1 > maxDepth) return why = "cells deeper than the maximum level", false;
+            continue;
+        }
         if (w <= it.node || uint64_t(w) + 8 > t.nodeCount()) return why = "child index out of range", false;
         if (it.depth + 1 > maxDepth) return why = "cells deeper than the maximum level", false;
         for (uint32_t c = 0; c < 8; ++c) stack.push_back({w + c, it.depth + 1});
     }
     if (visited != t.nodeCount()) return why = "unreachable nodes", false;
+    for (uint8_t used : seenLeaf)
+        if (!used) return why = "unused leaf values", false;
+    for (uint8_t used : seenBrick)
+        if (!used) return why = "unused brick values", false;
     return true;
 }
 
@@ -126,8 +137,10 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.put(t.scale());
         w.put(t.nodeCount());
         w.put(t.leafCount());
+        w.put(t.brickCount());
         w.putBytes(t.nodes(), std::size_t(t.nodeCount()) * 4);
         w.putBytes(t.corners(), std::size_t(t.leafCount()) * 16);
+        w.putBytes(t.bricks(), std::size_t(t.brickCount()) * 54);
     });
     std::memcpy(w.bytes().data() + countAt, &tiles, sizeof tiles);
     const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), uInt(w.bytes().size()));
@@ -176,7 +189,7 @@ AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
     uint64_t coveredSlots = 0;
     for (uint64_t i = 0; i < tileCount; ++i) {
         const std::string what = "tile " + std::to_string(i) + " of " + std::to_string(tileCount);
-        if (!crcOk && r.remaining() < 4 + 32) r.fail("truncated: " + what + " is missing");
+        if (!crcOk && r.remaining() < 4 + 36) r.fail("truncated: " + what + " is missing");
         const auto level = r.get<int32_t>(what.c_str());
         glm::uvec3 origin;
         origin.x = r.get<uint32_t>(what.c_str());
@@ -185,21 +198,23 @@ AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
         const auto scale = r.get<float>(what.c_str());
         const auto nodeCount = r.get<uint32_t>(what.c_str());
         const auto leafCount = r.get<uint32_t>(what.c_str());
+        const auto brickCount = r.get<uint32_t>(what.c_str());
         if (level < 0 || level > d.tileLevel()) r.fail(what + " has level " + std::to_string(level) + " above its tile level");
         const uint32_t cell = d.cellLattice(level);
         if (origin.x % cell || origin.y % cell || origin.z % cell ||
             glm::any(glm::greaterThanEqual(origin, glm::uvec3(d.latticeSize()))))
             r.fail(what + " lies outside the domain or off its grid");
         if (!(scale > 0.0f) || !std::isfinite(scale)) r.fail(what + " has an invalid distance scale");
-        if (nodeCount == 0 || leafCount == 0 || leafCount > nodeCount ||
-            uint64_t(nodeCount) * 4 + uint64_t(leafCount) * 16 > r.remaining())
+        if (nodeCount == 0 || leafCount + uint64_t(brickCount) == 0 || leafCount + uint64_t(brickCount) > nodeCount ||
+            uint64_t(nodeCount) * 4 + uint64_t(leafCount) * 16 + uint64_t(brickCount) * 54 > r.remaining())
             r.fail(crcOk ? what + " has impossible cell counts" : "truncated: " + what + " ends past the end of the file");
         std::vector<uint32_t> nodes(nodeCount);
-        std::vector<int16_t> corners(std::size_t(leafCount) * 8);
+        std::vector<int16_t> corners(std::size_t(leafCount) * 8), bricks(std::size_t(brickCount) * 27);
         r.getBytes(nodes.data(), nodes.size() * 4, what);
         r.getBytes(corners.data(), corners.size() * 2, what);
+        r.getBytes(bricks.data(), bricks.size() * 2, what);
         if (!crcOk) continue;  // reported below, once the structure has been read
-        TilePtr tile = Tile::createQuantised(level, origin, nodes, corners, scale, snapshotVersion);
+        TilePtr tile = Tile::createQuantised(level, origin, nodes, corners, bricks, scale, snapshotVersion);
         std::string why;
         if (!validTree(*tile, d.maxLevel - level, why)) r.fail(what + ": " + why);
         const uint64_t side = uint64_t(1) << (d.tileLevel() - level);

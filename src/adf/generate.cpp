@@ -103,7 +103,7 @@ struct CellRule {
 TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version) {
     const CellType t = cellTypeOf(std::span<const float, 8>(corners, 8));
     const uint32_t nodeWord = node::makeLeaf(0, t);
-    return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, version);
+    return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, {}, version);
 }
 
 /// The face and edge neighbours of a tile (corners are shared through the upper pass).
@@ -209,6 +209,7 @@ struct TileScratch {
     uint32_t current = 0;
     std::vector<uint32_t> nodes;
     std::vector<float> leafCorners;
+    std::vector<float> brickValues;
 };
 
 /// Process-wide free list of scratch volumes, so that an edit (a few tiles) does not pay for
@@ -250,7 +251,7 @@ public:
           mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
           mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
           mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
-          mLeafCorners(mScratch->leafCorners) {}
+          mLeafCorners(mScratch->leafCorners), mBrickValues(mScratch->brickValues) {}
     ~TileGenerator() { ScratchPool::instance().release(std::move(mScratch)); }
     TileGenerator(const TileGenerator&) = delete;
     TileGenerator& operator=(const TileGenerator&) = delete;
@@ -270,8 +271,9 @@ public:
         for (auto& list : border.shared) list.clear();
         mNodes.assign(1, 0u);
         mLeafCorners.clear();
+        mBrickValues.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
-        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, version);
+        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version);
     }
 
     uint64_t evaluations() const { return mEvaluations; }
@@ -380,7 +382,22 @@ private:
             mLeafCorners.resize(leafMark);
             return makeLeaf(nodeIndex, corners);
         }
+        if (allLeaves(first)) {
+            // Brick: the 8 children were the last 8 nodes and 8 leaves appended; their corners
+            // are exactly this cell's 27 half-grid values.
+            mNodes.resize(first);
+            mLeafCorners.resize(leafMark);
+            mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
+            mBrickValues.insert(mBrickValues.end(), v, v + 27);
+            return;
+        }
         mNodes[nodeIndex] = first;
+    }
+
+    bool allLeaves(uint32_t first) const {
+        for (int c = 0; c < 8; ++c)
+            if (!node::isLeaf(mNodes[first + c])) return false;
+        return true;
     }
 
     bool sameNonBoundaryLeaves(uint32_t first) const {
@@ -403,6 +420,7 @@ private:
     uint32_t& mCurrent;
     std::vector<uint32_t>& mNodes;
     std::vector<float>& mLeafCorners;
+    std::vector<float>& mBrickValues;
     glm::uvec3 mBase{0};
     BorderSamples* mBorder = nullptr;
     uint64_t mEvaluations = 0;
@@ -453,7 +471,7 @@ private:
     }
 
     void addTile(TilePtr t) {
-        mCells += t->leafCount();
+        mCells += t->cellCount();
         mBuilder.setTile(std::move(t));
     }
 

@@ -42,17 +42,24 @@ uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
 
 }  // namespace
 
-Tile* Tile::allocate(uint32_t nodeCount, uint32_t leafCount) {
-    const std::size_t bytes = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8) +
-                              std::size_t(leafCount) * 16;
-    void* mem = ::operator new(bytes);
+namespace {
+std::size_t blockBytes(uint32_t nodeCount, uint32_t leafCount, uint32_t brickCount) {
+    return kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8) + std::size_t(leafCount) * 16 +
+           std::size_t(brickCount) * 54;
+}
+}  // namespace
+
+Tile* Tile::allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t brickCount) {
+    void* mem = ::operator new(blockBytes(nodeCount, leafCount, brickCount));
     Tile* t = new (mem) Tile();
     auto* base = static_cast<unsigned char*>(mem);
+    const std::size_t cornersAt = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
     t->mNodes = reinterpret_cast<const uint32_t*>(base + kHeaderBytes);
-    t->mCorners =
-        reinterpret_cast<const int16_t*>(base + kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8));
+    t->mCorners = reinterpret_cast<const int16_t*>(base + cornersAt);
+    t->mBricks = reinterpret_cast<const int16_t*>(base + cornersAt + std::size_t(leafCount) * 16);
     t->mNodeCount = nodeCount;
     t->mLeafCount = leafCount;
+    t->mBrickCount = brickCount;
     return t;
 }
 
@@ -63,9 +70,7 @@ void Tile::Deleter::operator()(const Tile* t) const {
 
 Tile::~Tile() { mMagic = 0xdeadbeefdeadbeefull; }
 
-std::size_t Tile::bytes() const {
-    return kHeaderBytes + alignUp(std::size_t(mNodeCount) * 4, 8) + std::size_t(mLeafCount) * 16;
-}
+std::size_t Tile::bytes() const { return blockBytes(mNodeCount, mLeafCount, mBrickCount); }
 
 uint64_t Tile::computeChecksum() const {
     uint64_t h = 0xcbf29ce484222325ull;
@@ -74,29 +79,39 @@ uint64_t Tile::computeChecksum() const {
     h = fnv1a(h, &mScale, sizeof mScale);
     h = fnv1a(h, mNodes, std::size_t(mNodeCount) * 4);
     h = fnv1a(h, mCorners, std::size_t(mLeafCount) * 16);
+    h = fnv1a(h, mBricks, std::size_t(mBrickCount) * 54);
     return h;
 }
 
+namespace {
+/// Round half away from zero into [-32767, 32767], keeping negative values negative (inside
+/// stays inside even when a tiny distance rounds to zero).
+int16_t quantise(float v, float scale) {
+    const float x = v / scale;
+    long r = long(x + (x >= 0.0f ? 0.5f : -0.5f));
+    r = std::clamp(r, -32767l, 32767l);
+    if (v < 0.0f && r == 0) r = -1;
+    return int16_t(r);
+}
+}  // namespace
+
 TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
-                     std::span<const float> leafCorners, uint64_t version) {
-    assert(leafCorners.size() % 8 == 0);
-    const auto leafCount = uint32_t(leafCorners.size() / 8);
+                     std::span<const float> leafCorners, std::span<const float> brickValues,
+                     uint64_t version) {
+    assert(leafCorners.size() % 8 == 0 && brickValues.size() % 27 == 0);
     float maxAbs = 0.0f;
     for (float v : leafCorners) maxAbs = std::max(maxAbs, std::abs(v));
+    for (float v : brickValues) maxAbs = std::max(maxAbs, std::abs(v));
     // One scale per tile: a tile spans at most 2^span finest cells, so its surface cells keep
-    // a step of about diagonal/32767 (0.002 finest cells at span 5).
+    // a step of about diagonal/32767 (under 0.01 finest cell at span 6).
     const float scale = maxAbs > 0.0f ? maxAbs / 32767.0f : 1.0f;
-    Tile* t = allocate(uint32_t(nodes.size()), leafCount);
+    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8),
+                       uint32_t(brickValues.size() / 27));
     std::memcpy(const_cast<uint32_t*>(t->mNodes), nodes.data(), nodes.size() * 4);
     auto* q = const_cast<int16_t*>(t->mCorners);
-    for (std::size_t i = 0; i < leafCorners.size(); ++i) {
-        const float v = leafCorners[i];
-        const float x = v / scale;
-        long r = long(x + (x >= 0.0f ? 0.5f : -0.5f));  // round half away from zero, like lround
-        r = std::clamp(r, -32767l, 32767l);
-        if (v < 0.0f && r == 0) r = -1;  // keep the sign: inside stays inside
-        q[i] = int16_t(r);
-    }
+    for (std::size_t i = 0; i < leafCorners.size(); ++i) q[i] = quantise(leafCorners[i], scale);
+    auto* b = const_cast<int16_t*>(t->mBricks);
+    for (std::size_t i = 0; i < brickValues.size(); ++i) b[i] = quantise(brickValues[i], scale);
     t->mLevel = level;
     t->mOrigin = latticeOrigin;
     t->mScale = scale;
@@ -107,11 +122,14 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
 }
 
 TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
-                              std::span<const int16_t> leafCorners, float scale, uint64_t version) {
-    assert(leafCorners.size() % 8 == 0);
-    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8));
+                              std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues,
+                              float scale, uint64_t version) {
+    assert(leafCorners.size() % 8 == 0 && brickValues.size() % 27 == 0);
+    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8),
+                       uint32_t(brickValues.size() / 27));
     std::memcpy(const_cast<uint32_t*>(t->mNodes), nodes.data(), nodes.size() * 4);
     std::memcpy(const_cast<int16_t*>(t->mCorners), leafCorners.data(), leafCorners.size() * 2);
+    std::memcpy(const_cast<int16_t*>(t->mBricks), brickValues.data(), brickValues.size() * 2);
     t->mLevel = level;
     t->mOrigin = latticeOrigin;
     t->mScale = scale;

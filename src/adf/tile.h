@@ -3,9 +3,11 @@
 /// @brief One stored tile: an immutable block holding an octree subtree and its corner distances.
 ///
 /// The tile is the unit of storage, editing, concurrency and undo (design brief). Cells are a
-/// flat array of 32-bit node words (children of a node are 8 consecutive words, depth first),
-/// and each leaf owns 8 corner distances quantised to 16 bits with one scale per tile
-/// (docs/ARCHITECTURE.md gives the measurements behind that choice).
+/// flat array of 32-bit node words (children of a node are 8 consecutive words, depth first).
+/// A lone leaf owns its 8 corner distances; a cell whose 8 children are all leaves is stored as
+/// a *brick*: one node word and the 27 distances of its 3x3x3 half grid, which the 8 children
+/// share (27 values instead of 8 words and 64 values). Distances are quantised to 16 bits with
+/// one scale per tile (docs/ARCHITECTURE.md gives the measurements behind both choices).
 /// A tile never changes after `create`; any number of threads may read it. Edits build new
 /// tiles; old ones are freed through epochs once no reader can see them (snapshot_store.h).
 #pragma once
@@ -24,18 +26,32 @@ namespace kizamu::adf {
 /// What a leaf cell holds: all corners outside, all inside, or a sign change (the surface).
 enum class CellType : uint8_t { Exterior = 0, Interior = 1, Boundary = 2 };
 
-/// Node word encoding. Internal node: index of its first child (bit 31 clear, never 0).
-/// Leaf: bit 31 set, bits 29-30 the CellType, bits 0-28 the leaf index.
+/// Node word encoding.
+/// - internal node: bits 30-31 clear, the index of its first child (never 0);
+/// - leaf: bit 31 set, bits 29-30 the CellType, bits 0-28 the leaf index (8 corners each);
+/// - brick (a cell whose 8 children are leaves): bit 30 set, bits 0-29 the brick index (27 values).
 namespace node {
 inline constexpr uint32_t kLeafBit = 1u << 31;
+inline constexpr uint32_t kBrickBit = 1u << 30;
 inline constexpr uint32_t kIndexMask = (1u << 29) - 1;
+inline constexpr uint32_t kBrickMask = (1u << 30) - 1;
 inline constexpr bool isLeaf(uint32_t w) { return (w & kLeafBit) != 0; }
+inline constexpr bool isBrick(uint32_t w) { return (w & (kLeafBit | kBrickBit)) == kBrickBit; }
+inline constexpr bool isInternal(uint32_t w) { return (w & (kLeafBit | kBrickBit)) == 0; }
 inline constexpr uint32_t leafIndex(uint32_t w) { return w & kIndexMask; }
+inline constexpr uint32_t brickIndex(uint32_t w) { return w & kBrickMask; }
 inline constexpr CellType leafType(uint32_t w) { return CellType((w >> 29) & 3u); }
 inline constexpr uint32_t makeLeaf(uint32_t index, CellType t) {
     return kLeafBit | (uint32_t(t) << 29) | index;
 }
+inline constexpr uint32_t makeBrick(uint32_t index) { return kBrickBit | index; }
 }  // namespace node
+
+/// Half-grid point g = i + 3j + 9k (i, j, k in 0..2) of a brick holding corner `c` of child `child`.
+inline constexpr int brickPoint(int child, int c) {
+    return ((child & 1) + (c & 1)) + 3 * (((child >> 1) & 1) + ((c >> 1) & 1)) +
+           9 * ((child >> 2) + (c >> 2));
+}
 
 /// Corner order everywhere: corner c sits at (c & 1, (c >> 1) & 1, (c >> 2) & 1).
 CellType cellTypeOf(std::span<const float, 8> corners);
@@ -43,29 +59,35 @@ CellType cellTypeOf(std::span<const float, 8> corners);
 /// Immutable subtree block. Owned through std::shared_ptr by snapshots (writer side only).
 class Tile {
 public:
-    /// Builds a tile from float corner distances (8 per leaf, m), quantising them.
+    /// Builds a tile from float distances (m), quantising them.
     /// @param level           octree level of the tile root (<= domain tile level)
     /// @param latticeOrigin   minimum corner of the tile root, lattice units
     /// @param nodes           node words, root first (see node::)
-    /// @param leafCorners     8 values per leaf in corner order, m
+    /// @param leafCorners     8 values per leaf in corner order
+    /// @param brickValues     27 values per brick in half-grid order
     /// @param version         snapshot version that created it (readers check it)
-    /// Complexity: O(nodes + leaves). Threading: any thread. Memory: one allocation.
+    /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
     static std::shared_ptr<const Tile> create(int level, glm::uvec3 latticeOrigin,
                                               std::span<const uint32_t> nodes,
                                               std::span<const float> leafCorners,
-                                              uint64_t version);
+                                              std::span<const float> brickValues, uint64_t version);
     /// Builds a tile from already quantised data (file loading). Checksum is recomputed.
     static std::shared_ptr<const Tile> createQuantised(int level, glm::uvec3 latticeOrigin,
                                                        std::span<const uint32_t> nodes,
                                                        std::span<const int16_t> leafCorners,
+                                                       std::span<const int16_t> brickValues,
                                                        float scale, uint64_t version);
 
     int level() const { return mLevel; }
     glm::uvec3 latticeOrigin() const { return mOrigin; }
     uint32_t nodeCount() const { return mNodeCount; }
-    uint32_t leafCount() const { return mLeafCount; }
+    uint32_t leafCount() const { return mLeafCount; }    ///< lone leaves (not in bricks)
+    uint32_t brickCount() const { return mBrickCount; }
+    /// Leaf cells: lone leaves plus 8 per brick.
+    std::size_t cellCount() const { return mLeafCount + 8 * std::size_t(mBrickCount); }
     const uint32_t* nodes() const { return mNodes; }
-    const int16_t* corners() const { return mCorners; }  ///< 8 per leaf
+    const int16_t* corners() const { return mCorners; }  ///< 8 per lone leaf
+    const int16_t* bricks() const { return mBricks; }    ///< 27 per brick
     float scale() const { return mScale; }               ///< m per quantisation step
     uint64_t version() const { return mVersion; }
     uint64_t checksum() const { return mChecksum; }
@@ -74,11 +96,15 @@ public:
     /// FNV-1a of level, origin, scale, nodes and corners: equals checksum() unless memory is bad.
     uint64_t computeChecksum() const;
     /// True when the whole tile is one leaf cell.
-    bool singleLeaf() const { return mNodeCount == 1; }
+    bool singleLeaf() const { return mNodeCount == 1 && node::isLeaf(mNodes[0]); }
     /// Type of the root when singleLeaf().
     CellType rootType() const { return node::leafType(mNodes[0]); }
-    /// Decoded corner distance, m.
+    /// Decoded corner `c` of lone leaf `leaf`, m.
     float corner(uint32_t leaf, int c) const { return float(mCorners[8 * leaf + c]) * mScale; }
+    /// Decoded corner `c` of child `child` of brick `brick`, m.
+    float brickCorner(uint32_t brick, int child, int c) const {
+        return float(mBricks[27 * brick + brickPoint(child, c)]) * mScale;
+    }
 
     ~Tile();
     Tile(const Tile&) = delete;
@@ -86,7 +112,7 @@ public:
 
 private:
     Tile() = default;
-    static Tile* allocate(uint32_t nodeCount, uint32_t leafCount);
+    static Tile* allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t brickCount);
     struct Deleter {
         void operator()(const Tile* t) const;
     };
@@ -96,9 +122,11 @@ private:
     uint64_t mChecksum = 0;
     const uint32_t* mNodes = nullptr;
     const int16_t* mCorners = nullptr;
+    const int16_t* mBricks = nullptr;
     glm::uvec3 mOrigin{0};
     uint32_t mNodeCount = 0;
     uint32_t mLeafCount = 0;
+    uint32_t mBrickCount = 0;
     float mScale = 0.0f;
     int mLevel = 0;
 

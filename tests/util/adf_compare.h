@@ -30,11 +30,13 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b) 
                 };
                 if (ta->level() != tb->level()) return fail("tile level");
                 if (ta->latticeOrigin() != tb->latticeOrigin()) return fail("tile origin");
-                if (ta->nodeCount() != tb->nodeCount() || ta->leafCount() != tb->leafCount())
+                if (ta->nodeCount() != tb->nodeCount() || ta->leafCount() != tb->leafCount() ||
+                    ta->brickCount() != tb->brickCount())
                     return fail("cell count");
                 if (ta->scale() != tb->scale()) return fail("quantisation scale");
                 if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
-                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0)
+                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0 ||
+                    std::memcmp(ta->bricks(), tb->bricks(), ta->brickCount() * 54) != 0)
                     return fail("corner distances");
             }
     return ::testing::AssertionSuccess();

@@ -177,20 +177,43 @@ TEST(Generate, SurfaceOnlyGenerationCoalescesCellsWithoutSurface) {
     const AdfPtr banded = generate(*src, d, GenerationSettings{}, nullptr, &band);
     const AdfPtr coalesced = generate(*src, d, surfaceOnly, nullptr, &bare);
     EXPECT_LT(bare.cells, band.cells);
-    // No internal node keeps 8 leaf children that are all interior or all exterior.
-    coalesced->forEachTile([](const Tile& t) {
-        for (uint32_t i = 0; i < t.nodeCount(); ++i) {
-            const uint32_t w = t.nodes()[i];
-            if (node::isLeaf(w)) continue;
-            bool allSame = true;
-            for (int c = 0; c < 8; ++c) {
-                const uint32_t cw = t.nodes()[w + c];
-                allSame = allSame && node::isLeaf(cw) && node::leafType(cw) != CellType::Boundary &&
-                          node::leafType(cw) == node::leafType(t.nodes()[w]);
+    // No brick (a cell whose 8 children are leaves) holds children all interior or all exterior.
+    std::size_t bricks = 0;
+    coalesced->forEachTile([&](const Tile& t) {
+        for (uint32_t b = 0; b < t.brickCount(); ++b) {
+            ++bricks;
+            CellType types[8];
+            for (int child = 0; child < 8; ++child) {
+                float c[8];
+                for (int k = 0; k < 8; ++k) c[k] = t.brickCorner(b, child, k);
+                types[child] = cellTypeOf(std::span<const float, 8>(c, 8));
             }
-            ASSERT_FALSE(allSame) << "uncoalesced node in tile at level " << t.level();
+            bool allSame = types[0] != CellType::Boundary;
+            for (CellType ty : types) allSame = allSame && ty == types[0];
+            ASSERT_FALSE(allSame) << "uncoalesced brick in tile at level " << t.level();
         }
     });
+    EXPECT_GT(bricks, 0u);
+}
+
+TEST(Generate, BricksAndLoneLeavesReconstructTheSameField) {
+    // Every leaf found by lookup matches the leaf enumeration, bricks included.
+    const Domain d = testPartDomain(7);
+    const AdfPtr adf = generate(*makeTestPart(d), d, testPartSettings());
+    std::size_t leaves = 0, inBricks = 0;
+    adf->forEachTile([&](const Tile& t) {
+        forEachLeaf(t, d.maxLevel, [&](const LeafRef& leaf) {
+            ++leaves;
+            inBricks += leaf.brickChild >= 0;
+            const LeafRef found = adf->findLeaf(leaf.latticeOrigin + leaf.latticeSize / 2);
+            ASSERT_EQ(found.latticeOrigin, leaf.latticeOrigin);
+            ASSERT_EQ(found.level, leaf.level);
+            ASSERT_EQ(found.brickChild, leaf.brickChild);
+            for (int c = 0; c < 8; ++c) ASSERT_EQ(found.corners[c], leaf.corners[c]);
+        });
+    });
+    EXPECT_EQ(leaves, adf->computeStats().cells);
+    EXPECT_GT(inBricks, leaves / 4);
 }
 
 TEST(Generate, LocalRegenerationEqualsFullGeneration) {
