@@ -16,6 +16,7 @@ struct AdfBenchOptions {
     std::size_t queries = 1'000'000;  ///< random points and walk steps per level
     std::size_t errorPoints = 200'000;  ///< band points for the accuracy figure
     int repeats = 3;                  ///< generation runs per level (median reported)
+    int queryPasses = 5;              ///< timed passes over the query points (medians reported)
     unsigned threads = 0;             ///< 0: all cores
     int tileSpan = 0;                 ///< 0: the default tile span
 };

@@ -14,24 +14,6 @@ namespace kizamu::adf {
 
 namespace {
 
-/// Trilinear value and analytic gradient (per unit of the local [0,1]^3 coordinates).
-inline Sample trilinear(const float* v, const glm::vec3& f) {
-    const float a00 = v[0] + f.x * (v[1] - v[0]);
-    const float a10 = v[2] + f.x * (v[3] - v[2]);
-    const float a01 = v[4] + f.x * (v[5] - v[4]);
-    const float a11 = v[6] + f.x * (v[7] - v[6]);
-    const float b0 = a00 + f.y * (a10 - a00);
-    const float b1 = a01 + f.y * (a11 - a01);
-    const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
-    const float gx0 = dx00 + f.y * (dx10 - dx00);
-    const float gx1 = dx01 + f.y * (dx11 - dx01);
-    const float gy0 = a10 - a00, gy1 = a11 - a01;
-    Sample s;
-    s.distance = b0 + f.z * (b1 - b0);
-    s.gradient = {gx0 + f.z * (gx1 - gx0), gy0 + f.z * (gy1 - gy0), b1 - b0};
-    return s;
-}
-
 /// Lattice coordinates of `pWorld`, clamped into the domain; `outside` gets the clamped-off
 /// distance in lattice units.
 inline glm::vec3 toLattice(const Adf& adf, const glm::vec3& pWorld, float& outside) {
@@ -92,22 +74,48 @@ Sample Adf::sample(const glm::vec3& pWorld) const {
     return s;
 }
 
-Sample AdfAccessor::sample(const glm::vec3& pWorld) {
-    float outside;
-    const glm::vec3 u = toLattice(*mAdf, pWorld, outside);
-    const glm::uvec3 p(u);
-    const glm::uvec3 rel = p - mOrigin;  // wraps around when below the origin
-    if (rel.x >= mSize || rel.y >= mSize || rel.z >= mSize) {
-        const LeafRef leaf = mAdf->findLeaf(p);
-        for (int c = 0; c < 8; ++c) mCorners[c] = leaf.corners[c];
-        mOrigin = leaf.latticeOrigin;
-        mSize = leaf.latticeSize;
-        mInvSize = 1.0f / float(mSize);
+void AdfAccessor::descend(glm::uvec3 p) {
+    // Climb to the smallest cached cell that still contains p.
+    while (mDepth > 0) {
+        const PathCell& cell = mPath[mDepth - 1];
+        const glm::uvec3 rel = p - cell.origin;
+        if (rel.x < cell.size && rel.y < cell.size && rel.z < cell.size) break;
+        --mDepth;
     }
-    Sample s = trilinear(mCorners, (u - glm::vec3(mOrigin)) * mInvSize);
-    s.gradient *= mInvSize * mAdf->latticePerMetre();
-    s.distance += outside * mAdf->metresPerLattice();
-    return s;
+    const Domain& d = mAdf->domain();
+    if (mDepth == 0) {
+        mTile = mAdf->tileAtSlot(p >> uint32_t(d.tileSpan()));
+        mPath[0] = {mTile->latticeOrigin(), d.cellLattice(mTile->level()), mTile->nodes()[0]};
+        mDepth = 1;
+    }
+    const uint32_t* nodes = mTile->nodes();
+    for (;;) {
+        const PathCell cell = mPath[mDepth - 1];
+        const uint32_t half = cell.size >> 1;
+        const glm::uvec3 rel = p - cell.origin;
+        const uint32_t cx = rel.x >= half, cy = rel.y >= half, cz = rel.z >= half;
+        const int child = int(cx | (cy << 1) | (cz << 2));
+        const glm::uvec3 childOrigin = cell.origin + glm::uvec3(cx, cy, cz) * half;
+        if (node::isInternal(cell.word)) {
+            mPath[mDepth++] = {childOrigin, half, nodes[cell.word + uint32_t(child)]};
+            continue;
+        }
+        const float scale = mTile->scale();
+        if (node::isLeaf(cell.word)) {
+            const int16_t* q = mTile->corners() + 8 * node::leafIndex(cell.word);
+            for (int k = 0; k < 8; ++k) mCorners[k] = float(q[k]) * scale;
+            mOrigin = cell.origin;
+            mSize = cell.size;
+        } else {
+            const int16_t* q = mTile->bricks() + 27 * node::brickIndex(cell.word);
+            for (int k = 0; k < 8; ++k) mCorners[k] = float(q[brickPoint(child, k)]) * scale;
+            mOrigin = childOrigin;
+            mSize = half;
+        }
+        mInvSize = 1.0f / float(mSize);
+        mGradientScale = mInvSize * mLatticePerMetre;
+        return;
+    }
 }
 
 void Adf::forEachTile(const std::function<void(const Tile&)>& fn) const {

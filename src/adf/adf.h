@@ -14,6 +14,8 @@
 #include "adf/error_bound.h"
 #include "adf/tile.h"
 
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
@@ -149,27 +151,87 @@ private:
 };
 
 /// Per-thread cached reader for coherent queries (the haptic thread's path).
-/// Remembers the last leaf and its decoded corners; a query inside it costs one trilinear
-/// evaluation. Not thread-safe: one per thread. Must not outlive the snapshot it reads.
+/// Remembers the last leaf with its decoded corners and the path of cells from its tile root
+/// down to it (as OpenVDB's ValueAccessor caches nodes): a query in the same leaf costs one
+/// trilinear evaluation, and a step into a neighbouring leaf climbs only as far as the
+/// smallest cached cell that contains the new point before descending again.
+/// Not thread-safe: one per thread. Must not outlive the snapshot it reads.
 class AdfAccessor {
 public:
-    explicit AdfAccessor(const Adf& adf) : mAdf(&adf) {}
+    explicit AdfAccessor(const Adf& adf) { reset(adf); }
     /// Same result as Adf::sample.
-    /// Complexity: O(1) inside the cached leaf, else O(tile span). Memory: none. Never blocks.
+    /// Complexity: O(1) inside the cached leaf, O(levels climbed) nearby, O(tile span) at worst.
+    /// Memory: none. Never blocks.
     Sample sample(const glm::vec3& pWorld);
     /// Switch to another snapshot (drops the cache).
     void reset(const Adf& adf) {
         mAdf = &adf;
+        mOriginWorld = adf.originWorldF();
+        mLatticePerMetre = adf.latticePerMetre();
+        mMetresPerLattice = adf.metresPerLattice();
+        mTop = float(adf.domain().latticeSize()) * (1.0f - 1e-7f);
         mSize = 0;
+        mDepth = 0;
     }
 
 private:
-    const Adf* mAdf;
+    void descend(glm::uvec3 p);
+
+    struct PathCell {
+        glm::uvec3 origin;  ///< lattice
+        uint32_t size;      ///< lattice units
+        uint32_t word;      ///< node word of this cell
+    };
+    // Copied from the snapshot so the hit path touches only this object.
+    const Adf* mAdf = nullptr;
+    glm::vec3 mOriginWorld{0.0f};
+    float mLatticePerMetre = 1.0f, mMetresPerLattice = 1.0f, mTop = 0.0f;
+    const Tile* mTile = nullptr;
     glm::uvec3 mOrigin{0};
     uint32_t mSize = 0;  ///< 0: nothing cached
     float mInvSize = 0.0f;
+    float mGradientScale = 0.0f;  ///< lattice-cell derivative to per-metre
     float mCorners[8] = {};
+    int mDepth = 0;  ///< valid entries of mPath
+    PathCell mPath[kMaxSupportedLevel + 1];
 };
+
+/// Trilinear value and analytic gradient at local coordinates `f` in [0,1]^3 of a cell with
+/// corners `v` (corner order of tile.h); the gradient is per unit of `f`.
+inline Sample trilinear(const float* v, const glm::vec3& f) {
+    const float a00 = v[0] + f.x * (v[1] - v[0]);
+    const float a10 = v[2] + f.x * (v[3] - v[2]);
+    const float a01 = v[4] + f.x * (v[5] - v[4]);
+    const float a11 = v[6] + f.x * (v[7] - v[6]);
+    const float b0 = a00 + f.y * (a10 - a00);
+    const float b1 = a01 + f.y * (a11 - a01);
+    const float dx00 = v[1] - v[0], dx10 = v[3] - v[2], dx01 = v[5] - v[4], dx11 = v[7] - v[6];
+    const float gx0 = dx00 + f.y * (dx10 - dx00);
+    const float gx1 = dx01 + f.y * (dx11 - dx01);
+    const float gy0 = a10 - a00, gy1 = a11 - a01;
+    Sample s;
+    s.distance = b0 + f.z * (b1 - b0);
+    s.gradient = {gx0 + f.z * (gx1 - gx0), gy0 + f.z * (gy1 - gy0), b1 - b0};
+    return s;
+}
+
+// Inline so that the haptic loop compiles the cache hit into straight-line code.
+inline Sample AdfAccessor::sample(const glm::vec3& pWorld) {
+    const glm::vec3 u = (pWorld - mOriginWorld) * mLatticePerMetre;
+    float outside = 0.0f;
+    glm::vec3 c = u;
+    if (!(u.x >= 0.0f && u.y >= 0.0f && u.z >= 0.0f && u.x <= mTop && u.y <= mTop && u.z <= mTop)) {
+        c = glm::clamp(u, glm::vec3(0.0f), glm::vec3(mTop));  // NaN lands on 0 here
+        outside = glm::length(u - c);
+    }
+    const glm::uvec3 p(c);
+    const glm::uvec3 rel = p - mOrigin;  // wraps around when below the origin
+    if (rel.x >= mSize || rel.y >= mSize || rel.z >= mSize) descend(p);
+    Sample s = trilinear(mCorners, (c - glm::vec3(mOrigin)) * mInvSize);
+    s.gradient *= mGradientScale;
+    s.distance += outside * mMetresPerLattice;
+    return s;
+}
 
 /// Calls fn(leafRef) for every leaf cell of `tile` (bricks expanded), depth first.
 /// Complexity: O(nodes + cells). Memory: none. Any thread.

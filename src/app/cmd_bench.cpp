@@ -26,6 +26,9 @@ void addBenchCommand(CLI::App& app) {
     adfCmd->add_option("--repeats", o->repeats, "Generation runs per level (median)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
+    adfCmd->add_option("--query-passes", o->queryPasses, "Timed passes over the query points (medians)")
+        ->check(CLI::Range(1, 100))
+        ->capture_default_str();
     adfCmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
     adfCmd->add_option("--tile-span", o->tileSpan, "Octree levels inside a stored tile (0: default)")
         ->check(CLI::Range(0, 10));
