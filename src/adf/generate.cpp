@@ -25,7 +25,7 @@ namespace {
 // ---- the 3x3x3 half grid of a cell: point g = i + 3j + 9k, i, j, k in {0, 1, 2} ----
 
 constexpr int cornerToGrid(int c) { return 2 * (c & 1) + 6 * ((c >> 1) & 1) + 18 * ((c >> 2) & 1); }
-constexpr int kCentre = 13;
+constexpr int kCentre = 13;  // a variable, not an enum: ensure() takes its address
 
 /// Fraction of ε̂ the 19-point test allows (see CellRule::firstLook).
 constexpr double kCriterionMargin = 0.6;
@@ -42,7 +42,13 @@ constexpr std::array<int, 18> kFaceEdgePoints = [] {
     return out;
 }();
 
-constexpr glm::uvec3 gridOffset(int g) { return {uint32_t(g % 3), uint32_t((g / 3) % 3), uint32_t(g / 9)}; }
+/// (i, j, k) of half-grid point g, by table: ensure() looks it up for every point it touches.
+constexpr std::array<glm::uvec3, 27> kGridOffset = [] {
+    std::array<glm::uvec3, 27> t{};
+    for (int g = 0; g < 27; ++g) t[g] = {uint32_t(g % 3), uint32_t((g / 3) % 3), uint32_t(g / 9)};
+    return t;
+}();
+constexpr glm::uvec3 gridOffset(int g) { return kGridOffset[g]; }
 constexpr glm::uvec3 childOffset(int c) { return {uint32_t(c & 1), uint32_t((c >> 1) & 1), uint32_t(c >> 2)}; }
 
 constexpr uint64_t latticeKey(glm::uvec3 p) {
@@ -297,6 +303,8 @@ private:
 
     /// Files a freshly evaluated border point under every face/edge neighbour sharing it.
     void recordBorder(glm::uvec3 p, float v) {
+        // Unsigned wrap: true when 1 <= coordinate <= span - 1 on every axis (interior).
+        if (p.x - 1 < mSpan - 1 && p.y - 1 < mSpan - 1 && p.z - 1 < mSpan - 1) return;
         const glm::ivec3 side(p.x == 0 ? -1 : (p.x == mSpan ? 1 : 0), p.y == 0 ? -1 : (p.y == mSpan ? 1 : 0),
                               p.z == 0 ? -1 : (p.z == mSpan ? 1 : 0));
         const int onBorder = (side.x != 0) + (side.y != 0) + (side.z != 0);
@@ -308,28 +316,37 @@ private:
         }
     }
 
-    /// Evaluates the listed scratch points that are not valid yet, in one batch.
-    void ensure(const uint32_t* idx, const glm::uvec3* local, int n) {
+    /// Evaluates the half-grid points `gs` (of the cell at `o` with half size `half`) that are
+    /// not valid yet, in one batch, and loads all of them into v.
+    void ensure(glm::uvec3 o, uint32_t half, const int* gs, int n, float* v) {
+        const uint32_t base = index(o);
+        const uint32_t sy = mDim * half, sz = mDim * mDim * half;
         glm::dvec3 pts[27];
         double out[27];
         uint32_t todo[27];
-        int todoLocal[27];
+        glm::uvec3 todoLocal[27];
         int m = 0;
-        for (int i = 0; i < n; ++i) {
-            if (valid(idx[i])) continue;
-            const glm::uvec3 p = mBase + local[i];
+        for (int k = 0; k < n; ++k) {
+            const glm::uvec3 g = gridOffset(gs[k]);
+            const uint32_t i = base + g.x * half + g.y * sy + g.z * sz;
+            if (valid(i)) {
+                v[gs[k]] = mValues[i];
+                continue;
+            }
+            const glm::uvec3 local = o + g * half;
+            const glm::uvec3 p = mBase + local;
             pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
-            todoLocal[m] = i;
-            todo[m++] = idx[i];
-            mStamp[idx[i]] = mCurrent;  // marks duplicates within the batch too
+            todoLocal[m] = local;
+            todo[m++] = uint32_t(gs[k]) | (i << 5);
         }
         if (m == 0) return;
         mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
         mEvaluations += uint64_t(m);
-        for (int i = 0; i < m; ++i) {
-            const float v = float(out[i]);
-            mValues[todo[i]] = v;
-            recordBorder(local[todoLocal[i]], v);
+        for (int k = 0; k < m; ++k) {
+            const float value = float(out[k]);
+            set(todo[k] >> 5, value);
+            v[todo[k] & 31u] = value;
+            recordBorder(todoLocal[k], value);
         }
     }
 
@@ -341,35 +358,22 @@ private:
 
     void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level) {
         float v[27];
-        for (int c = 0; c < 8; ++c) {
-            const uint32_t i = index(o + childOffset(c) * s);
-            assert(valid(i));
-            v[cornerToGrid(c)] = mValues[i];
-        }
+        const uint32_t base = index(o);
+        const uint32_t step[3] = {s, mDim * s, mDim * mDim * s};
         float corners[8];
-        for (int c = 0; c < 8; ++c) corners[c] = v[cornerToGrid(c)];
+        for (int c = 0; c < 8; ++c) {
+            const uint32_t i = base + (c & 1) * step[0] + ((c >> 1) & 1) * step[1] + (c >> 2) * step[2];
+            assert(valid(i));
+            corners[c] = v[cornerToGrid(c)] = mValues[i];
+        }
         if (level == mDomain.maxLevel) return makeLeaf(nodeIndex, corners);
 
         const uint32_t half = s / 2;
-        uint32_t idx[27];
-        glm::uvec3 local[27];
-        for (int g = 0; g < 27; ++g) {
-            local[g] = o + gridOffset(g) * half;
-            idx[g] = index(local[g]);
-        }
-        ensure(&idx[kCentre], &local[kCentre], 1);
-        v[kCentre] = mValues[idx[kCentre]];
+        ensure(o, half, &kCentre, 1, v);
         const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
         if (look.leaf) return makeLeaf(nodeIndex, corners);
 
-        uint32_t fi[18];
-        glm::uvec3 fl[18];
-        for (int k = 0; k < 18; ++k) {
-            fi[k] = idx[kFaceEdgePoints[k]];
-            fl[k] = local[kFaceEdgePoints[k]];
-        }
-        ensure(fi, fl, 18);
-        for (int g : kFaceEdgePoints) v[g] = mValues[idx[g]];
+        ensure(o, half, kFaceEdgePoints.data(), 18, v);
         if (CellRule::error(v) <= look.threshold) return makeLeaf(nodeIndex, corners);
 
         const auto first = uint32_t(mNodes.size());
