@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -19,9 +20,14 @@ void DistanceSource::distances(std::span<const glm::dvec3> pWorld, std::span<dou
     for (std::size_t i = 0; i < pWorld.size(); ++i) out[i] = distance(pWorld[i]);
 }
 
+double DistanceSource::featureSize(const glm::dvec3&, double) const {
+    return std::numeric_limits<double>::infinity();
+}
+
 namespace {
 
 /// Shared batch loop for primitives: one virtual call per batch, the scalar form inlined.
+/// `Derived::size()` is the primitive's smallest feature, m.
 template <class Derived>
 class Primitive : public DistanceSource {
 public:
@@ -31,6 +37,10 @@ public:
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const final {
         const auto& self = *static_cast<const Derived*>(this);
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = self.eval(p[i]);
+    }
+    double featureSize(const glm::dvec3& c, double radius) const final {
+        const auto& self = *static_cast<const Derived*>(this);
+        return std::abs(self.eval(c)) <= radius ? self.size() : std::numeric_limits<double>::infinity();
     }
 };
 
@@ -45,6 +55,7 @@ class Sphere final : public Primitive<Sphere> {
 public:
     explicit Sphere(double r) : mRadius(r) {}
     double eval(const glm::dvec3& p) const { return glm::length(p) - mRadius; }
+    double size() const { return mRadius; }
 
 private:
     double mRadius;
@@ -54,6 +65,7 @@ class Box final : public Primitive<Box> {
 public:
     explicit Box(const glm::dvec3& h) : mHalf(h) {}
     double eval(const glm::dvec3& p) const { return boxDistance(p, mHalf); }
+    double size() const { return std::min({mHalf.x, mHalf.y, mHalf.z}); }
 
 private:
     glm::dvec3 mHalf;
@@ -63,6 +75,10 @@ class RoundedBox final : public Primitive<RoundedBox> {
 public:
     RoundedBox(const glm::dvec3& h, double r) : mInner(h - glm::dvec3(r)), mRadius(r) {}
     double eval(const glm::dvec3& p) const { return boxDistance(p, mInner) - mRadius; }
+    double size() const {
+        const double half = std::min({mInner.x, mInner.y, mInner.z}) + mRadius;
+        return mRadius > 0.0 ? std::min(half, mRadius) : half;
+    }
 
 private:
     glm::dvec3 mInner;
@@ -79,6 +95,7 @@ public:
         const double t = std::clamp(glm::dot(ap, mAxis) * mInvLen2, 0.0, 1.0);
         return glm::length(ap - mAxis * t) - mRadius;
     }
+    double size() const { return mRadius; }
 
 private:
     glm::dvec3 mA, mAxis;
@@ -94,6 +111,7 @@ public:
         const double ox = std::max(dx, 0.0), oz = std::max(dz, 0.0);
         return std::min(std::max(dx, dz), 0.0) + std::sqrt(ox * ox + oz * oz);
     }
+    double size() const { return std::min(mRadius, mHalfHeight); }
 
 private:
     double mRadius, mHalfHeight;
@@ -106,6 +124,7 @@ public:
         const double ring = std::sqrt(p.x * p.x + p.y * p.y) - mMajor;
         return std::sqrt(ring * ring + p.z * p.z) - mMinor;
     }
+    double size() const { return mMinor; }
 
 private:
     double mMajor, mMinor;
@@ -115,6 +134,7 @@ class HalfSpace final : public Primitive<HalfSpace> {
 public:
     HalfSpace(const glm::dvec3& n, double offset) : mNormal(n), mOffset(offset) {}
     double eval(const glm::dvec3& p) const { return glm::dot(p, mNormal) - mOffset; }
+    double size() const { return std::numeric_limits<double>::infinity(); }
 
 private:
     glm::dvec3 mNormal;
@@ -130,6 +150,9 @@ public:
 
     double distance(const glm::dvec3& p) const override {
         return mScale * mChild->distance(toLocal(p));
+    }
+    double featureSize(const glm::dvec3& c, double radius) const override {
+        return mScale * mChild->featureSize(toLocal(c), radius / mScale);
     }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         glm::dvec3 local[kSourceBatch];
@@ -167,6 +190,10 @@ public:
 
     double distance(const glm::dvec3& p) const override {
         return combine(mA->distance(p), mB->distance(p));
+    }
+    double featureSize(const glm::dvec3& c, double radius) const override {
+        const double blend = mBlend > 0.0 ? mBlend : std::numeric_limits<double>::infinity();
+        return std::min({mA->featureSize(c, radius), mB->featureSize(c, radius), blend});
     }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         double other[kSourceBatch];

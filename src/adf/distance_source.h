@@ -36,6 +36,13 @@ public:
     /// Batch form: `out[i] = distance(pWorld[i])`; spans have equal length.
     /// Complexity: O(n * tree size), one virtual call per node per 64 points. Memory: stack only.
     virtual void distances(std::span<const glm::dvec3> pWorld, std::span<double> out) const;
+
+    /// Size (m) of the smallest feature whose surface may pass within `radius` of `centreWorld`
+    /// (a sphere's radius, a cylinder's radius or half height, ...), or +infinity. Generation
+    /// subdivides a cell larger than this even when its 19 test points look fine, so a small
+    /// shape (a tool dab on a flat face) cannot fall between the test points of a big cell.
+    /// Default: no features (a smooth field such as a sampled ADF).
+    virtual double featureSize(const glm::dvec3& centreWorld, double radius) const;
 };
 
 using SourcePtr = std::shared_ptr<const DistanceSource>;

@@ -78,6 +78,16 @@ struct CellRule {
         return {!mayContainSurface && !nearBand, nearBand,
                 float(kCriterionMargin * bound(std::max(0.0, dc - halfDiag)))};
     }
+    /// True when a feature of the source smaller than the cell may cross it (see
+    /// DistanceSource::featureSize): the cell must be split whatever its test points say.
+    bool hidesFeature(const DistanceSource& src, glm::uvec3 latticeOrigin, int level) const {
+        if (level >= domain.maxLevel) return false;
+        const double size = double(domain.cellLattice(level)) * domain.finestCellSize();
+        const double half = 0.5 * double(domain.cellLattice(level));
+        const glm::dvec3 c = domain.originWorld + (glm::dvec3(latticeOrigin) + half) * domain.finestCellSize();
+        return src.featureSize(c, size * 0.8660254037844386) < size;
+    }
+
     /// Largest |computed - reconstructed| over the 19 centre, face and edge points. The
     /// trilinear value at a half-grid point is the mean of the corners it lies between, built
     /// up edge -> face -> centre.
@@ -374,7 +384,8 @@ private:
         if (look.leaf) return makeLeaf(nodeIndex, corners);
 
         ensure(o, half, kFaceEdgePoints.data(), 18, v);
-        if (CellRule::error(v) <= look.threshold) return makeLeaf(nodeIndex, corners);
+        if (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, mBase + o, level))
+            return makeLeaf(nodeIndex, corners);
 
         const auto first = uint32_t(mNodes.size());
         const std::size_t leafMark = mLeafCorners.size();
@@ -496,7 +507,7 @@ private:
         // depend on where the tile level sits.
         if (!look.leaf)
             for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
-        if (look.leaf || CellRule::error(v) <= look.threshold) {
+        if (look.leaf || (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, o, level))) {
             ++mCoarseTiles;
             addTile(makeSingleCellTile(level, o, corners.data(), mVersion));
             return;

@@ -2,6 +2,7 @@
 // Readers query published snapshots while a writer regenerates regions continuously. Readers
 // check every tile they touch (alive, version stamp, checksum) and must neither allocate nor
 // free. Runs under ThreadSanitizer in scripts/test (label "concurrency").
+#include "adf/adf_source.h"
 #include "adf/generate.h"
 #include "adf/snapshot_store.h"
 #include "adf/test_part.h"
@@ -78,7 +79,7 @@ TEST(SnapshotStore, ReadersSeeWholeSnapshotsWhileTheWriterRegenerates) {
         const double r = 0.05;
         const BoxWorld region{c - (r + 0.02), c + (r + 0.02)};
         const auto tool = makeTranslated(makeSphere(r), c);
-        const SourcePtr edited = std::make_shared<test::RegionOverride>(
+        const SourcePtr edited = makeRegionLimited(
             current, makeCsg(e % 2 ? CsgOp::Union : CsgOp::Difference, current, tool), region);
         store.publish(regenerate(*store.current(), *edited, region));
         current = edited;

@@ -5,7 +5,6 @@
 
 #include "adf/adf.h"
 #include "adf/distance_source.h"
-#include "adf/generate.h"
 
 #include <gtest/gtest.h>
 
@@ -67,22 +66,6 @@ private:
     mutable std::mutex mMutex;
     mutable std::size_t mEvaluations = 0;
     mutable std::set<std::tuple<double, double, double>> mPoints;
-};
-
-/// `inside` within the closed box `region`, `outside` elsewhere: an edit whose influence is
-/// limited to a region, so that regeneration of that region must equal full generation.
-class RegionOverride final : public adf::DistanceSource {
-public:
-    RegionOverride(adf::SourcePtr outside, adf::SourcePtr inside, adf::BoxWorld region)
-        : mOutside(std::move(outside)), mInside(std::move(inside)), mRegion(region) {}
-    double distance(const glm::dvec3& p) const override {
-        const bool in = glm::all(glm::greaterThanEqual(p, mRegion.min)) && glm::all(glm::lessThanEqual(p, mRegion.max));
-        return in ? mInside->distance(p) : mOutside->distance(p);
-    }
-
-private:
-    adf::SourcePtr mOutside, mInside;
-    adf::BoxWorld mRegion;
 };
 
 }  // namespace kizamu::test

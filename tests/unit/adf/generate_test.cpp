@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Generation: accuracy against the analytic field within Bremer's bound, gradients, determinism,
 // the compute-once evaluation count, coalescing, and local regeneration == full generation.
+#include "adf/adf_source.h"
 #include "adf/generate.h"
 
 #include "adf/surface_points.h"
@@ -232,7 +233,7 @@ TEST(Generate, LocalRegenerationEqualsFullGeneration) {
         const double r = 0.06;
         const double pad = r + 2 * ds.finestCellSize();
         const BoxWorld region{c - pad, c + pad};
-        const auto carved = std::make_shared<test::RegionOverride>(
+        const auto carved = makeRegionLimited(
             part, makeCsg(CsgOp::Difference, part, makeTranslated(makeSphere(r), c)), region);
         GenerationStats stats;
         const AdfPtr edited = regenerate(*base, *carved, region, &pool, &stats);
@@ -252,6 +253,39 @@ TEST(Generate, RegeneratingAnUnchangedRegionChangesNothing) {
     const AdfPtr base = generate(*part, d, testPartSettings());
     const AdfPtr again = regenerate(*base, *part, {glm::dvec3(0.1), glm::dvec3(0.6)});
     EXPECT_TRUE(test::sameAdf(*base, *again));
+}
+
+TEST(Generate, RegeneratesFromTheOldFieldCombinedWithATool) {
+    // The edit primitive as the sculpting engine uses it: old snapshot as a source, CSG with a
+    // tool, limited to the region being regenerated.
+    const Domain d = testPartDomain(8);
+    const AdfPtr base = generate(*makeTestPart(d), d, testPartSettings());
+    const glm::dvec3 c(0.35, 0.2, 0.65);  // on the -y face of the part, clear of its hole
+    const double r = 0.03, pad = r + 3 * d.finestCellSize();
+    const BoxWorld region{c - pad, c + pad};
+    const SourcePtr old = makeAdfSource(base);
+    EXPECT_EQ(old->distance({0.31, 0.42, 0.53}), double(base->distance({0.31f, 0.42f, 0.53f})));
+    const SourcePtr carved = makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)), region);
+    GenerationStats stats;
+    const AdfPtr edited = regenerate(*base, *carved, region, nullptr, &stats);
+    EXPECT_LT(base->distance(glm::vec3(c + glm::dvec3(0, 0.01, 0))), 0.0f);  // was material
+    EXPECT_NEAR(edited->distance(glm::vec3(c + glm::dvec3(0, 0.01, 0))), r - 0.01, 0.25 * d.finestCellSize());
+    EXPECT_GT(stats.tilesGenerated, 0u);
+    // Far away nothing changed, down to the tile pointers.
+    EXPECT_EQ(edited->tileAtSlot({0, 0, 0}), base->tileAtSlot({0, 0, 0}));
+    EXPECT_EQ(edited->distance({0.5f, 0.8f, 0.5f}), base->distance({0.5f, 0.8f, 0.5f}));
+}
+
+TEST(Generate, SmallFeaturesOnFlatSurfacesAreNotMissed) {
+    // A bump 3 finest cells in radius on a plane: the plane alone passes every 19-point test in
+    // big cells, so only the feature-size rule makes generation look closer.
+    const Domain d = unitDomain(8);
+    const double h = d.finestCellSize();
+    const glm::dvec3 c(0.1 + 0.3 * h, -0.2 + 0.7 * h, 0.0);
+    const SourcePtr bumpy = makeCsg(CsgOp::Union, makeHalfSpace({0, 0, 1}, 0.0), makeTranslated(makeSphere(3 * h), c));
+    const AdfPtr adf = generate(*bumpy, d, GenerationSettings{});
+    EXPECT_LT(adf->distance(glm::vec3(c + glm::dvec3(0, 0, 2 * h))), 0.0f) << "the bump is missing";
+    EXPECT_NEAR(adf->distance(glm::vec3(c + glm::dvec3(0, 0, 4 * h))), h, 0.25 * h);
 }
 
 TEST(Generate, RejectsBadParameters) {
