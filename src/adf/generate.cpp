@@ -12,6 +12,7 @@
 #include <atomic>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -57,9 +58,16 @@ constexpr uint64_t latticeKey(glm::uvec3 p) {
 
 /// The subdivision rule shared by the upper pass and the tiles (Kizamu 5.1 with 5.2).
 struct CellRule {
+    CellRule(const Domain& d, const GenerationSettings& s, const DistanceSource& src)
+        : domain(d), bound(s.errorBound(d)), band(s.bandWorld(d)),
+          // With an infinite radius every feature counts: the smallest one anywhere. Cells no
+          // larger than it never need the per-cell feature query.
+          smallestFeature(src.featureSize(d.originWorld, std::numeric_limits<double>::infinity())) {}
+
     const Domain& domain;
     ErrorBound bound;
     double band;
+    double smallestFeature;  ///< m
 
     struct FirstLook {
         bool leaf;      ///< trivially interior or exterior, outside the band: stop here
@@ -83,6 +91,7 @@ struct CellRule {
     bool hidesFeature(const DistanceSource& src, glm::uvec3 latticeOrigin, int level) const {
         if (level >= domain.maxLevel) return false;
         const double size = double(domain.cellLattice(level)) * domain.finestCellSize();
+        if (size <= smallestFeature) return false;
         const double half = 0.5 * double(domain.cellLattice(level));
         const glm::dvec3 c = domain.originWorld + (glm::dvec3(latticeOrigin) + half) * domain.finestCellSize();
         return src.featureSize(c, size * 0.8660254037844386) < size;
@@ -263,7 +272,7 @@ private:
 class TileGenerator {
 public:
     TileGenerator(const Domain& d, const GenerationSettings& s, const DistanceSource& src)
-        : mDomain(d), mRule{d, s.errorBound(d), s.bandWorld(d)}, mSource(src),
+        : mDomain(d), mRule(d, s, src), mSource(src),
           mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
           mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
           mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
@@ -446,7 +455,7 @@ class Run {
 public:
     Run(const Domain& d, const GenerationSettings& s, const DistanceSource& src, const Adf* base,
         glm::uvec3 regionMin, glm::uvec3 regionMax, util::ThreadPool* pool)
-        : mDomain(d), mSettings(s), mRule{d, s.errorBound(d), s.bandWorld(d)}, mSource(src),
+        : mDomain(d), mSettings(s), mRule(d, s, src), mSource(src),
           mBase(base), mRegionMin(regionMin), mRegionMax(regionMax), mPool(pool),
           mVersion(base ? base->version() + 1 : 1),
           mBuilder(base ? AdfBuilder(*base) : AdfBuilder(d, s)) {}
