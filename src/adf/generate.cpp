@@ -369,6 +369,56 @@ private:
         }
     }
 
+    /// Evaluates, in two large batches, what the 8 children of a cell will ask for first: their
+    /// centres, then the face and edge centres of those the centre does not settle. The set of
+    /// evaluated points is the one the children would evaluate one by one (each child still
+    /// looks at its centre first), but a source call now covers up to 144 points instead of
+    /// 1 or 18, which halves the per-point cost of a CSG tree.
+    void prefetchChildren(glm::uvec3 o, uint32_t childSize, int childLevel) {
+        const uint32_t q = childSize / 2;
+        glm::uvec3 pts[8 * 18];
+        int n = 0;
+        for (int c = 0; c < 8; ++c) pts[n++] = o + childOffset(c) * childSize + gridOffset(kCentre) * q;
+        evaluate(pts, n);
+        n = 0;
+        for (int c = 0; c < 8; ++c) {
+            const glm::uvec3 co = o + childOffset(c) * childSize;
+            if (mRule.firstLook(mValues[index(co + gridOffset(kCentre) * q)], childLevel).leaf) continue;
+            for (int g : kFaceEdgePoints) pts[n++] = co + gridOffset(g) * q;
+        }
+        evaluate(pts, n);
+    }
+
+    /// Evaluates the listed local points that are not valid yet (duplicates allowed), in
+    /// batches of up to 64.
+    void evaluate(const glm::uvec3* local, int n) {
+        constexpr int kBatch = 64;
+        glm::dvec3 pts[kBatch];
+        double out[kBatch];
+        glm::uvec3 todo[kBatch];
+        int m = 0;
+        auto flush = [&] {
+            mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
+            mEvaluations += uint64_t(m);
+            for (int k = 0; k < m; ++k) {
+                const float value = float(out[k]);
+                mValues[index(todo[k])] = value;
+                recordBorder(todo[k], value);
+            }
+            m = 0;
+        };
+        for (int k = 0; k < n; ++k) {
+            const uint32_t i = index(local[k]);
+            if (valid(i)) continue;
+            mStamp[i] = mCurrent;  // claims it, so a duplicate in this list is skipped
+            const glm::uvec3 p = mBase + local[k];
+            pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
+            todo[m++] = local[k];
+            if (m == kBatch) flush();
+        }
+        if (m > 0) flush();
+    }
+
     void makeLeaf(uint32_t nodeIndex, const float* corners) {
         const auto leaf = uint32_t(mLeafCorners.size() / 8);
         mLeafCorners.insert(mLeafCorners.end(), corners, corners + 8);
@@ -396,6 +446,7 @@ private:
         if (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, mBase + o, level))
             return makeLeaf(nodeIndex, corners);
 
+        if (level + 1 < mDomain.maxLevel) prefetchChildren(o, half, level + 1);
         const auto first = uint32_t(mNodes.size());
         const std::size_t leafMark = mLeafCorners.size();
         mNodes.resize(first + 8);
