@@ -32,15 +32,19 @@ private:
 class RegionLimited final : public DistanceSource {
 public:
     RegionLimited(SourcePtr outside, SourcePtr inside, const BoxWorld& region)
-        : mOutside(std::move(outside)), mInside(std::move(inside)), mRegion(region) {}
+        : mOutside(std::move(outside)), mInside(std::move(inside)), mRegion(region) {
+        mSmallestFeature = std::min(mOutside->smallestFeature(), mInside->smallestFeature());
+    }
     double distance(const glm::dvec3& p) const override {
         return contains(p) ? mInside->distance(p) : mOutside->distance(p);
     }
+    /// A cell touching the region takes the new field's features only. Asking both sides would
+    /// make a chain of edits (each `inside` built on the previous source) exponential, and the
+    /// old field's features are already resolved in the snapshot being edited.
     double featureSize(const glm::dvec3& c, double radius) const override {
         const glm::dvec3 nearest = glm::clamp(c, mRegion.min, mRegion.max);
-        const double outside = mOutside->featureSize(c, radius);
-        if (glm::distance(nearest, c) > radius) return outside;
-        return std::min(outside, mInside->featureSize(c, radius));
+        return glm::distance(nearest, c) > radius ? mOutside->featureSize(c, radius)
+                                                  : mInside->featureSize(c, radius);
     }
 
 private:

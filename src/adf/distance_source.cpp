@@ -42,6 +42,13 @@ public:
         const auto& self = *static_cast<const Derived*>(this);
         return std::abs(self.eval(c)) <= radius ? self.size() : std::numeric_limits<double>::infinity();
     }
+    /// Builds a Derived and records its feature size (which needs the finished object).
+    template <class... Args>
+    static SourcePtr make(Args&&... args) {
+        auto p = std::make_shared<Derived>(std::forward<Args>(args)...);
+        p->mSmallestFeature = p->size();
+        return p;
+    }
 };
 
 double maxComponent(const glm::dvec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
@@ -146,7 +153,9 @@ public:
     Transformed(SourcePtr child, const glm::dvec3& t, const glm::dquat& r, double s)
         : mChild(std::move(child)), mTranslation(t),
           mInverseRotation(glm::mat3_cast(glm::conjugate(glm::normalize(r)))), mScale(s),
-          mTranslationOnly(s == 1.0 && mInverseRotation == glm::dmat3(1.0)) {}
+          mTranslationOnly(s == 1.0 && mInverseRotation == glm::dmat3(1.0)) {
+        mSmallestFeature = mScale * mChild->smallestFeature();
+    }
 
     double distance(const glm::dvec3& p) const override {
         return mScale * mChild->distance(toLocal(p));
@@ -186,7 +195,10 @@ double smoothMin(double a, double b, double k) {
 class Csg final : public DistanceSource {
 public:
     Csg(CsgOp op, SourcePtr a, SourcePtr b, double k)
-        : mOp(op), mA(std::move(a)), mB(std::move(b)), mBlend(k) {}
+        : mOp(op), mA(std::move(a)), mB(std::move(b)), mBlend(k) {
+        mSmallestFeature = std::min({mA->smallestFeature(), mB->smallestFeature(),
+                                     k > 0.0 ? k : std::numeric_limits<double>::infinity()});
+    }
 
     double distance(const glm::dvec3& p) const override {
         return combine(mA->distance(p), mB->distance(p));
@@ -236,36 +248,36 @@ void requirePositive(double v, const char* what) {
 
 SourcePtr makeSphere(double radius) {
     requirePositive(radius, "sphere radius");
-    return std::make_shared<Sphere>(radius);
+    return Primitive<Sphere>::make(radius);
 }
 SourcePtr makeBox(const glm::dvec3& halfSize) {
     requirePositive(std::min({halfSize.x, halfSize.y, halfSize.z}), "box half size");
-    return std::make_shared<Box>(halfSize);
+    return Primitive<Box>::make(halfSize);
 }
 SourcePtr makeRoundedBox(const glm::dvec3& halfSize, double cornerRadius) {
     requirePositive(std::min({halfSize.x, halfSize.y, halfSize.z}), "rounded box half size");
     if (!(cornerRadius >= 0.0) || cornerRadius > std::min({halfSize.x, halfSize.y, halfSize.z}))
         throw std::invalid_argument("rounded box corner radius must lie in [0, smallest half size]");
-    return std::make_shared<RoundedBox>(halfSize, cornerRadius);
+    return Primitive<RoundedBox>::make(halfSize, cornerRadius);
 }
 SourcePtr makeCapsule(const glm::dvec3& a, const glm::dvec3& b, double radius) {
     requirePositive(radius, "capsule radius");
-    return std::make_shared<Capsule>(a, b, radius);
+    return Primitive<Capsule>::make(a, b, radius);
 }
 SourcePtr makeCylinder(double radius, double halfHeight) {
     requirePositive(radius, "cylinder radius");
     requirePositive(halfHeight, "cylinder half height");
-    return std::make_shared<Cylinder>(radius, halfHeight);
+    return Primitive<Cylinder>::make(radius, halfHeight);
 }
 SourcePtr makeTorus(double majorRadius, double minorRadius) {
     requirePositive(majorRadius, "torus major radius");
     requirePositive(minorRadius, "torus minor radius");
-    return std::make_shared<Torus>(majorRadius, minorRadius);
+    return Primitive<Torus>::make(majorRadius, minorRadius);
 }
 SourcePtr makeHalfSpace(const glm::dvec3& normal, double offset) {
     const double len = glm::length(normal);
     requirePositive(len, "half-space normal length");
-    return std::make_shared<HalfSpace>(normal / len, offset);
+    return Primitive<HalfSpace>::make(normal / len, offset);
 }
 SourcePtr makeTransformed(SourcePtr child, const glm::dvec3& translation, const glm::dquat& rotation,
                           double scale) {

@@ -15,6 +15,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -43,6 +44,13 @@ public:
     /// shape (a tool dab on a flat face) cannot fall between the test points of a big cell.
     /// Default: no features (a smooth field such as a sampled ADF).
     virtual double featureSize(const glm::dvec3& centreWorld, double radius) const;
+
+    /// The smallest feature anywhere (m): a lower bound of every featureSize() answer, fixed at
+    /// construction (nodes cache it, so sources built on sources stay O(1) here).
+    double smallestFeature() const { return mSmallestFeature; }
+
+protected:
+    double mSmallestFeature = std::numeric_limits<double>::infinity();
 };
 
 using SourcePtr = std::shared_ptr<const DistanceSource>;

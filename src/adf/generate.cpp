@@ -60,9 +60,8 @@ constexpr uint64_t latticeKey(glm::uvec3 p) {
 struct CellRule {
     CellRule(const Domain& d, const GenerationSettings& s, const DistanceSource& src)
         : domain(d), bound(s.errorBound(d)), band(s.bandWorld(d)),
-          // With an infinite radius every feature counts: the smallest one anywhere. Cells no
-          // larger than it never need the per-cell feature query.
-          smallestFeature(src.featureSize(d.originWorld, std::numeric_limits<double>::infinity())) {}
+          // Cells no larger than the smallest feature anywhere never need the per-cell query.
+          smallestFeature(src.smallestFeature()) {}
 
     const Domain& domain;
     ErrorBound bound;

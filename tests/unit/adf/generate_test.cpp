@@ -288,6 +288,21 @@ TEST(Generate, SmallFeaturesOnFlatSurfacesAreNotMissed) {
     EXPECT_NEAR(adf->distance(glm::vec3(c + glm::dvec3(0, 0, 4 * h))), h, 0.25 * h);
 }
 
+TEST(Generate, ChainsOfEditsStayLinear) {
+    // Each edit wraps the previous source twice (outside, and inside the CSG): feature queries
+    // must not fan out over both copies, or 40 dabs at one spot would take 2^40 steps.
+    const Domain d = unitDomain(6);
+    SourcePtr current = makeSphere(0.3);
+    const glm::dvec3 c(0.3, 0.0, 0.0);
+    const BoxWorld region{c - 0.06, c + 0.06};
+    for (int i = 0; i < 40; ++i)
+        current = makeRegionLimited(current, makeCsg(CsgOp::Difference, current, makeTranslated(makeSphere(0.05), c)), region);
+    EXPECT_EQ(current->smallestFeature(), 0.05);
+    EXPECT_EQ(current->featureSize(c, 0.1), 0.05);
+    const AdfPtr adf = generate(*current, d, GenerationSettings{});
+    EXPECT_GT(adf->distance(glm::vec3(c)), 0.0f) << "the carve is missing";
+}
+
 TEST(Generate, RejectsBadParameters) {
     Domain d = unitDomain(7);
     d.maxLevel = 40;
