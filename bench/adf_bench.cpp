@@ -198,7 +198,8 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.add("adf.samples" + L, double(gen.samples), "samples", "distance evaluations");
         out.add("adf.bytes" + L, double(st.bytes()), "B", fmt("%.1f MB", double(st.bytes()) / 1e6));
         out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B", "16-bit corners, one scale per tile");
-        const double floatBytes = double(st.bytes() + 16 * st.cells);
+        // float32 would add 2 bytes per value: 8 per lone leaf, 27 per brick.
+        const double floatBytes = double(st.bytes() + 16 * (st.cells - 8 * st.bricks) + 54 * st.bricks);
         out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
         out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
         float maxStep = 0.0f;

@@ -18,8 +18,7 @@ namespace {
 /// distance in lattice units.
 inline glm::vec3 toLattice(const Adf& adf, const glm::vec3& pWorld, float& outside) {
     const glm::vec3 u = (pWorld - adf.originWorldF()) * adf.latticePerMetre();
-    const float top = float(adf.domain().latticeSize()) * (1.0f - 1e-7f);
-    const glm::vec3 c = glm::clamp(u, glm::vec3(0.0f), glm::vec3(top));
+    const glm::vec3 c = clampToLattice(u, adf.latticeTop());
     outside = (c == u) ? 0.0f : glm::length(u - c);
     return c;
 }
@@ -45,7 +44,6 @@ LeafRef Adf::findLeaf(glm::uvec3 p) const {
     }
     LeafRef r;
     r.tile = tile;
-    r.node = at;
     const float scale = tile->scale();
     if (node::isLeaf(w)) {
         const int16_t* q = tile->corners() + 8 * node::leafIndex(w);

@@ -38,15 +38,13 @@ struct LeafRef {
     glm::uvec3 latticeOrigin{0};
     uint32_t latticeSize = 0;
     int level = 0;
-    uint32_t node = 0;    ///< index of the leaf's node word, or of its brick's
-    int brickChild = -1;  ///< which child of the brick, or -1 for a lone leaf
+    int brickChild = -1;  ///< which child of its brick, or -1 for a lone leaf
     float corners[8] = {};  ///< m, corner order of tile.h
     CellType type() const { return cellTypeOf(std::span<const float, 8>(corners, 8)); }
 };
 
 /// A block of up to 8^3 tile slots. Immutable once published.
 struct Chunk {
-    static constexpr int kMaxDim = 8;
     std::array<const Tile*, 512> tiles{};  ///< what readers use
     std::array<TilePtr, 512> owners{};     ///< keeps them alive (writer side only)
 };
@@ -91,7 +89,7 @@ public:
         std::size_t tiles = 0;        ///< distinct tiles
         std::size_t coarseTiles = 0;  ///< tiles above the tile level
         std::size_t cells = 0;        ///< leaf cells (lone leaves and 8 per brick)
-        std::size_t bricks = 0;       ///< cells stored as bricks of 8 leaves
+        std::size_t bricks = 0;       ///< bricks (each holds 8 of the leaf cells)
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks
         std::size_t tableBytes = 0;   ///< root array and chunks
@@ -107,6 +105,8 @@ public:
     glm::vec3 originWorldF() const { return mOriginF; }
     float latticePerMetre() const { return mLatticePerMetre; }
     float metresPerLattice() const { return mMetresPerLattice; }
+    /// Largest lattice coordinate a query is clamped to (just below latticeSize()).
+    float latticeTop() const { return float(mDomain.latticeSize()) * (1.0f - 1e-7f); }
 
 private:
     friend class AdfBuilder;
@@ -169,7 +169,7 @@ public:
         mOriginWorld = adf.originWorldF();
         mLatticePerMetre = adf.latticePerMetre();
         mMetresPerLattice = adf.metresPerLattice();
-        mTop = float(adf.domain().latticeSize()) * (1.0f - 1e-7f);
+        mTop = adf.latticeTop();
         mSize = 0;
         mDepth = 0;
     }
@@ -216,13 +216,19 @@ inline Sample trilinear(const float* v, const glm::vec3& f) {
 }
 
 // Inline so that the haptic loop compiles the cache hit into straight-line code.
+/// Clamps `u` into [0, top] per axis, NaN to 0 (glm::clamp would pass NaN through).
+inline glm::vec3 clampToLattice(const glm::vec3& u, float top) {
+    auto c = [top](float x) { return x > 0.0f ? (x < top ? x : top) : 0.0f; };
+    return {c(u.x), c(u.y), c(u.z)};
+}
+
 inline Sample AdfAccessor::sample(const glm::vec3& pWorld) {
     const glm::vec3 u = (pWorld - mOriginWorld) * mLatticePerMetre;
     float outside = 0.0f;
     glm::vec3 c = u;
     if (!(u.x >= 0.0f && u.y >= 0.0f && u.z >= 0.0f && u.x <= mTop && u.y <= mTop && u.z <= mTop)) {
-        c = glm::clamp(u, glm::vec3(0.0f), glm::vec3(mTop));  // NaN lands on 0 here
-        outside = glm::length(u - c);
+        c = clampToLattice(u, mTop);
+        outside = glm::length(u - c);  // NaN input gives a NaN distance, never a wild read
     }
     const glm::uvec3 p(c);
     const glm::uvec3 rel = p - mOrigin;  // wraps around when below the origin
@@ -262,7 +268,6 @@ void forEachLeaf(const Tile& t, int maxLevel, Fn&& fn) {
                                 it.level + 1};
             continue;
         }
-        r.node = it.node;
         if (node::isLeaf(w)) {
             r.latticeOrigin = it.origin;
             r.latticeSize = 1u << (maxLevel - it.level);

@@ -143,7 +143,7 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.putBytes(t.bricks(), std::size_t(t.brickCount()) * 54);
     });
     std::memcpy(w.bytes().data() + countAt, &tiles, sizeof tiles);
-    const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), uInt(w.bytes().size()));
+    const uLong crc = crc32_z(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), w.bytes().size());
     w.put(uint32_t(crc));
     return std::move(w.bytes());
 }
@@ -161,7 +161,7 @@ AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
     if (bytes.size() < 4 + 8 + 4) r.fail("truncated: no room for the checksum");
     uint32_t stored;
     std::memcpy(&stored, bytes.data() + bytes.size() - 4, 4);
-    const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(bytes.data()), uInt(bytes.size() - 4));
+    const uLong crc = crc32_z(0L, reinterpret_cast<const Bytef*>(bytes.data()), bytes.size() - 4);
     // A shorter file usually fails the checksum; say "truncated" when the tiles run out first.
     const bool crcOk = uint32_t(crc) == stored;
 

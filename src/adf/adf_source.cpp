@@ -36,7 +36,7 @@ public:
         mSmallestFeature = std::min(mOutside->smallestFeature(), mInside->smallestFeature());
     }
     double distance(const glm::dvec3& p) const override {
-        return contains(p) ? mInside->distance(p) : mOutside->distance(p);
+        return mRegion.contains(p) ? mInside->distance(p) : mOutside->distance(p);
     }
     /// A cell touching the region takes the new field's features only. Asking both sides would
     /// make a chain of edits (each `inside` built on the previous source) exponential, and the
@@ -48,9 +48,6 @@ public:
     }
 
 private:
-    bool contains(const glm::dvec3& p) const {
-        return glm::all(glm::greaterThanEqual(p, mRegion.min)) && glm::all(glm::lessThanEqual(p, mRegion.max));
-    }
     SourcePtr mOutside, mInside;
     BoxWorld mRegion;
 };

@@ -281,6 +281,7 @@ SourcePtr makeHalfSpace(const glm::dvec3& normal, double offset) {
 }
 SourcePtr makeTransformed(SourcePtr child, const glm::dvec3& translation, const glm::dquat& rotation,
                           double scale) {
+    if (!child) throw std::invalid_argument("transformed source is null");
     requirePositive(scale, "transform scale");
     return std::make_shared<Transformed>(std::move(child), translation, rotation, scale);
 }

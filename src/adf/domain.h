@@ -20,6 +20,9 @@ namespace kizamu::adf {
 inline constexpr int kMaxSupportedLevel = 16;
 /// Largest supported tile level (tiles per axis = 2^tileLevel).
 inline constexpr int kMaxTileLevel = 10;
+/// Largest supported tile span: a generation scratch volume is (2^span + 1)^3 samples (136 MB
+/// at span 8), and border samples pack local coordinates into 10 bits per axis.
+inline constexpr int kMaxTileSpan = 8;
 
 /// The cube [originWorld, originWorld + sizeWorld]^3 subdivided as an octree down to `maxLevel`.
 /// A stored tile is the subtree below `tileLevel()`, spanning 2^tileSpanLevels finest cells.
@@ -55,7 +58,7 @@ struct Domain {
     bool valid() const {
         return sizeWorld > 0.0 && std::isfinite(sizeWorld) && std::isfinite(originWorld.x) &&
                std::isfinite(originWorld.y) && std::isfinite(originWorld.z) && maxLevel >= 1 &&
-               maxLevel <= kMaxSupportedLevel && tileSpanLevels >= 1 && tileSpanLevels <= 10 &&
+               maxLevel <= kMaxSupportedLevel && tileSpanLevels >= 1 && tileSpanLevels <= kMaxTileSpan &&
                tileLevel() <= kMaxTileLevel;
     }
 
@@ -65,6 +68,10 @@ struct Domain {
 /// Axis-aligned box in world space, m.
 struct BoxWorld {
     glm::dvec3 min{0.0}, max{0.0};
+    /// Closed-box test.
+    bool contains(const glm::dvec3& p) const {
+        return p.x >= min.x && p.y >= min.y && p.z >= min.z && p.x <= max.x && p.y <= max.y && p.z <= max.z;
+    }
 };
 
 }  // namespace kizamu::adf

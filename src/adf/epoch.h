@@ -10,16 +10,16 @@
 #pragma once
 
 #include <atomic>
+#include <cassert>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
-#include <mutex>
 
 namespace kizamu::adf {
 
 /// Owned by a SnapshotStore. Reader slots are fixed at construction.
-/// Threading: registerReader/unregisterReader from any thread (cold, locks); enter/exit only
+/// Threading: registerReader/unregisterReader from any thread (cold, a CAS scan); enter/exit only
 /// by the slot's owner thread (hot, lock-free); advance/canReclaim by the single writer.
 class EpochDomain {
 public:
@@ -32,7 +32,9 @@ public:
     void unregisterReader(int slot);
 
     /// Reader: announce the current epoch before loading shared pointers. Lock-free, O(1).
+    /// One announcement per slot at a time (a nested enter would be ended by the inner exit).
     void enter(int slot) noexcept {
+        assert(mSlots[slot].epoch.load(std::memory_order_relaxed) == kIdle && "nested acquire on one reader");
         mSlots[slot].epoch.store(mEpoch.load(std::memory_order_seq_cst), std::memory_order_seq_cst);
     }
     /// Reader: done with everything loaded since enter(). Lock-free, O(1).

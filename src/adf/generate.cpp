@@ -28,8 +28,11 @@ namespace {
 constexpr int cornerToGrid(int c) { return 2 * (c & 1) + 6 * ((c >> 1) & 1) + 18 * ((c >> 2) & 1); }
 constexpr int kCentre = 13;  // a variable, not an enum: ensure() takes its address
 
+/// Half the diagonal of a unit cube.
+constexpr double kHalfDiagonal = 0.8660254037844386;
+
 /// Fraction of ε̂ the 19-point test allows (see CellRule::firstLook).
-constexpr double kCriterionMargin = 0.6;
+constexpr double kCriterionMargin = 0.75;
 
 /// The 18 half-grid points that are neither corners nor the centre.
 constexpr std::array<int, 18> kFaceEdgePoints = [] {
@@ -78,7 +81,7 @@ struct CellRule {
     /// margin: the 19 test points see the largest error of a smooth field, but 16-bit
     /// quantisation and the curvature seams of rounded shapes add a little elsewhere.
     FirstLook firstLook(float centre, int level) const {
-        const double halfDiag = double(domain.cellLattice(level)) * domain.finestCellSize() * 0.8660254037844386;
+        const double halfDiag = double(domain.cellLattice(level)) * domain.finestCellSize() * kHalfDiagonal;
         const double dc = std::abs(double(centre));
         const bool mayContainSurface = dc <= halfDiag;
         const bool nearBand = band > 0.0 && dc - halfDiag < band;
@@ -93,7 +96,7 @@ struct CellRule {
         if (size <= smallestFeature) return false;
         const double half = 0.5 * double(domain.cellLattice(level));
         const glm::dvec3 c = domain.originWorld + (glm::dvec3(latticeOrigin) + half) * domain.finestCellSize();
-        return src.featureSize(c, size * 0.8660254037844386) < size;
+        return src.featureSize(c, size * kHalfDiagonal) < size;
     }
 
     /// Largest |computed - reconstructed| over the 19 centre, face and edge points. The
@@ -123,6 +126,11 @@ struct CellRule {
         return err;
     }
 };
+
+[[noreturn]] void throwNonFinite(const glm::dvec3& p) {
+    throw std::domain_error("the distance source returned a non-finite value at (" + std::to_string(p.x) + ", " +
+                            std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+}
 
 TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version) {
     const CellType t = cellTypeOf(std::span<const float, 8>(corners, 8));
@@ -280,7 +288,7 @@ public:
     TileGenerator(const TileGenerator&) = delete;
     TileGenerator& operator=(const TileGenerator&) = delete;
 
-    /// Builds the tile for `job`; reads neighbours' face samples, writes its own to `faces`.
+    /// Builds the tile for `job`; reads its neighbours' border samples, writes its own to `border`.
     TilePtr build(const TileJob& job, const std::array<const BorderSamples*, kNeighbours>& neighbours,
                   BorderSamples& border, uint64_t version) {
         if (++mCurrent == 0) {  // stamp wrapped: clear once every 4 billion tiles
@@ -341,7 +349,8 @@ private:
         const uint32_t sy = mDim * half, sz = mDim * mDim * half;
         glm::dvec3 pts[27];
         double out[27];
-        uint32_t todo[27];
+        uint32_t todoIndex[27];
+        int todoGrid[27];
         glm::uvec3 todoLocal[27];
         int m = 0;
         for (int k = 0; k < n; ++k) {
@@ -355,15 +364,16 @@ private:
             const glm::uvec3 p = mBase + local;
             pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
             todoLocal[m] = local;
-            todo[m++] = uint32_t(gs[k]) | (i << 5);
+            todoGrid[m] = gs[k];
+            todoIndex[m++] = i;
         }
         if (m == 0) return;
         mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
         mEvaluations += uint64_t(m);
         for (int k = 0; k < m; ++k) {
-            const float value = float(out[k]);
-            set(todo[k] >> 5, value);
-            v[todo[k] & 31u] = value;
+            const float value = checkedValue(out[k], pts[k]);
+            set(todoIndex[k], value);
+            v[todoGrid[k]] = value;
             recordBorder(todoLocal[k], value);
         }
     }
@@ -400,7 +410,7 @@ private:
             mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
             mEvaluations += uint64_t(m);
             for (int k = 0; k < m; ++k) {
-                const float value = float(out[k]);
+                const float value = checkedValue(out[k], pts[k]);
                 mValues[index(todo[k])] = value;
                 recordBorder(todo[k], value);
             }
@@ -416,6 +426,11 @@ private:
             if (m == kBatch) flush();
         }
         if (m > 0) flush();
+    }
+
+    static float checkedValue(double d, const glm::dvec3& p) {
+        if (!std::isfinite(d)) throwNonFinite(p);
+        return float(d);
     }
 
     void makeLeaf(uint32_t nodeIndex, const float* corners) {
@@ -528,7 +543,10 @@ private:
         bool fresh;
         float* v = mUpperSamples.findOrInsert(latticeKey(p), 0.0f, fresh);
         if (fresh) {
-            *v = float(mSource.distance(mDomain.latticeToWorld(p.x, p.y, p.z)));
+            const glm::dvec3 w = mDomain.latticeToWorld(p.x, p.y, p.z);
+            const double d = mSource.distance(w);
+            if (!std::isfinite(d)) throwNonFinite(w);
+            *v = float(d);
             ++mEvaluations;
         }
         return *v;
@@ -613,8 +631,9 @@ private:
     }
 
     void coalesceUpper() {
-        // Post-order: children were merged before their parents are looked at.
-        for (auto it = mCoalesceCandidates.rbegin(); it != mCoalesceCandidates.rend(); ++it) {
+        // Candidates were recorded after their children (post-order), so walking forwards merges
+        // children before their parents are looked at and merges cascade upwards.
+        for (auto it = mCoalesceCandidates.begin(); it != mCoalesceCandidates.end(); ++it) {
             const uint32_t half = mDomain.cellLattice(it->level + 1);
             CellType first = CellType::Boundary;
             bool same = true;

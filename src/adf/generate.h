@@ -2,8 +2,8 @@
 /// @file generate.h
 /// @brief Tiled ADF generation (Kizamu 5.1, 5.2) and local regeneration, the edit primitive.
 ///
-/// Top-down subdivision against an error criterion evaluated at the cell, face and edge centres
-/// (the 19 points that become the children's corners), with Bremer's adaptive bound inside a
+/// Top-down subdivision against an error criterion evaluated at the 19 cell, face and edge
+/// centres (with the 8 corners, the 27 children's corners), with Bremer's adaptive bound inside a
 /// band around the surface (bounded-surface generation). Every lattice point is evaluated at
 /// most once per run: points above the tile level are cached in a table, points inside a tile
 /// in the tile's scratch volume, and points on a shared tile face or edge are handed from the
@@ -39,7 +39,8 @@ struct GenerationStats {
 /// Complexity: O(cells near the surface and band) evaluations, each distance evaluated once.
 /// Threading: parallel over tiles on `pool`; `source` must be thread-safe. Memory: the ADF plus
 /// one scratch volume of (2^span+1)^3 floats per worker and the shared tile faces.
-/// @throw std::invalid_argument for an invalid domain or settings.
+/// @throw std::invalid_argument for an invalid domain or settings; std::domain_error when the
+///        source returns a NaN or infinite distance (nothing is published then).
 AdfPtr generate(const DistanceSource& source, const Domain& domain,
                 const GenerationSettings& settings, util::ThreadPool* pool = nullptr,
                 GenerationStats* stats = nullptr);

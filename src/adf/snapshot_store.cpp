@@ -27,9 +27,11 @@ SnapshotStore::~SnapshotStore() {
 
 void SnapshotStore::publish(AdfPtr next) {
     if (!next) throw std::invalid_argument("cannot publish a null snapshot");
-    AdfPtr old = std::exchange(mCurrentOwner, std::move(next));
+    // Take the retire-list slot first: if that allocation throws, nothing was unpublished.
+    mRetired.push_back({mCurrentOwner, 0});
+    mCurrentOwner = std::move(next);
     mCurrent.store(mCurrentOwner.get(), std::memory_order_seq_cst);
-    mRetired.push_back({std::move(old), mEpochs.advance()});
+    mRetired.back().epoch = mEpochs.advance();
     reclaim();
 }
 

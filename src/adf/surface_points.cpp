@@ -32,12 +32,6 @@ glm::dvec3 projectToSurface(const DistanceSource& source, glm::dvec3 p, double s
     return p;
 }
 
-namespace {
-bool inside(const BoxWorld& b, const glm::dvec3& p) {
-    return glm::all(glm::greaterThanEqual(p, b.min)) && glm::all(glm::lessThanEqual(p, b.max));
-}
-}  // namespace
-
 std::vector<glm::dvec3> randomSurfacePoints(const DistanceSource& source, const BoxWorld& box,
                                             std::size_t count, uint64_t seed, double step) {
     std::mt19937_64 rng(seed);
@@ -47,7 +41,7 @@ std::vector<glm::dvec3> randomSurfacePoints(const DistanceSource& source, const 
     while (out.size() < count) {
         const glm::dvec3 p = box.min + (box.max - box.min) * glm::dvec3(u(rng), u(rng), u(rng));
         const glm::dvec3 q = projectToSurface(source, p, step, step * 1e-3);
-        if (inside(box, q) && std::abs(source.distance(q)) < step * 1e-2) out.push_back(q);
+        if (box.contains(q) && std::abs(source.distance(q)) < step * 1e-2) out.push_back(q);
     }
     return out;
 }

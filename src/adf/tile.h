@@ -93,7 +93,8 @@ public:
     uint64_t checksum() const { return mChecksum; }
     /// Bytes of the block (header and arrays).
     std::size_t bytes() const;
-    /// FNV-1a of level, origin, scale, nodes and corners: equals checksum() unless memory is bad.
+    /// FNV-1a of level, origin, scale, nodes, corners and bricks: equals checksum() unless memory
+    /// is bad.
     uint64_t computeChecksum() const;
     /// True when the whole tile is one leaf cell.
     bool singleLeaf() const { return mNodeCount == 1 && node::isLeaf(mNodes[0]); }

@@ -20,9 +20,17 @@ void addBenchCommand(CLI::App& app) {
     adfCmd->add_flag("--json", o->json, "One JSON object per figure per line, nothing else on stdout");
     adfCmd->add_flag("--vs-openvdb", o->vsOpenVdb,
                      "Also build the same part as an OpenVDB level set (levels >= 10) and compare");
-    adfCmd->add_option("--levels", o->levels, "Maximum levels to run")->delimiter(',')->capture_default_str();
-    adfCmd->add_option("--queries", o->queries, "Random points and walk steps per level")->capture_default_str();
-    adfCmd->add_option("--error-points", o->errorPoints, "Band points for the accuracy figure")->capture_default_str();
+    adfCmd->add_option("--levels", o->levels, "Maximum levels to run")
+        ->delimiter(',')
+        ->check(CLI::Range(1, 16))
+        ->expected(1, 16)
+        ->capture_default_str();
+    adfCmd->add_option("--queries", o->queries, "Random points and walk steps per level")
+        ->check(CLI::Range(std::size_t(1000), std::size_t(100'000'000)))
+        ->capture_default_str();
+    adfCmd->add_option("--error-points", o->errorPoints, "Band points for the accuracy figure")
+        ->check(CLI::Range(std::size_t(100), std::size_t(100'000'000)))
+        ->capture_default_str();
     adfCmd->add_option("--repeats", o->repeats, "Generation runs per level (median)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
@@ -31,7 +39,7 @@ void addBenchCommand(CLI::App& app) {
         ->capture_default_str();
     adfCmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
     adfCmd->add_option("--tile-span", o->tileSpan, "Octree levels inside a stored tile (0: default)")
-        ->check(CLI::Range(0, 10));
+        ->check(CLI::Range(0, 8));
     adfCmd->callback([o] {
         const int rc = bench::runAdfBench(*o);
         if (rc != 0) throw CLI::RuntimeError(rc);

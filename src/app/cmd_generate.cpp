@@ -28,7 +28,7 @@ struct GenerateOptions {
 void runGenerate(const GenerateOptions& o) {
     adf::Domain d = adf::testPartDomain(o.level);
     d.tileSpanLevels = o.tileSpan;
-    if (!d.valid()) throw std::invalid_argument("level must be 1..16 and tile span 1..10");
+    if (!d.valid()) throw std::invalid_argument("level must be 1..16 and tile span 1..8");
     util::ThreadPool pool(o.threads);
     adf::GenerationStats gen;
     const auto t0 = std::chrono::steady_clock::now();
@@ -52,7 +52,7 @@ void addGenerateCommand(CLI::App& app) {
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
     cmd->add_option("--tile-span", o->tileSpan, "Octree levels inside one stored tile")
-        ->check(CLI::Range(1, 10))
+        ->check(CLI::Range(1, adf::kMaxTileSpan))
         ->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
     cmd->add_option("-o,--out", o->out, "Output file")->capture_default_str();

@@ -17,35 +17,39 @@
 namespace kizamu::util {
 
 namespace {
-[[noreturn]] void fail(const std::string& path, const std::string& step) {
-    throw FileError(path, step + ": " + std::strerror(errno));
+/// `error` is errno captured right after the failing call, before cleanup can change it.
+[[noreturn]] void fail(const std::string& path, const std::string& step, int error) {
+    throw FileError(path, step + ": " + std::strerror(error));
 }
 }  // namespace
 
 void writeFileAtomically(const std::string& path, std::span<const std::byte> bytes) {
     const std::string tmp = path + ".tmp";
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-    if (fd < 0) fail(path, "cannot create " + tmp);
+    if (fd < 0) fail(path, "cannot create " + tmp, errno);
     std::size_t done = 0;
     while (done < bytes.size()) {
         const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
         if (n < 0) {
             if (errno == EINTR) continue;
+            const int error = errno;
             ::close(fd);
             ::unlink(tmp.c_str());
-            fail(path, "cannot write");
+            fail(path, "cannot write", error);
         }
         done += std::size_t(n);
     }
     if (::fsync(fd) != 0) {
+        const int error = errno;
         ::close(fd);
         ::unlink(tmp.c_str());
-        fail(path, "cannot flush to disk");
+        fail(path, "cannot flush to disk", error);
     }
     ::close(fd);
     if (::rename(tmp.c_str(), path.c_str()) != 0) {
+        const int error = errno;
         ::unlink(tmp.c_str());
-        fail(path, "cannot replace");
+        fail(path, "cannot replace", error);
     }
     std::string dir = std::filesystem::path(path).parent_path().string();
     if (dir.empty()) dir = ".";

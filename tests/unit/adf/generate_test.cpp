@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 
 using namespace kizamu;
@@ -51,8 +52,6 @@ ErrorReport checkBand(const Adf& adf, const DistanceSource& src, uint64_t seed, 
         const glm::dvec3 p = s + n * offset(rng);
         const double exact = src.distance(p);
         if (std::abs(exact) > band || nearCrease(src, p, 2.0 * h)) continue;
-        // Cells up to the finest are only guaranteed away from creases by their own size: check
-        // the leaf containing p for a crease within its diagonal.
         const double err = std::abs(double(adf.distance(glm::vec3(p))) - exact);
         const double ratio = err / bound(exact);
         if (ratio > r.worstRatio) r.worstRatio = ratio;
@@ -169,9 +168,13 @@ TEST(Generate, EvaluatesEachDistinctLatticePointOnce) {
     EXPECT_EQ(s1.samples, s2.samples);
 }
 
-TEST(Generate, SurfaceOnlyGenerationCoalescesCellsWithoutSurface) {
-    const Domain d = unitDomain(8);
-    const SourcePtr src = makeTorus(0.25, 0.1);
+class SurfaceOnly : public ::testing::TestWithParam<int> {};
+
+TEST_P(SurfaceOnly, GenerationCoalescesCellsWithoutSurface) {
+    const Domain d = unitDomain(8, GetParam());
+    // A thin torus and a tiny sphere: big cells near them may hold surface, and many turn out
+    // not to, above and below the tile level.
+    const SourcePtr src = makeCsg(CsgOp::Union, makeTorus(0.25, 0.02), makeTranslated(makeSphere(0.01), {0.31, 0.3, 0.29}));
     GenerationSettings surfaceOnly;
     surfaceOnly.bandCells = 0.0;
     GenerationStats band, bare;
@@ -195,7 +198,28 @@ TEST(Generate, SurfaceOnlyGenerationCoalescesCellsWithoutSurface) {
         }
     });
     EXPECT_GT(bricks, 0u);
+    // Nor any cell above the tile level whose 8 children are such leaves (merges cascade).
+    for (int level = d.tileLevel() - 1; level >= 0; --level) {
+        const uint32_t cells = 1u << level, child = d.cellLattice(level + 1);
+        for (uint32_t z = 0; z < cells; ++z)
+            for (uint32_t y = 0; y < cells; ++y)
+                for (uint32_t x = 0; x < cells; ++x) {
+                    const glm::uvec3 o = glm::uvec3(x, y, z) * d.cellLattice(level);
+                    CellType type = CellType::Boundary;
+                    bool allSame = true;
+                    for (int c = 0; c < 8 && allSame; ++c) {
+                        const glm::uvec3 co = o + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * child;
+                        const Tile* t = coalesced->tileAtSlot(co >> uint32_t(d.tileSpan()));
+                        allSame = t->level() == level + 1 && t->singleLeaf() && t->rootType() != CellType::Boundary &&
+                                  (c == 0 || t->rootType() == type);
+                        type = t->rootType();
+                    }
+                    ASSERT_FALSE(allSame) << "uncoalesced cell at level " << level << ", " << x << "," << y << "," << z;
+                }
+    }
 }
+
+INSTANTIATE_TEST_SUITE_P(TileSpans, SurfaceOnly, ::testing::Values(2, 5));
 
 TEST(Generate, BricksAndLoneLeavesReconstructTheSameField) {
     // Every leaf found by lookup matches the leaf enumeration, bricks included.
@@ -301,6 +325,32 @@ TEST(Generate, ChainsOfEditsStayLinear) {
     EXPECT_EQ(current->featureSize(c, 0.1), 0.05);
     const AdfPtr adf = generate(*current, d, GenerationSettings{});
     EXPECT_GT(adf->distance(glm::vec3(c)), 0.0f) << "the carve is missing";
+}
+
+TEST(Generate, ANonFiniteSourceIsAnErrorNotAnAdf) {
+    class NanSource final : public DistanceSource {
+    public:
+        double distance(const glm::dvec3& p) const override {
+            return p.x > 0.2 ? std::numeric_limits<double>::quiet_NaN() : glm::length(p) - 0.3;
+        }
+    };
+    util::ThreadPool pool(2);
+    EXPECT_THROW(generate(NanSource{}, unitDomain(6), GenerationSettings{}, &pool), std::domain_error);
+}
+
+TEST(Generate, QueriesAtTheEdgesOfTheDomainStayInside) {
+    const Domain d = unitDomain(6);
+    const AdfPtr adf = generate(*makeSphere(0.3), d, GenerationSettings{});
+    AdfAccessor acc(*adf);
+    const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+    for (const glm::vec3 p : {glm::vec3(0.5f), glm::vec3(-0.5f), glm::vec3(0.5f, -0.5f, 0.5f), glm::vec3(2.0f, 0.0f, 0.0f),
+                              glm::vec3(inf, 0.0f, 0.0f), glm::vec3(-inf, 0.0f, 0.0f)}) {
+        EXPECT_GT(acc.sample(p).distance, 0.0f);
+        EXPECT_GT(adf->sample(p).distance, 0.0f);
+    }
+    EXPECT_NEAR(acc.sample({1.5f, 0.0f, 0.0f}).distance, 1.2f, 0.01f);  // 1 m outside + 0.2 inside
+    EXPECT_TRUE(std::isnan(acc.sample({nan, 0.0f, 0.0f}).distance));
+    EXPECT_TRUE(std::isnan(adf->sample({0.0f, nan, 0.0f}).distance));
 }
 
 TEST(Generate, RejectsBadParameters) {
