@@ -13,9 +13,9 @@ namespace kizamu::bench {
 void FigureSink::add(const std::string& name, double value, const std::string& unit, const std::string& note) {
     mFigures.push_back({name, value, unit});
     if (mJson) {
-        nlohmann::json j;
+        nlohmann::ordered_json j;  // keeps the documented key order
         j["figure"] = name;
-        j["value"] = std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+        j["value"] = std::isfinite(value) ? nlohmann::ordered_json(value) : nlohmann::ordered_json(nullptr);
         j["unit"] = unit;
         std::fprintf(mOut, "%s\n", j.dump().c_str());
     } else {
