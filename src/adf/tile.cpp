@@ -112,13 +112,7 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
     for (std::size_t i = 0; i < leafCorners.size(); ++i) q[i] = quantise(leafCorners[i], scale);
     auto* b = const_cast<int16_t*>(t->mBricks);
     for (std::size_t i = 0; i < brickValues.size(); ++i) b[i] = quantise(brickValues[i], scale);
-    t->mLevel = level;
-    t->mOrigin = latticeOrigin;
-    t->mScale = scale;
-    t->mVersion = version;
-    t->mChecksum = t->computeChecksum();
-    t->mMagic = kAlive;
-    return TilePtr(t, Deleter{});
+    return finish(t, level, latticeOrigin, scale, version);
 }
 
 TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
@@ -130,6 +124,10 @@ TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<con
     std::memcpy(const_cast<uint32_t*>(t->mNodes), nodes.data(), nodes.size() * 4);
     std::memcpy(const_cast<int16_t*>(t->mCorners), leafCorners.data(), leafCorners.size() * 2);
     std::memcpy(const_cast<int16_t*>(t->mBricks), brickValues.data(), brickValues.size() * 2);
+    return finish(t, level, latticeOrigin, scale, version);
+}
+
+TilePtr Tile::finish(Tile* t, int level, glm::uvec3 latticeOrigin, float scale, uint64_t version) {
     t->mLevel = level;
     t->mOrigin = latticeOrigin;
     t->mScale = scale;

@@ -114,6 +114,9 @@ public:
 private:
     Tile() = default;
     static Tile* allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t brickCount);
+    /// Sets the header of a filled block, seals it with its checksum and hands it out.
+    static std::shared_ptr<const Tile> finish(Tile* t, int level, glm::uvec3 latticeOrigin, float scale,
+                                              uint64_t version);
     struct Deleter {
         void operator()(const Tile* t) const;
     };
