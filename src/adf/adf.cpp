@@ -25,7 +25,9 @@ inline glm::vec3 toLattice(const Adf& adf, const glm::vec3& pWorld, float& outsi
 
 }  // namespace
 
-LeafRef Adf::findLeaf(glm::uvec3 p) const {
+LeafRef Adf::findLeaf(glm::uvec3 p) const noexcept {
+    assert(p.x < mDomain.latticeSize() && p.y < mDomain.latticeSize() && p.z < mDomain.latticeSize() &&
+           "findLeaf needs a point inside the domain");
     const int tileShift = mDomain.maxLevel - mDomain.tileLevel();
     const Tile* tile = tileAtSlot(p >> uint32_t(tileShift));
     const uint32_t* nodes = tile->nodes();
@@ -61,7 +63,7 @@ LeafRef Adf::findLeaf(glm::uvec3 p) const {
     return r;
 }
 
-Sample Adf::sample(const glm::vec3& pWorld) const {
+Sample Adf::sample(const glm::vec3& pWorld) const noexcept {
     float outside;
     const glm::vec3 u = toLattice(*this, pWorld, outside);
     const LeafRef leaf = findLeaf(glm::uvec3(u));
@@ -72,7 +74,7 @@ Sample Adf::sample(const glm::vec3& pWorld) const {
     return s;
 }
 
-void AdfAccessor::descend(glm::uvec3 p) {
+void AdfAccessor::descend(glm::uvec3 p) noexcept {
     // Climb to the smallest cached cell that still contains p.
     while (mDepth > 0) {
         const PathCell& cell = mPath[mDepth - 1];

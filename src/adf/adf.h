@@ -62,7 +62,7 @@ public:
 
     /// Tile covering tile slot `slot` (never null in a built snapshot).
     /// Complexity: O(1), two dependent loads. Threading: any thread. Memory: none.
-    const Tile* tileAtSlot(glm::uvec3 slot) const {
+    const Tile* tileAtSlot(glm::uvec3 slot) const noexcept {
         const glm::uvec3 r = slot >> uint32_t(mChunkLevels);
         const uintptr_t e = mRoot[(r.z * mRootDim + r.y) * mRootDim + r.x];
         if (e & 1u) return reinterpret_cast<const Tile*>(e & ~uintptr_t(1));
@@ -72,14 +72,14 @@ public:
 
     /// Leaf cell containing lattice point `p` (each coordinate < latticeSize()).
     /// Complexity: O(tile span) node loads. Threading: any thread. Memory: none.
-    LeafRef findLeaf(glm::uvec3 p) const;
+    LeafRef findLeaf(glm::uvec3 p) const noexcept;
 
     /// Distance and gradient at `pWorld` (m). Outside the domain the distance grows by the
     /// distance to the domain and the gradient is the one at the nearest domain point.
     /// Complexity: O(tile span). Threading: any thread. Memory: none. For coherent queries
     /// use AdfAccessor, which skips the lookup while the point stays in the same leaf.
-    Sample sample(const glm::vec3& pWorld) const;
-    float distance(const glm::vec3& pWorld) const { return sample(pWorld).distance; }
+    Sample sample(const glm::vec3& pWorld) const noexcept;
+    float distance(const glm::vec3& pWorld) const noexcept { return sample(pWorld).distance; }
 
     /// Calls `fn` once for every distinct tile (coarse tiles once, not once per slot), in slot order.
     void forEachTile(const std::function<void(const Tile&)>& fn) const;
@@ -162,7 +162,7 @@ public:
     /// Same result as Adf::sample.
     /// Complexity: O(1) inside the cached leaf, O(levels climbed) nearby, O(tile span) at worst.
     /// Memory: none. Never blocks.
-    Sample sample(const glm::vec3& pWorld);
+    Sample sample(const glm::vec3& pWorld) noexcept;
     /// Switch to another snapshot (drops the cache).
     void reset(const Adf& adf) {
         mAdf = &adf;
@@ -175,7 +175,7 @@ public:
     }
 
 private:
-    void descend(glm::uvec3 p);
+    void descend(glm::uvec3 p) noexcept;
 
     struct PathCell {
         glm::uvec3 origin;  ///< lattice
@@ -222,7 +222,7 @@ inline glm::vec3 clampToLattice(const glm::vec3& u, float top) {
     return {c(u.x), c(u.y), c(u.z)};
 }
 
-inline Sample AdfAccessor::sample(const glm::vec3& pWorld) {
+inline Sample AdfAccessor::sample(const glm::vec3& pWorld) noexcept {
     const glm::vec3 u = (pWorld - mOriginWorld) * mLatticePerMetre;
     float outside = 0.0f;
     glm::vec3 c = u;

@@ -32,6 +32,12 @@ bool EpochDomain::canReclaim(uint64_t retiredEpoch) const noexcept {
     return true;
 }
 
+std::size_t EpochDomain::registeredReaders() const noexcept {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < mSlotCount; ++i) n += mSlots[i].used.load();
+    return n;
+}
+
 std::size_t EpochDomain::activeReaders() const noexcept {
     std::size_t n = 0;
     for (std::size_t i = 0; i < mSlotCount; ++i) n += mSlots[i].epoch.load() != kIdle;

@@ -48,6 +48,8 @@ public:
 
     /// Readers currently inside enter/exit (for tests and diagnostics).
     std::size_t activeReaders() const noexcept;
+    /// Registered reader slots.
+    std::size_t registeredReaders() const noexcept;
 
 private:
     struct alignas(64) Slot {

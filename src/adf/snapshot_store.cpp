@@ -22,7 +22,7 @@ SnapshotStore::SnapshotStore(AdfPtr initial, std::size_t maxReaders)
 }
 
 SnapshotStore::~SnapshotStore() {
-    assert(mEpochs.activeReaders() == 0 && "SnapshotStore destroyed while a reader is inside");
+    assert(mEpochs.registeredReaders() == 0 && "SnapshotStore destroyed while readers are registered");
 }
 
 void SnapshotStore::publish(AdfPtr next) {
