@@ -238,9 +238,9 @@ int runAdfBench(const AdfBenchOptions& opt) {
 
         out.progress("level " + std::to_string(level) + ": accuracy");
         const Accuracy acc2 = measureAccuracy(*adf, *src, opt.errorPoints, pool);
-        out.add("adf.max_error_in_band" + L, acc2.smoothMax, "x eps^",
+        out.add("adf.max_error_in_band" + L, acc2.smoothMax, "ratio",
                 "max |error|/ε̂(d) over " + std::to_string(acc2.smooth) + " band points off creases");
-        out.add("adf.max_error_at_creases" + L, acc2.creaseMax, "x eps^",
+        out.add("adf.max_error_at_creases" + L, acc2.creaseMax, "ratio",
                 "same within 2 cells of a crease (" + std::to_string(acc2.crease) + " points)");
 
         out.progress("level " + std::to_string(level) + ": carve dabs");

@@ -39,15 +39,18 @@ void readerLoop(SnapshotStore& store, const std::atomic<bool>& stop, uint64_t se
         const Adf& adf = guard.adf();
         if (adf.version() < lastVersion) ++r.versionRegressions;
         lastVersion = adf.version();
+        // Every tile this reader touches is checked: 4 by slot, and the 4 that queries land in.
         const uint32_t slots = adf.domain().slotsPerAxis();
-        for (int i = 0; i < 8; ++i) {
-            const glm::uvec3 slot(rng() % slots, rng() % slots, rng() % slots);
-            const Tile* t = adf.tileAtSlot(slot);
+        auto check = [&](const Tile* t) {
             ++r.tilesChecked;
-            if (!t->alive() || t->version() > adf.version() || t->computeChecksum() != t->checksum())
-                ++r.badTiles;
-            const glm::vec3 p(float(rng() % 1000) / 1000.0f, float(rng() % 1000) / 1000.0f,
-                              float(rng() % 1000) / 1000.0f);
+            if (!t->alive() || t->version() > adf.version() || t->computeChecksum() != t->checksum()) ++r.badTiles;
+        };
+        for (int i = 0; i < 4; ++i) check(adf.tileAtSlot({rng() % slots, rng() % slots, rng() % slots}));
+        const uint32_t n = adf.domain().latticeSize();
+        for (int i = 0; i < 4; ++i) {
+            const glm::uvec3 lattice(rng() % n, rng() % n, rng() % n);
+            check(adf.findLeaf(lattice).tile);
+            const glm::vec3 p = (glm::vec3(lattice) + 0.5f) * adf.metresPerLattice() + adf.originWorldF();
             const Sample s = adf.sample(p);
             if (!std::isfinite(s.distance)) ++r.nonFinite;
         }
