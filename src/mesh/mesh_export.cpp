@@ -1,0 +1,207 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file mesh_export.cpp
+/// @brief OBJ, binary STL, binary PLY and GLB writers.
+#include "mesh/mesh_export.h"
+
+#include "util/atomic_file.h"
+#include "util/file_error.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+
+namespace kizamu::mesh {
+
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "binary mesh formats are little-endian");
+
+class Bytes {
+public:
+    template <class T>
+    void put(const T& v) {
+        putRaw(&v, sizeof(T));
+    }
+    void putRaw(const void* p, std::size_t n) {
+        const std::size_t at = mData.size();
+        mData.resize(at + n);
+        if (n) std::memcpy(mData.data() + at, p, n);
+    }
+    void text(const char* s) { putRaw(s, std::strlen(s)); }
+    void pad(std::size_t alignment, std::byte fill) {
+        while (mData.size() % alignment) mData.push_back(fill);
+    }
+    std::size_t size() const { return mData.size(); }
+    std::vector<std::byte>& data() { return mData; }
+
+private:
+    std::vector<std::byte> mData;
+};
+
+glm::vec3 faceNormal(const MeshBuffers& m, std::size_t t) {
+    const glm::vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
+                    c = m.positions[m.indices[3 * t + 2]];
+    const glm::vec3 n = glm::cross(b - a, c - a);
+    const float len = glm::length(n);
+    return len > 0.0f ? n / len : glm::vec3(0.0f);
+}
+
+void writeObj(const MeshBuffers& m, Bytes& out) {
+    char line[160];
+    out.text("# Kizamu mesh\n");
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+        const glm::vec3 p = m.positions[i];
+        if (m.colours.empty()) {
+            std::snprintf(line, sizeof line, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+        } else {
+            const glm::vec3 c = glm::vec3(m.colours[i]) / 255.0f;
+            std::snprintf(line, sizeof line, "v %.9g %.9g %.9g %.6g %.6g %.6g\n", p.x, p.y, p.z, c.x, c.y, c.z);
+        }
+        out.text(line);
+    }
+    for (const glm::vec3& n : m.normals) {
+        std::snprintf(line, sizeof line, "vn %.7g %.7g %.7g\n", n.x, n.y, n.z);
+        out.text(line);
+    }
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        const uint32_t a = m.indices[3 * t] + 1, b = m.indices[3 * t + 1] + 1, c = m.indices[3 * t + 2] + 1;
+        if (m.normals.empty())
+            std::snprintf(line, sizeof line, "f %u %u %u\n", a, b, c);
+        else
+            std::snprintf(line, sizeof line, "f %u//%u %u//%u %u//%u\n", a, a, b, b, c, c);
+        out.text(line);
+    }
+}
+
+void writeStl(const MeshBuffers& m, Bytes& out) {
+    char header[80] = {};
+    std::snprintf(header, sizeof header, "Kizamu binary STL");
+    out.putRaw(header, sizeof header);
+    out.put(uint32_t(m.triangleCount()));
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        out.put(faceNormal(m, t));
+        for (int k = 0; k < 3; ++k) out.put(m.positions[m.indices[3 * t + k]]);
+        out.put(uint16_t(0));
+    }
+}
+
+void writePly(const MeshBuffers& m, Bytes& out) {
+    std::string header = "ply\nformat binary_little_endian 1.0\ncomment Kizamu mesh\nelement vertex " +
+                         std::to_string(m.vertexCount()) + "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (!m.normals.empty()) header += "property float nx\nproperty float ny\nproperty float nz\n";
+    if (!m.colours.empty()) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+    header += "element face " + std::to_string(m.triangleCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    out.text(header.c_str());
+    for (std::size_t i = 0; i < m.vertexCount(); ++i) {
+        out.put(m.positions[i]);
+        if (!m.normals.empty()) out.put(m.normals[i]);
+        if (!m.colours.empty()) out.put(m.colours[i]);
+    }
+    for (std::size_t t = 0; t < m.triangleCount(); ++t) {
+        out.put(uint8_t(3));
+        for (int k = 0; k < 3; ++k) out.put(int32_t(m.indices[3 * t + k]));
+    }
+}
+
+/// glTF 2.0 binary: one mesh, one primitive (triangles), positions/normals/colours/indices in
+/// one buffer, each view 4-byte aligned.
+void writeGlb(const MeshBuffers& m, Bytes& out) {
+    Bytes bin;
+    nlohmann::ordered_json views = nlohmann::ordered_json::array(), accessors = nlohmann::ordered_json::array();
+    auto addView = [&](const void* data, std::size_t bytes, int target) {
+        bin.pad(4, std::byte{0});
+        const std::size_t offset = bin.size();
+        bin.putRaw(data, bytes);
+        views.push_back({{"buffer", 0}, {"byteOffset", offset}, {"byteLength", bytes}, {"target", target}});
+        return views.size() - 1;
+    };
+    constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
+    constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedInt = 5125;
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (const glm::vec3& p : m.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    nlohmann::ordered_json attributes;
+    accessors.push_back({{"bufferView", addView(m.positions.data(), m.positions.size() * 12, kArrayBuffer)},
+                         {"componentType", kFloat}, {"count", m.vertexCount()}, {"type", "VEC3"},
+                         {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}});
+    attributes["POSITION"] = accessors.size() - 1;
+    if (!m.normals.empty()) {
+        accessors.push_back({{"bufferView", addView(m.normals.data(), m.normals.size() * 12, kArrayBuffer)},
+                             {"componentType", kFloat}, {"count", m.vertexCount()}, {"type", "VEC3"}});
+        attributes["NORMAL"] = accessors.size() - 1;
+    }
+    if (!m.colours.empty()) {
+        // VEC3 of normalised bytes is a valid COLOR_0; each element must be 4-byte aligned in a
+        // vertex buffer, so store RGBA with opaque alpha.
+        std::vector<glm::u8vec4> rgba(m.colours.size());
+        for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = glm::u8vec4(m.colours[i], 255);
+        const std::size_t view = addView(rgba.data(), rgba.size() * 4, kArrayBuffer);
+        views[view]["byteStride"] = 4;
+        accessors.push_back({{"bufferView", view}, {"componentType", kUnsignedByte}, {"normalized", true},
+                             {"count", m.vertexCount()}, {"type", "VEC4"}});
+        attributes["COLOR_0"] = accessors.size() - 1;
+    }
+    accessors.push_back({{"bufferView", addView(m.indices.data(), m.indices.size() * 4, kElementArrayBuffer)},
+                         {"componentType", kUnsignedInt}, {"count", m.indices.size()}, {"type", "SCALAR"}});
+    const std::size_t indexAccessor = accessors.size() - 1;
+    bin.pad(4, std::byte{0});
+
+    nlohmann::ordered_json gltf;
+    gltf["asset"] = {{"version", "2.0"}, {"generator", "Kizamu"}};
+    gltf["scene"] = 0;
+    gltf["scenes"] = {{{"nodes", {0}}}};
+    gltf["nodes"] = {{{"mesh", 0}}};
+    gltf["meshes"] = {{{"primitives", {{{"attributes", attributes}, {"indices", indexAccessor}, {"mode", 4}}}}}};
+    gltf["buffers"] = {{{"byteLength", bin.size()}}};
+    gltf["bufferViews"] = views;
+    gltf["accessors"] = accessors;
+    std::string json = gltf.dump();
+    while (json.size() % 4) json.push_back(' ');
+
+    out.put(uint32_t(0x46546C67));  // "glTF"
+    out.put(uint32_t(2));
+    out.put(uint32_t(12 + 8 + json.size() + 8 + bin.size()));
+    out.put(uint32_t(json.size()));
+    out.put(uint32_t(0x4E4F534A));  // "JSON"
+    out.putRaw(json.data(), json.size());
+    out.put(uint32_t(bin.size()));
+    out.put(uint32_t(0x004E4942));  // "BIN\0"
+    out.putRaw(bin.data().data(), bin.size());
+}
+
+}  // namespace
+
+MeshFormat meshFormatOf(const std::string& path) {
+    const auto dot = path.rfind('.');
+    std::string ext = dot == std::string::npos ? "" : path.substr(dot + 1);
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+    if (ext == "obj") return MeshFormat::Obj;
+    if (ext == "stl") return MeshFormat::Stl;
+    if (ext == "ply") return MeshFormat::Ply;
+    if (ext == "glb") return MeshFormat::Glb;
+    throw FileError(path, "unknown mesh format '." + ext + "' (use .obj, .stl, .ply or .glb)");
+}
+
+void exportMesh(const MeshBuffers& mesh, const std::string& path) {
+    const MeshFormat format = meshFormatOf(path);
+    if (!mesh.valid()) throw FileError(path, "refusing to write an invalid mesh (sizes or indices out of range)");
+    Bytes out;
+    switch (format) {
+        case MeshFormat::Obj: writeObj(mesh, out); break;
+        case MeshFormat::Stl: writeStl(mesh, out); break;
+        case MeshFormat::Ply: writePly(mesh, out); break;
+        case MeshFormat::Glb: writeGlb(mesh, out); break;
+    }
+    util::writeFileAtomically(path, out.data());
+}
+
+}  // namespace kizamu::mesh

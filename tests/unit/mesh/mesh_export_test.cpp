@@ -1,0 +1,116 @@
+// SPDX-License-Identifier: Apache-2.0
+// Every export is re-read by tools that share no code with ours (assimp for all four formats,
+// admesh for STL) and compared by counts and bounds. A missing reader fails the test.
+#include "mesh/mesh_export.h"
+
+#include "util/file_error.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <regex>
+#include <string>
+
+using namespace kizamu;
+using namespace kizamu::mesh;
+
+namespace {
+
+/// A closed UV sphere with normals and a colour gradient.
+MeshBuffers uvSphere(float radius, int rings, int segments) {
+    MeshBuffers m;
+    auto add = [&](glm::vec3 n) {
+        m.positions.push_back(n * radius + glm::vec3(0.5f, 0.25f, -0.125f));
+        m.normals.push_back(n);
+        m.colours.push_back(glm::u8vec3(uint8_t(127.5f * (n.x + 1)), uint8_t(127.5f * (n.y + 1)), 200));
+    };
+    add({0, 0, 1});
+    for (int r = 1; r < rings; ++r)
+        for (int s = 0; s < segments; ++s) {
+            const float th = float(M_PI) * float(r) / float(rings), ph = 2.0f * float(M_PI) * float(s) / float(segments);
+            add({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
+        }
+    add({0, 0, -1});
+    const auto ring = [&](int r, int s) { return uint32_t(1 + (r - 1) * segments + (s % segments)); };
+    const auto bottom = uint32_t(m.positions.size() - 1);
+    for (int s = 0; s < segments; ++s) {
+        m.indices.insert(m.indices.end(), {0u, ring(1, s), ring(1, s + 1)});
+        for (int r = 1; r + 1 < rings; ++r) {
+            m.indices.insert(m.indices.end(), {ring(r, s), ring(r + 1, s), ring(r + 1, s + 1)});
+            m.indices.insert(m.indices.end(), {ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)});
+        }
+        m.indices.insert(m.indices.end(), {ring(rings - 1, s), bottom, ring(rings - 1, s + 1)});
+    }
+    return m;
+}
+
+std::string run(const std::string& command) {
+    std::string out;
+    FILE* p = popen((command + " 2>&1").c_str(), "r");
+    if (!p) return out;
+    char buf[4096];
+    while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) out.append(buf, n);
+    pclose(p);
+    return out;
+}
+
+double field(const std::string& text, const std::string& pattern) {
+    std::smatch m;
+    if (!std::regex_search(text, m, std::regex(pattern))) return std::nan("");
+    return std::stod(m[1].str());
+}
+
+class MeshExport : public ::testing::TestWithParam<const char*> {
+protected:
+    void SetUp() override {
+        mDir = std::filesystem::temp_directory_path() / ("kizamu_export_" + std::to_string(::getpid()));
+        std::filesystem::create_directories(mDir);
+    }
+    void TearDown() override { std::filesystem::remove_all(mDir); }
+    std::filesystem::path mDir;
+};
+
+TEST_P(MeshExport, AssimpReadsBackTheSameMesh) {
+    ASSERT_EQ(std::system("command -v assimp >/dev/null 2>&1"), 0) << "assimp (assimp-utils) is required";
+    const MeshBuffers mesh = uvSphere(0.2f, 12, 16);
+    const std::string path = (mDir / (std::string("sphere.") + GetParam())).string();
+    exportMesh(mesh, path);
+    // -ptv etc. off: plain import, so counts are the file's own.
+    const std::string info = run("assimp info '" + path + "' --raw");
+    ASSERT_NE(info.find("Importing file ...                   OK"), std::string::npos) << info;
+    EXPECT_EQ(field(info, R"(Faces:\s+(\d+))"), double(mesh.triangleCount())) << info;
+    // STL repeats vertices per facet and assimp de-indexes OBJ faces: only PLY and glTF keep them.
+    if (std::string(GetParam()) == "ply" || std::string(GetParam()) == "glb") {
+        EXPECT_EQ(field(info, R"(Vertices:\s+(\d+))"), double(mesh.vertexCount())) << info;
+    }
+    EXPECT_NEAR(field(info, R"(Minimum point\s+\(([-0-9.e]+))"), 0.5 - 0.2, 1e-5) << info;
+    EXPECT_NEAR(field(info, R"(Maximum point\s+\(([-0-9.e]+))"), 0.5 + 0.2, 1e-5) << info;
+}
+
+INSTANTIATE_TEST_SUITE_P(Formats, MeshExport, ::testing::Values("obj", "stl", "ply", "glb"));
+
+TEST_F(MeshExport, AdmeshFindsAClosedStl) {
+    ASSERT_EQ(std::system("command -v admesh >/dev/null 2>&1"), 0) << "admesh is required";
+    const MeshBuffers mesh = uvSphere(0.2f, 10, 12);
+    const std::string path = (mDir / "sphere.stl").string();
+    exportMesh(mesh, path);
+    const std::string report = run("admesh '" + path + "'");
+    EXPECT_EQ(field(report, R"(Number of facets\s*:\s*(\d+))"), double(mesh.triangleCount())) << report;
+    EXPECT_EQ(field(report, R"(Edges fixed\s*:\s*(\d+))"), 0.0) << report;
+    EXPECT_EQ(field(report, R"(Backwards edges\s*:\s*(\d+))"), 0.0) << report;
+}
+
+TEST_F(MeshExport, RejectsUnknownFormatsAndInvalidMeshes) {
+    MeshBuffers mesh = uvSphere(0.2f, 6, 8);
+    EXPECT_THROW(exportMesh(mesh, (mDir / "sphere.fbx").string()), FileError);
+    mesh.indices.push_back(99999);
+    mesh.indices.push_back(0);
+    mesh.indices.push_back(1);
+    EXPECT_THROW(exportMesh(mesh, (mDir / "sphere.obj").string()), FileError);
+    EXPECT_FALSE(std::filesystem::exists(mDir / "sphere.obj"));
+}
+
+}  // namespace
