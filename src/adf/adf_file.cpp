@@ -4,6 +4,7 @@
 #include "adf/adf_file.h"
 
 #include "util/atomic_file.h"
+#include "util/byte_writer.h"
 #include "util/file_error.h"
 
 #include <glm/vector_relational.hpp>
@@ -19,24 +20,6 @@ namespace {
 
 // PNG-style magic: a high byte and CR/LF catch 7-bit and text-mode mangling.
 constexpr char kMagic[8] = {'\x89', 'K', 'Z', 'A', '\r', '\n', '\x1a', '\n'};
-static_assert(std::endian::native == std::endian::little, ".kza I/O assumes a little-endian host");
-
-class Writer {
-public:
-    template <class T>
-    void put(const T& v) {
-        putBytes(&v, sizeof(T));
-    }
-    void putBytes(const void* p, std::size_t n) {
-        const std::size_t at = mBytes.size();
-        mBytes.resize(at + n);
-        if (n) std::memcpy(mBytes.data() + at, p, n);
-    }
-    std::vector<std::byte>& bytes() { return mBytes; }
-
-private:
-    std::vector<std::byte> mBytes;
-};
 
 class Reader {
 public:
@@ -109,10 +92,10 @@ bool validTree(const Tile& t, int maxDepth, std::string& why) {
 }  // namespace
 
 std::vector<std::byte> encodeAdf(const Adf& adf) {
-    Writer w;
+    util::ByteWriter w;
     const Domain& d = adf.domain();
     const GenerationSettings& s = adf.settings();
-    w.putBytes(kMagic, sizeof kMagic);
+    w.putRaw(kMagic, sizeof kMagic);
     w.put(kAdfFormatVersion);
     w.put(d.originWorld.x);
     w.put(d.originWorld.y);
@@ -138,9 +121,9 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.put(t.nodeCount());
         w.put(t.leafCount());
         w.put(t.brickCount());
-        w.putBytes(t.nodes(), std::size_t(t.nodeCount()) * 4);
-        w.putBytes(t.corners(), std::size_t(t.leafCount()) * 16);
-        w.putBytes(t.bricks(), std::size_t(t.brickCount()) * 54);
+        w.putRaw(t.nodes(), std::size_t(t.nodeCount()) * 4);
+        w.putRaw(t.corners(), std::size_t(t.leafCount()) * 16);
+        w.putRaw(t.bricks(), std::size_t(t.brickCount()) * 54);
     });
     std::memcpy(w.bytes().data() + countAt, &tiles, sizeof tiles);
     const uLong crc = crc32_z(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), w.bytes().size());

@@ -4,6 +4,7 @@
 #include "mesh/mesh_export.h"
 
 #include "util/atomic_file.h"
+#include "util/byte_writer.h"
 #include "util/file_error.h"
 
 #include <glm/common.hpp>
@@ -21,29 +22,7 @@ namespace kizamu::mesh {
 
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "binary mesh formats are little-endian");
-
-class Bytes {
-public:
-    template <class T>
-    void put(const T& v) {
-        putRaw(&v, sizeof(T));
-    }
-    void putRaw(const void* p, std::size_t n) {
-        const std::size_t at = mData.size();
-        mData.resize(at + n);
-        if (n) std::memcpy(mData.data() + at, p, n);
-    }
-    void text(const char* s) { putRaw(s, std::strlen(s)); }
-    void pad(std::size_t alignment, std::byte fill) {
-        while (mData.size() % alignment) mData.push_back(fill);
-    }
-    std::size_t size() const { return mData.size(); }
-    std::vector<std::byte>& data() { return mData; }
-
-private:
-    std::vector<std::byte> mData;
-};
+using Bytes = util::ByteWriter;
 
 glm::vec3 faceNormal(const MeshBuffers& m, std::size_t t) {
     const glm::vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
@@ -98,7 +77,7 @@ void writePly(const MeshBuffers& m, Bytes& out) {
     if (!m.normals.empty()) header += "property float nx\nproperty float ny\nproperty float nz\n";
     if (!m.colours.empty()) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     header += "element face " + std::to_string(m.triangleCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
-    out.text(header.c_str());
+    out.text(header);
     for (std::size_t i = 0; i < m.vertexCount(); ++i) {
         out.put(m.positions[i]);
         if (!m.normals.empty()) out.put(m.normals[i]);
@@ -175,7 +154,7 @@ void writeGlb(const MeshBuffers& m, Bytes& out) {
     out.putRaw(json.data(), json.size());
     out.put(uint32_t(bin.size()));
     out.put(uint32_t(0x004E4942));  // "BIN\0"
-    out.putRaw(bin.data().data(), bin.size());
+    out.putRaw(bin.bytes().data(), bin.size());
 }
 
 }  // namespace
@@ -201,7 +180,7 @@ void exportMesh(const MeshBuffers& mesh, const std::string& path) {
         case MeshFormat::Ply: writePly(mesh, out); break;
         case MeshFormat::Glb: writeGlb(mesh, out); break;
     }
-    util::writeFileAtomically(path, out.data());
+    util::writeFileAtomically(path, out.bytes());
 }
 
 }  // namespace kizamu::mesh
