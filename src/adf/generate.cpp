@@ -342,40 +342,13 @@ private:
         }
     }
 
-    /// Evaluates the half-grid points `gs` (of the cell at `o` with half size `half`) that are
-    /// not valid yet, in one batch, and loads all of them into v.
+    /// Makes the half-grid points `gs` of the cell at `o` (half size `half`) valid, evaluating
+    /// the missing ones in one batch, and loads them into v.
     void ensure(glm::uvec3 o, uint32_t half, const int* gs, int n, float* v) {
-        const uint32_t base = index(o);
-        const uint32_t sy = mDim * half, sz = mDim * mDim * half;
-        glm::dvec3 pts[27];
-        double out[27];
-        uint32_t todoIndex[27];
-        int todoGrid[27];
-        glm::uvec3 todoLocal[27];
-        int m = 0;
-        for (int k = 0; k < n; ++k) {
-            const glm::uvec3 g = gridOffset(gs[k]);
-            const uint32_t i = base + g.x * half + g.y * sy + g.z * sz;
-            if (valid(i)) {
-                v[gs[k]] = mValues[i];
-                continue;
-            }
-            const glm::uvec3 local = o + g * half;
-            const glm::uvec3 p = mBase + local;
-            pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
-            todoLocal[m] = local;
-            todoGrid[m] = gs[k];
-            todoIndex[m++] = i;
-        }
-        if (m == 0) return;
-        mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
-        mEvaluations += uint64_t(m);
-        for (int k = 0; k < m; ++k) {
-            const float value = checkedValue(out[k], pts[k]);
-            set(todoIndex[k], value);
-            v[todoGrid[k]] = value;
-            recordBorder(todoLocal[k], value);
-        }
+        glm::uvec3 local[27];
+        for (int k = 0; k < n; ++k) local[k] = o + gridOffset(gs[k]) * half;
+        evaluate(local, n);
+        for (int k = 0; k < n; ++k) v[gs[k]] = mValues[index(local[k])];
     }
 
     /// Evaluates, in two large batches, what the 8 children of a cell will ask for first: their
