@@ -31,6 +31,7 @@ public:
         return v;
     }
     void getBytes(void* out, std::size_t n, const std::string& what) {
+        if (n == 0) return;  // `out` may be the null data() of an empty vector
         if (n > mBytes.size() - mPos) fail("truncated: " + what + " ends past the end of the file");
         std::memcpy(out, mBytes.data() + mPos, n);
         mPos += n;

@@ -84,6 +84,11 @@ uint64_t Tile::computeChecksum() const {
 }
 
 namespace {
+/// memcpy that accepts the null data() of an empty span.
+void copyBytes(const void* dst, const void* src, std::size_t n) {
+    if (n) std::memcpy(const_cast<void*>(dst), src, n);
+}
+
 /// Round half away from zero into [-32767, 32767], keeping negative values negative (inside
 /// stays inside even when a tiny distance rounds to zero).
 int16_t quantise(float v, float scale) {
@@ -107,7 +112,7 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
     const float scale = maxAbs > 0.0f ? maxAbs / 32767.0f : 1.0f;
     Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8),
                        uint32_t(brickValues.size() / 27));
-    std::memcpy(const_cast<uint32_t*>(t->mNodes), nodes.data(), nodes.size() * 4);
+    copyBytes(t->mNodes, nodes.data(), nodes.size() * 4);
     auto* q = const_cast<int16_t*>(t->mCorners);
     for (std::size_t i = 0; i < leafCorners.size(); ++i) q[i] = quantise(leafCorners[i], scale);
     auto* b = const_cast<int16_t*>(t->mBricks);
@@ -121,9 +126,9 @@ TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<con
     assert(leafCorners.size() % 8 == 0 && brickValues.size() % 27 == 0);
     Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8),
                        uint32_t(brickValues.size() / 27));
-    std::memcpy(const_cast<uint32_t*>(t->mNodes), nodes.data(), nodes.size() * 4);
-    std::memcpy(const_cast<int16_t*>(t->mCorners), leafCorners.data(), leafCorners.size() * 2);
-    std::memcpy(const_cast<int16_t*>(t->mBricks), brickValues.data(), brickValues.size() * 2);
+    copyBytes(t->mNodes, nodes.data(), nodes.size() * 4);
+    copyBytes(t->mCorners, leafCorners.data(), leafCorners.size() * 2);
+    copyBytes(t->mBricks, brickValues.data(), brickValues.size() * 2);
     return finish(t, level, latticeOrigin, scale, version);
 }
 
