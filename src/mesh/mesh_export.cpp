@@ -167,7 +167,8 @@ MeshFormat meshFormatOf(const std::string& path) {
     if (ext == "stl") return MeshFormat::Stl;
     if (ext == "ply") return MeshFormat::Ply;
     if (ext == "glb") return MeshFormat::Glb;
-    throw FileError(path, "unknown mesh format '." + ext + "' (use .obj, .stl, .ply or .glb)");
+    if (ext == "off") return MeshFormat::Off;
+    throw FileError(path, "unknown mesh format '." + ext + "' (use .obj, .stl, .ply, .off or .glb)");
 }
 
 void exportMesh(const MeshBuffers& mesh, const std::string& path) {
@@ -179,6 +180,7 @@ void exportMesh(const MeshBuffers& mesh, const std::string& path) {
         case MeshFormat::Stl: writeStl(mesh, out); break;
         case MeshFormat::Ply: writePly(mesh, out); break;
         case MeshFormat::Glb: writeGlb(mesh, out); break;
+        case MeshFormat::Off: throw FileError(path, "writing .off is not supported (use .obj, .stl, .ply or .glb)");
     }
     util::writeFileAtomically(path, out.bytes());
 }

@@ -14,7 +14,8 @@
 
 namespace kizamu::mesh {
 
-enum class MeshFormat { Obj, Stl, Ply, Glb };
+/// Glb is written only; Off is read only.
+enum class MeshFormat { Obj, Stl, Ply, Glb, Off };
 
 /// Format from the file extension (case-insensitive). @throw kizamu::FileError if unknown.
 MeshFormat meshFormatOf(const std::string& path);
