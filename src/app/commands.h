@@ -13,6 +13,8 @@ namespace kizamu::app {
 void addInfoCommand(CLI::App& app);
 /// Registers `generate`: builds the test part (or a primitive) and writes a .kza file.
 void addGenerateCommand(CLI::App& app);
+/// Registers `convert`: mesh formats, and mesh to ADF.
+void addConvertCommand(CLI::App& app);
 /// Registers `bench` with its areas (`bench adf`).
 void addBenchCommand(CLI::App& app);
 

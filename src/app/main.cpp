@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     kizamu::app::addInfoCommand(app);
     kizamu::app::addGenerateCommand(app);
+    kizamu::app::addConvertCommand(app);
     kizamu::app::addBenchCommand(app);
     try {
         app.parse(argc, argv);

@@ -34,6 +34,15 @@ printf '\xff' | dd of="$tmp/flip.kza" bs=1 seek=$((size / 3)) conv=notrunc 2>/de
 check_bad "$tmp/flip.kza" "checksum mismatch"
 check_bad "$tmp/missing.kza" "cannot open"
 
+# convert: mesh formats, and a mesh to an ADF; an ADF to a mesh is refused with one line
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$tmp/tet.obj"
+"$kizamu" convert "$tmp/tet.obj" "$tmp/tet.ply" >/dev/null || fail "convert obj -> ply"
+"$kizamu" convert "$tmp/tet.ply" "$tmp/tet.stl" >/dev/null || fail "convert ply -> stl"
+"$kizamu" convert "$tmp/tet.stl" "$tmp/tet.kza" --level 6 >/dev/null || fail "convert stl -> kza"
+"$kizamu" info "$tmp/tet.kza" | grep -q "level       6" || fail "info on a converted mesh"
+"$kizamu" convert "$tmp/tet.kza" "$tmp/back.obj" >/dev/null 2>"$tmp/err" && fail "kza -> obj should be refused for now"
+[ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "kza -> obj error is not one line"
+
 # bench contract: only JSON objects on stdout, every figure the contract names present
 "$kizamu" bench adf --json --levels 6,7 --queries 4000 --error-points 2000 --repeats 1 \
     >"$tmp/bench.json" 2>/dev/null || fail "bench adf exited non-zero"

@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: Apache-2.0
+// BVH closest point against brute force, winding numbers inside/outside and with holes, and an
+// imported mesh turned into an ADF.
+#include "mesh/mesh_source.h"
+
+#include "adf/generate.h"
+#include "adf/surface_points.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <random>
+
+using namespace kizamu;
+using namespace kizamu::mesh;
+
+namespace {
+
+/// Icosphere by repeated subdivision, outward oriented.
+MeshBuffers icosphere(float radius, int subdivisions) {
+    const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
+    std::vector<glm::vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
+                                {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<uint32_t> f = {0, 11, 5, 0, 5, 1, 0, 1, 7, 0, 7, 10, 0, 10, 11, 1, 5, 9, 5, 11, 4, 11, 10, 2, 10, 7, 6,
+                               7, 1, 8, 3, 9, 4, 3, 4, 2, 3, 2, 6, 3, 6, 8, 3, 8, 9, 4, 9, 5, 2, 4, 11, 6, 2, 10, 8, 6, 7, 9, 8, 1};
+    for (auto& p : v) p = glm::normalize(p);
+    for (int s = 0; s < subdivisions; ++s) {
+        std::vector<uint32_t> g;
+        std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
+        auto midpoint = [&](uint32_t a, uint32_t b) {
+            const auto key = std::minmax(a, b);
+            if (auto it = mid.find(key); it != mid.end()) return it->second;
+            v.push_back(glm::normalize(v[a] + v[b]));
+            return mid[key] = uint32_t(v.size() - 1);
+        };
+        for (std::size_t i = 0; i < f.size(); i += 3) {
+            const uint32_t a = f[i], b = f[i + 1], c = f[i + 2];
+            const uint32_t ab = midpoint(a, b), bc = midpoint(b, c), ca = midpoint(c, a);
+            g.insert(g.end(), {a, ab, ca, b, bc, ab, c, ca, bc, ab, bc, ca});
+        }
+        f = g;
+    }
+    MeshBuffers m;
+    for (auto& p : v) m.positions.push_back(p * radius);
+    m.indices = f;
+    return m;
+}
+
+TEST(TriangleBvh, ClosestPointMatchesBruteForce) {
+    const MeshBuffers mesh = icosphere(0.3f, 3);
+    const TriangleBvh bvh(mesh);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(-0.6, 0.6);
+    for (int i = 0; i < 300; ++i) {
+        const glm::dvec3 p(u(rng), u(rng), u(rng));
+        double brute = 1e300;
+        // Brute force through single-triangle BVHs keeps this test independent of the traversal.
+        for (std::size_t t = 0; t < mesh.triangleCount(); ++t) {
+            MeshBuffers one;
+            one.positions = {mesh.positions[mesh.indices[3 * t]], mesh.positions[mesh.indices[3 * t + 1]],
+                             mesh.positions[mesh.indices[3 * t + 2]]};
+            one.indices = {0, 1, 2};
+            brute = std::min(brute, TriangleBvh(one).closest(p).distanceSquared);
+        }
+        ASSERT_NEAR(bvh.closest(p).distanceSquared, brute, 1e-12);
+    }
+}
+
+TEST(TriangleBvh, WindingNumberIsOneInsideZeroOutsideAndSurvivesHoles) {
+    MeshBuffers mesh = icosphere(0.3f, 3);
+    const TriangleBvh closed(mesh);
+    // Exact sums are exact; the first-order far field is within a few percent (beta = 2).
+    EXPECT_NEAR(closed.windingNumberExact({0, 0, 0}), 1.0, 1e-9);
+    EXPECT_NEAR(closed.windingNumberExact({0.5, 0.0, 0.0}), 0.0, 1e-9);
+    EXPECT_NEAR(closed.windingNumber({0, 0, 0}), 1.0, 0.05);
+    EXPECT_NEAR(closed.windingNumber({0.1, 0.05, -0.1}), 1.0, 0.05);
+    EXPECT_NEAR(closed.windingNumber({0.5, 0.0, 0.0}), 0.0, 0.05);
+    EXPECT_NEAR(closed.windingNumber({2.0, 1.0, 0.0}), 0.0, 0.01);
+    EXPECT_NEAR(closed.windingNumber({0.1, 0.05, -0.1}, 1e9), closed.windingNumberExact({0.1, 0.05, -0.1}), 1e-9);
+    // Punch a hole: remove 10 % of the triangles; the centre is still clearly inside.
+    mesh.indices.resize(mesh.indices.size() * 9 / 10 / 3 * 3);
+    const TriangleBvh holed(mesh);
+    EXPECT_GT(holed.windingNumber({0, 0, 0}), 0.6);
+    EXPECT_LT(holed.windingNumber({0.8, 0, 0}), 0.4);
+}
+
+TEST(MeshSource, AnImportedMeshBecomesAnAdf) {
+    const MeshBuffers mesh = icosphere(0.3f, 4);
+    const adf::SourcePtr src = makeMeshSource(mesh);
+    const adf::Domain d = domainAround(mesh, 7, 10.0);
+    const adf::AdfPtr a = adf::generate(*src, d, adf::GenerationSettings{});
+    const double h = d.finestCellSize();
+    EXPECT_LT(a->distance({0, 0, 0}), -0.25f);
+    EXPECT_GT(a->distance({0.4f, 0, 0}), 0.05f);
+    // Within the band the ADF follows the mesh's own distance (not the ideal sphere's).
+    std::mt19937_64 rng(6);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (int i = 0; i < 500; ++i) {
+        const glm::dvec3 dir = glm::normalize(glm::dvec3(u(rng), u(rng), u(rng)));
+        const glm::dvec3 p = dir * (0.3 + 4.0 * h * u(rng));
+        EXPECT_NEAR(a->distance(glm::vec3(p)), src->distance(p), 0.5 * h);
+    }
+}
+
+}  // namespace
