@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 namespace kizamu::mesh {
 
@@ -16,12 +18,19 @@ namespace {
 class MeshSource final : public adf::DistanceSource {
 public:
     explicit MeshSource(const MeshBuffers& mesh) : mBvh(mesh) {}
-    double distance(const glm::dvec3& p) const override {
-        const double d = std::sqrt(mBvh.closest(p).distanceSquared);
-        return mBvh.windingNumber(p) > 0.5 ? -d : d;
+    double distance(const glm::dvec3& p) const override { return signedDistance(p, TriangleBvh::kNoHint).first; }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        // Batches are one cell's points: each answer's triangle seeds the next search.
+        uint32_t hint = TriangleBvh::kNoHint;
+        for (std::size_t i = 0; i < p.size(); ++i) std::tie(out[i], hint) = signedDistance(p[i], hint);
     }
 
 private:
+    std::pair<double, uint32_t> signedDistance(const glm::dvec3& p, uint32_t hint) const {
+        const TriangleBvh::Closest c = mBvh.closest(p, hint);
+        const double d = std::sqrt(c.distanceSquared);
+        return {mBvh.windingNumber(p) > 0.5 ? -d : d, c.triangle};
+    }
     TriangleBvh mBvh;
 };
 

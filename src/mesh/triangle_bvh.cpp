@@ -49,7 +49,7 @@ double solidAngleOver4Pi(const glm::dvec3& p, const glm::dvec3& a0, const glm::d
     return 2.0 * std::atan2(det, div) / (4.0 * std::numbers::pi);
 }
 
-double boxDistanceSquared(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
+inline double boxDistanceSquared(const glm::dvec3& p, const glm::dvec3& lo, const glm::dvec3& hi) {
     const glm::dvec3 d = glm::max(glm::max(lo - p, p - hi), glm::dvec3(0.0));
     return glm::dot(d, d);
 }
@@ -113,34 +113,41 @@ uint32_t TriangleBvh::build(uint32_t first, uint32_t count) {
     return index;
 }
 
-TriangleBvh::Closest TriangleBvh::closest(const glm::dvec3& p) const {
+TriangleBvh::Closest TriangleBvh::closest(const glm::dvec3& p, uint32_t hint) const {
     Closest best;
     best.distanceSquared = std::numeric_limits<double>::infinity();
     if (mNodes.empty()) return best;
-    uint32_t stack[128];
+    auto consider = [&](uint32_t i) {
+        const Triangle& t = mTriangles[i];
+        const glm::dvec3 q = closestOnTriangle(p, t.a, t.b, t.c);
+        const double d2 = glm::dot(q - p, q - p);
+        if (d2 < best.distanceSquared) best = {d2, q, i};
+    };
+    if (hint < mTriangles.size()) consider(hint);
+    struct Entry {
+        uint32_t node;
+        double boxDistance;  ///< squared, computed once when pushed
+    };
+    Entry stack[128];
     int top = 0;
-    stack[top++] = 0;
+    stack[top++] = {0, boxDistanceSquared(p, mNodes[0].lo, mNodes[0].hi)};
     while (top > 0) {
-        const Node& n = mNodes[stack[--top]];
-        if (boxDistanceSquared(p, n.lo, n.hi) >= best.distanceSquared) continue;
+        const Entry e = stack[--top];
+        if (e.boxDistance >= best.distanceSquared) continue;
+        const Node& n = mNodes[e.node];
         if (n.count > 0) {
-            for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-                const Triangle& t = mTriangles[i];
-                const glm::dvec3 q = closestOnTriangle(p, t.a, t.b, t.c);
-                const double d2 = glm::dot(q - p, q - p);
-                if (d2 < best.distanceSquared) best = {d2, q, i};
-            }
+            for (uint32_t i = n.first; i < n.first + n.count; ++i) consider(i);
             continue;
         }
-        const double dl = boxDistanceSquared(p, mNodes[n.left].lo, mNodes[n.left].hi);
-        const double dr = boxDistanceSquared(p, mNodes[n.right].lo, mNodes[n.right].hi);
+        const Entry l{n.left, boxDistanceSquared(p, mNodes[n.left].lo, mNodes[n.left].hi)};
+        const Entry r{n.right, boxDistanceSquared(p, mNodes[n.right].lo, mNodes[n.right].hi)};
         // Push the farther child first so the nearer one is searched first.
-        if (dl < dr) {
-            stack[top++] = n.right;
-            stack[top++] = n.left;
+        if (l.boxDistance < r.boxDistance) {
+            if (r.boxDistance < best.distanceSquared) stack[top++] = r;
+            stack[top++] = l;
         } else {
-            stack[top++] = n.left;
-            stack[top++] = n.right;
+            if (l.boxDistance < best.distanceSquared) stack[top++] = l;
+            stack[top++] = r;
         }
     }
     return best;

@@ -28,8 +28,11 @@ public:
         glm::dvec3 point{0.0};         ///< closest point on the mesh, m
         uint32_t triangle = 0;
     };
-    /// Exact closest point on the mesh to `p` (m). Complexity: O(log T) typical.
-    Closest closest(const glm::dvec3& p) const;
+    /// Exact closest point on the mesh to `p` (m). `hint` (a triangle index, e.g. the answer for
+    /// a nearby point) seeds the search bound, which prunes most of the tree for coherent
+    /// queries; any value is correct. Complexity: O(log T) typical.
+    Closest closest(const glm::dvec3& p, uint32_t hint = kNoHint) const;
+    static constexpr uint32_t kNoHint = ~0u;
 
     /// Generalised winding number at `p`: about 1 inside a closed, outward-oriented surface, 0
     /// outside, in between near holes. Nodes farther than `beta` times their radius use their

@@ -65,6 +65,9 @@ TEST(TriangleBvh, ClosestPointMatchesBruteForce) {
             brute = std::min(brute, TriangleBvh(one).closest(p).distanceSquared);
         }
         ASSERT_NEAR(bvh.closest(p).distanceSquared, brute, 1e-12);
+        // Any hint gives the same answer (it only seeds the bound).
+        ASSERT_EQ(bvh.closest(p, uint32_t(i * 7919) % uint32_t(mesh.triangleCount())).distanceSquared,
+                  bvh.closest(p).distanceSquared);
     }
 }
 
