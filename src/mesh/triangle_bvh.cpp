@@ -117,13 +117,27 @@ TriangleBvh::Closest TriangleBvh::closest(const glm::dvec3& p, uint32_t hint) co
     Closest best;
     best.distanceSquared = std::numeric_limits<double>::infinity();
     if (mNodes.empty()) return best;
-    auto consider = [&](uint32_t i) {
+    auto distanceTo = [&](uint32_t i, glm::dvec3& q) {
         const Triangle& t = mTriangles[i];
-        const glm::dvec3 q = closestOnTriangle(p, t.a, t.b, t.c);
-        const double d2 = glm::dot(q - p, q - p);
-        if (d2 < best.distanceSquared) best = {d2, q, i};
+        q = closestOnTriangle(p, t.a, t.b, t.c);
+        return glm::dot(q - p, q - p);
     };
-    if (hint < mTriangles.size()) consider(hint);
+    // The result is the smallest computed distance (lowest index on ties) over all triangles,
+    // whatever the hint: the hint only bounds the search, and pruning keeps a relative slack
+    // so that rounding in box distances never hides the true minimum.
+    double limit = std::numeric_limits<double>::infinity();
+    if (hint < mTriangles.size()) {
+        glm::dvec3 q;
+        limit = distanceTo(hint, q) * (1.0 + 1e-9) + std::numeric_limits<double>::min();
+    }
+    auto consider = [&](uint32_t i) {
+        glm::dvec3 q;
+        const double d2 = distanceTo(i, q);
+        if (d2 < best.distanceSquared || (d2 == best.distanceSquared && i < best.triangle)) {
+            best = {d2, q, i};
+            limit = std::min(limit, d2 * (1.0 + 1e-9) + std::numeric_limits<double>::min());
+        }
+    };
     struct Entry {
         uint32_t node;
         double boxDistance;  ///< squared, computed once when pushed
@@ -133,7 +147,7 @@ TriangleBvh::Closest TriangleBvh::closest(const glm::dvec3& p, uint32_t hint) co
     stack[top++] = {0, boxDistanceSquared(p, mNodes[0].lo, mNodes[0].hi)};
     while (top > 0) {
         const Entry e = stack[--top];
-        if (e.boxDistance >= best.distanceSquared) continue;
+        if (e.boxDistance > limit) continue;
         const Node& n = mNodes[e.node];
         if (n.count > 0) {
             for (uint32_t i = n.first; i < n.first + n.count; ++i) consider(i);
@@ -143,10 +157,10 @@ TriangleBvh::Closest TriangleBvh::closest(const glm::dvec3& p, uint32_t hint) co
         const Entry r{n.right, boxDistanceSquared(p, mNodes[n.right].lo, mNodes[n.right].hi)};
         // Push the farther child first so the nearer one is searched first.
         if (l.boxDistance < r.boxDistance) {
-            if (r.boxDistance < best.distanceSquared) stack[top++] = r;
+            if (r.boxDistance <= limit) stack[top++] = r;
             stack[top++] = l;
         } else {
-            if (l.boxDistance < best.distanceSquared) stack[top++] = l;
+            if (l.boxDistance <= limit) stack[top++] = l;
             stack[top++] = r;
         }
     }

@@ -28,9 +28,10 @@ public:
         glm::dvec3 point{0.0};         ///< closest point on the mesh, m
         uint32_t triangle = 0;
     };
-    /// Exact closest point on the mesh to `p` (m). `hint` (a triangle index, e.g. the answer for
-    /// a nearby point) seeds the search bound, which prunes most of the tree for coherent
-    /// queries; any value is correct. Complexity: O(log T) typical.
+    /// Exact closest point on the mesh to `p` (m): the smallest computed distance over all
+    /// triangles, lowest triangle index on ties. `hint` (a triangle index, e.g. the answer for a
+    /// nearby point) only bounds the search, so the answer is the same bits whatever it is
+    /// (which keeps generation deterministic). Complexity: O(log T) typical.
     Closest closest(const glm::dvec3& p, uint32_t hint = kNoHint) const;
     static constexpr uint32_t kNoHint = ~0u;
 

@@ -66,8 +66,9 @@ TEST(TriangleBvh, ClosestPointMatchesBruteForce) {
         }
         ASSERT_NEAR(bvh.closest(p).distanceSquared, brute, 1e-12);
         // Any hint gives the same answer (it only seeds the bound).
-        ASSERT_NEAR(bvh.closest(p, uint32_t(i * 7919) % uint32_t(mesh.triangleCount())).distanceSquared,
-                    bvh.closest(p).distanceSquared, 1e-15);
+        const TriangleBvh::Closest hinted = bvh.closest(p, uint32_t(i * 7919) % uint32_t(mesh.triangleCount()));
+        ASSERT_EQ(hinted.distanceSquared, bvh.closest(p).distanceSquared);
+        ASSERT_EQ(hinted.triangle, bvh.closest(p).triangle);
     }
 }
 
