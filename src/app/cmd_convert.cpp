@@ -12,6 +12,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -28,7 +29,12 @@ struct ConvertOptions {
     unsigned threads = 0;
 };
 
-bool isAdf(const std::string& path) { return path.size() >= 4 && path.compare(path.size() - 4, 4, ".kza") == 0; }
+bool isAdf(const std::string& path) {
+    if (path.size() < 4) return false;
+    std::string ext = path.substr(path.size() - 4);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".kza";
+}
 
 void runConvert(const ConvertOptions& o) {
     if (isAdf(o.in))

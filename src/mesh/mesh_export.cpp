@@ -15,6 +15,7 @@
 #include <bit>
 #include <cctype>
 #include <cstdio>
+#include <cmath>
 #include <cstring>
 #include <limits>
 
@@ -102,7 +103,7 @@ void writeGlb(const MeshBuffers& m, Bytes& out) {
         return views.size() - 1;
     };
     constexpr int kArrayBuffer = 34962, kElementArrayBuffer = 34963;
-    constexpr int kFloat = 5126, kUnsignedByte = 5121, kUnsignedInt = 5125;
+    constexpr int kFloat = 5126, kUnsignedInt = 5125;
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     for (const glm::vec3& p : m.positions) {
         lo = glm::min(lo, p);
@@ -119,14 +120,16 @@ void writeGlb(const MeshBuffers& m, Bytes& out) {
         attributes["NORMAL"] = accessors.size() - 1;
     }
     if (!m.colours.empty()) {
-        // VEC3 of normalised bytes is a valid COLOR_0; each element must be 4-byte aligned in a
-        // vertex buffer, so store RGBA with opaque alpha.
-        std::vector<glm::u8vec4> rgba(m.colours.size());
-        for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = glm::u8vec4(m.colours[i], 255);
-        const std::size_t view = addView(rgba.data(), rgba.size() * 4, kArrayBuffer);
-        views[view]["byteStride"] = 4;
-        accessors.push_back({{"bufferView", view}, {"componentType", kUnsignedByte}, {"normalized", true},
-                             {"count", m.vertexCount()}, {"type", "VEC4"}});
+        // glTF's COLOR_0 is linear: convert our sRGB bytes, stored as float RGB.
+        auto linear = [](uint8_t c) {
+            const float v = float(c) / 255.0f;
+            return v <= 0.04045f ? v / 12.92f : std::pow((v + 0.055f) / 1.055f, 2.4f);
+        };
+        std::vector<glm::vec3> rgb(m.colours.size());
+        for (std::size_t i = 0; i < rgb.size(); ++i)
+            rgb[i] = {linear(m.colours[i].r), linear(m.colours[i].g), linear(m.colours[i].b)};
+        accessors.push_back({{"bufferView", addView(rgb.data(), rgb.size() * 12, kArrayBuffer)},
+                             {"componentType", kFloat}, {"count", m.vertexCount()}, {"type", "VEC3"}});
         attributes["COLOR_0"] = accessors.size() - 1;
     }
     accessors.push_back({{"bufferView", addView(m.indices.data(), m.indices.size() * 4, kElementArrayBuffer)},
@@ -174,6 +177,10 @@ MeshFormat meshFormatOf(const std::string& path) {
 void exportMesh(const MeshBuffers& mesh, const std::string& path) {
     const MeshFormat format = meshFormatOf(path);
     if (!mesh.valid()) throw FileError(path, "refusing to write an invalid mesh (sizes or indices out of range)");
+    if (mesh.triangleCount() == 0) throw FileError(path, "refusing to write a mesh with no triangles");
+    for (const glm::vec3& p : mesh.positions)
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+            throw FileError(path, "refusing to write a mesh with non-finite positions");
     Bytes out;
     switch (format) {
         case MeshFormat::Obj: writeObj(mesh, out); break;

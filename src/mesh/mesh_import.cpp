@@ -46,18 +46,23 @@ private:
     const std::string& mName;
 };
 
-/// Splits `line` on blanks into at most `max` tokens; returns how many.
-std::size_t split(std::string_view line, std::string_view* out, std::size_t max) {
-    std::size_t n = 0, i = 0;
-    while (i < line.size() && n < max) {
+/// Splits `line` (up to a '#' comment) on blanks into `out`; returns how many tokens.
+std::size_t split(std::string_view line, std::vector<std::string_view>& out) {
+    out.clear();
+    line = line.substr(0, line.find('#'));
+    std::size_t i = 0;
+    while (i < line.size()) {
         while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
         if (i >= line.size()) break;
         const std::size_t start = i;
         while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
-        out[n++] = line.substr(start, i - start);
+        out.push_back(line.substr(start, i - start));
     }
-    return n;
+    return out.size();
 }
+
+/// True when `v` is a whole number in [0, limit).
+bool isIndex(double v, double limit) { return v >= 0.0 && v < limit && v == std::trunc(v); }
 
 bool parseFloat(std::string_view s, float& v) {
     const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), v);
@@ -77,15 +82,16 @@ void addPolygon(MeshBuffers& m, const uint32_t* corners, std::size_t n) {
 MeshBuffers readObj(std::string_view text, const std::string& name) {
     TextReader r(text, name);
     MeshBuffers m;
-    std::string_view line, tok[64];
+    std::string_view line;
+    std::vector<std::string_view> tok;
     std::vector<uint32_t> face;
     bool colours = true;
     while (r.nextLine(line)) {
-        const std::size_t n = split(line, tok, 64);
-        if (n == 0 || tok[0][0] == '#') continue;
+        const std::size_t n = split(line, tok);
+        if (n == 0) continue;
         if (tok[0] == "v") {
             glm::vec3 p, c(0.0f);
-            if (n != 4 && n != 7) r.fail("a vertex needs 3 coordinates (or 3 and a colour)");
+            if (n != 4 && n != 5 && n != 7) r.fail("a vertex needs 3 coordinates (and an optional w, or a colour)");
             for (int a = 0; a < 3; ++a)
                 if (!parseFloat(tok[1 + a], p[a])) r.fail("bad vertex coordinate '" + std::string(tok[1 + a]) + "'");
             if (n == 7)
@@ -118,7 +124,8 @@ MeshBuffers readObj(std::string_view text, const std::string& name) {
 struct Welder {
     MeshBuffers& m;
     std::unordered_map<uint64_t, std::vector<uint32_t>> buckets;
-    uint32_t add(const glm::vec3& p) {
+    uint32_t add(glm::vec3 p) {
+        p += glm::vec3(0.0f);  // -0 becomes +0, so equal positions hash equally
         uint32_t bits[3];
         std::memcpy(bits, &p, 12);
         const uint64_t key = (uint64_t(bits[0]) * 0x9e3779b97f4a7c15ull) ^ (uint64_t(bits[1]) << 21) ^ bits[2];
@@ -157,11 +164,12 @@ MeshBuffers readStl(std::string_view bytes, const std::string& name) {
         throw FileError(name, bytes.size() >= 84 ? "binary STL size does not match its facet count (truncated?)"
                                                  : "not an STL file (too short, and no 'solid' header)");
     TextReader r(bytes, name);
-    std::string_view line, tok[8];
+    std::string_view line;
+    std::vector<std::string_view> tok;
     uint32_t tri[3];
     int corner = 0;
     while (r.nextLine(line)) {
-        const std::size_t n = split(line, tok, 8);
+        const std::size_t n = split(line, tok);
         if (n == 0) continue;
         if (tok[0] == "vertex") {
             glm::vec3 p;
@@ -246,16 +254,19 @@ private:
     const std::string& mName;
 };
 
+uint8_t colourByte(double v) { return std::isfinite(v) ? uint8_t(std::clamp(v, 0.0, 255.0)) : 0; }
+
 MeshBuffers readPly(std::string_view bytes, const std::string& name) {
     if (bytes.substr(0, 3) != "ply") throw FileError(name, "not a PLY file (no 'ply' magic)");
     TextReader r(bytes, name);
-    std::string_view line, tok[8];
+    std::string_view line;
+    std::vector<std::string_view> tok;
     int format = -1;
     std::vector<PlyElement> elements;
     bool ended = false;
     r.nextLine(line);
     while (!ended && r.nextLine(line)) {
-        const std::size_t n = split(line, tok, 8);
+        const std::size_t n = split(line, tok);
         if (n == 0 || tok[0] == "comment" || tok[0] == "obj_info") continue;
         if (tok[0] == "format") {
             if (n < 2) r.fail("format needs a value");
@@ -265,6 +276,8 @@ MeshBuffers readPly(std::string_view bytes, const std::string& name) {
             PlyElement e;
             if (n != 3 || !parseInt(tok[2], e.count)) r.fail("an element needs a name and a count");
             e.name = std::string(tok[1]);
+            for (const PlyElement& other : elements)
+                if (other.name == e.name) r.fail("element '" + e.name + "' appears twice");
             elements.push_back(e);
         } else if (tok[0] == "property") {
             if (elements.empty()) r.fail("a property before any element");
@@ -298,8 +311,11 @@ MeshBuffers readPly(std::string_view bytes, const std::string& name) {
     bool haveColours = false;
     std::vector<uint32_t> face;
     for (const PlyElement& e : elements) {
-        // Every value takes at least one byte (binary) or two characters (ASCII): bound the count.
-        if (e.count > values.bytesLeft()) throw FileError(name, "element '" + e.name + "' claims more entries than the file holds");
+        // Every value takes at least one byte (binary) or two characters (ASCII), so an entry
+        // takes at least as many bytes as it has properties: bound the count before reading.
+        if (e.props.empty() && e.count > 0) throw FileError(name, "element '" + e.name + "' has entries but no properties");
+        if (e.count > values.bytesLeft() / std::max<std::size_t>(1, e.props.size()))
+            throw FileError(name, "element '" + e.name + "' claims more entries than the file holds");
         const bool isVertex = e.name == "vertex", isFace = e.name == "face";
         if (isVertex) {
             m.positions.reserve(std::size_t(e.count));
@@ -311,12 +327,12 @@ MeshBuffers readPly(std::string_view bytes, const std::string& name) {
             for (const PlyProperty& prop : e.props) {
                 if (prop.list) {
                     const double count = values.read(prop.countType, false);
-                    if (count < 0 || count > 1e6) throw FileError(name, "a list of " + std::to_string(count) + " items");
+                    if (!isIndex(count, 1e6)) throw FileError(name, "a list of " + std::to_string(count) + " items");
                     face.clear();
                     for (int k = 0; k < int(count); ++k) {
                         const double v = values.read(prop.type, prop.isSigned);
                         if (isFace && (prop.name == "vertex_indices" || prop.name == "vertex_index")) {
-                            if (v < 0 || v >= double(m.positions.size()))
+                            if (!isIndex(v, double(m.positions.size())))
                                 throw FileError(name, "face " + std::to_string(i) + " has vertex index " + std::to_string(v) + " out of range");
                             face.push_back(uint32_t(v));
                         }
@@ -332,9 +348,9 @@ MeshBuffers readPly(std::string_view bytes, const std::string& name) {
                 if (prop.name == "x") p.x = float(v);
                 else if (prop.name == "y") p.y = float(v);
                 else if (prop.name == "z") p.z = float(v);
-                else if (prop.name == "red") c.r = uint8_t(std::clamp(v, 0.0, 255.0));
-                else if (prop.name == "green") c.g = uint8_t(std::clamp(v, 0.0, 255.0));
-                else if (prop.name == "blue") c.b = uint8_t(std::clamp(v, 0.0, 255.0));
+                else if (prop.name == "red") c.r = colourByte(v);
+                else if (prop.name == "green") c.g = colourByte(v);
+                else if (prop.name == "blue") c.b = colourByte(v);
             }
             if (isVertex) {
                 if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
@@ -349,20 +365,21 @@ MeshBuffers readPly(std::string_view bytes, const std::string& name) {
 
 MeshBuffers readOff(std::string_view text, const std::string& name) {
     TextReader r(text, name);
-    std::string_view line, tok[64];
-    auto next = [&](std::size_t max) -> std::size_t {
+    std::string_view line;
+    std::vector<std::string_view> tok;
+    auto next = [&]() -> std::size_t {
         while (r.nextLine(line)) {
-            const std::size_t n = split(line.substr(0, line.find('#')), tok, max);
+            const std::size_t n = split(line, tok);
             if (n > 0) return n;
         }
         r.fail("truncated: the file ends early");
     };
-    std::size_t n = next(64);
+    std::size_t n = next();
     if (tok[0] != "OFF" && tok[0] != "COFF" && tok[0] != "NOFF") throw FileError(name, "not an OFF file (no OFF header)");
     // The counts may follow the keyword on the same line.
     std::size_t at = 1;
     if (n == 1) {
-        n = next(64);
+        n = next();
         at = 0;
     }
     uint64_t nv, nf;
@@ -371,7 +388,7 @@ MeshBuffers readOff(std::string_view text, const std::string& name) {
     MeshBuffers m;
     m.positions.reserve(std::size_t(nv));
     for (uint64_t i = 0; i < nv; ++i) {
-        if (next(64) < 3) r.fail("a vertex needs 3 coordinates");
+        if (next() < 3) r.fail("a vertex needs 3 coordinates");
         glm::vec3 p;
         for (int a = 0; a < 3; ++a)
             if (!parseFloat(tok[a], p[a])) r.fail("bad vertex coordinate '" + std::string(tok[a]) + "'");
@@ -379,7 +396,7 @@ MeshBuffers readOff(std::string_view text, const std::string& name) {
     }
     std::vector<uint32_t> face;
     for (uint64_t f = 0; f < nf; ++f) {
-        const std::size_t k = next(64);
+        const std::size_t k = next();
         std::size_t count;
         if (!parseInt(tok[0], count) || count < 3 || count + 1 > k) r.fail("a face needs a count of at least 3 and that many indices");
         face.clear();

@@ -5,9 +5,10 @@
 ///
 /// Polygons are fanned into triangles, STL's per-facet vertices are welded by exact position,
 /// and vertex colours are kept where the file has them (OBJ `v x y z r g b`, PLY red/green/blue).
-/// Normals are not read: the ADF recomputes them. Every count is checked against the bytes left
-/// before anything is allocated, so a damaged, empty, enormous or hostile file gives a one-line
-/// FileError (with the line or element that is wrong) and never a crash. Cold path; any thread.
+/// Normals are not read: the ADF recomputes them. Counts are checked against the bytes left
+/// before anything is allocated, and indices must be whole and in range, so a damaged, empty,
+/// enormous or hostile file gives a one-line FileError (with the line or element that is
+/// wrong); the fuzz harness holds the readers to that. Cold path; any thread.
 #pragma once
 
 #include "mesh/mesh_buffers.h"

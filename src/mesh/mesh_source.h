@@ -20,7 +20,8 @@ namespace kizamu::mesh {
 adf::SourcePtr makeMeshSource(const MeshBuffers& mesh);
 
 /// A cubic domain around `mesh` at `maxLevel`, with a margin of `marginCells` finest cells plus
-/// 2 % of the size, so the accurate band never touches the domain's faces.
+/// 2 % of the size, so the accurate band stays off the domain's faces (at very low levels, where
+/// the margin would exceed a quarter of the domain, the margin is capped there).
 adf::Domain domainAround(const MeshBuffers& mesh, int maxLevel, double marginCells);
 
 }  // namespace kizamu::mesh

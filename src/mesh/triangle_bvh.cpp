@@ -26,16 +26,31 @@ glm::dvec3 closestOnTriangle(const glm::dvec3& p, const glm::dvec3& a, const glm
     const double d3 = glm::dot(ab, bp), d4 = glm::dot(ac, bp);
     if (d3 >= 0.0 && d4 <= d3) return b;
     const double vc = d1 * d4 - d3 * d2;
-    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
+    // The divisions below guard against 0/0: a triangle with two equal corners (common after
+    // welding) has a zero-length edge, and its other edges still need answers.
+    if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 && d1 - d3 > 0.0) return a + ab * (d1 / (d1 - d3));
     const glm::dvec3 cp = p - c;
     const double d5 = glm::dot(ab, cp), d6 = glm::dot(ac, cp);
     if (d6 >= 0.0 && d5 <= d6) return c;
     const double vb = d5 * d2 - d1 * d6;
-    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
+    if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 && d2 - d6 > 0.0) return a + ac * (d2 / (d2 - d6));
     const double va = d3 * d6 - d5 * d4;
-    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 && (d4 - d3) + (d5 - d6) > 0.0)
+        return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
     const double denom = va + vb + vc;
-    if (!(denom > 0.0)) return a;  // degenerate triangle: any vertex is as good as its edges here
+    if (!(denom > 0.0)) {
+        // Degenerate (zero area): the closest point lies on one of its edges as segments.
+        auto onSegment = [&](const glm::dvec3& s, const glm::dvec3& e) {
+            const glm::dvec3 d = e - s;
+            const double len2 = glm::dot(d, d);
+            const double t = len2 > 0.0 ? std::clamp(glm::dot(p - s, d) / len2, 0.0, 1.0) : 0.0;
+            return s + d * t;
+        };
+        glm::dvec3 best = onSegment(a, b);
+        for (const glm::dvec3& q : {onSegment(b, c), onSegment(c, a)})
+            if (glm::dot(q - p, q - p) < glm::dot(best - p, best - p)) best = q;
+        return best;
+    }
     const double v = vb / denom, w = vc / denom;
     return a + ab * v + ac * w;
 }
@@ -65,6 +80,8 @@ TriangleBvh::TriangleBvh(const MeshBuffers& mesh) {
     if (mTriangles.empty()) return;
     mNodes.reserve(2 * mTriangles.size() / kLeafSize + 2);
     build(0, uint32_t(mTriangles.size()));
+    const double magnitude = std::max(glm::length(mNodes[0].lo), glm::length(mNodes[0].hi));
+    mTolerance = 64.0 * std::numeric_limits<double>::epsilon() * magnitude;
 }
 
 uint32_t TriangleBvh::build(uint32_t first, uint32_t count) {
@@ -123,19 +140,25 @@ TriangleBvh::Closest TriangleBvh::closest(const glm::dvec3& p, uint32_t hint) co
         return glm::dot(q - p, q - p);
     };
     // The result is the smallest computed distance (lowest index on ties) over all triangles,
-    // whatever the hint: the hint only bounds the search, and pruning keeps a relative slack
-    // so that rounding in box distances never hides the true minimum.
+    // whatever the hint: the hint only bounds the search, and pruning keeps a slack larger than
+    // the rounding of a computed closest point (absolute, from the coordinates' magnitude), so
+    // rounding never hides the minimum.
+    const double tolerance = mTolerance + 64.0 * std::numeric_limits<double>::epsilon() * glm::length(p);
+    auto bound = [tolerance](double d2) {
+        const double r = std::sqrt(d2) + tolerance;
+        return r * r;
+    };
     double limit = std::numeric_limits<double>::infinity();
     if (hint < mTriangles.size()) {
         glm::dvec3 q;
-        limit = distanceTo(hint, q) * (1.0 + 1e-9) + std::numeric_limits<double>::min();
+        limit = bound(distanceTo(hint, q));
     }
     auto consider = [&](uint32_t i) {
         glm::dvec3 q;
         const double d2 = distanceTo(i, q);
         if (d2 < best.distanceSquared || (d2 == best.distanceSquared && i < best.triangle)) {
             best = {d2, q, i};
-            limit = std::min(limit, d2 * (1.0 + 1e-9) + std::numeric_limits<double>::min());
+            limit = std::min(limit, bound(d2));
         }
     };
     struct Entry {

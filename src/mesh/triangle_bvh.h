@@ -29,9 +29,10 @@ public:
         uint32_t triangle = 0;
     };
     /// Exact closest point on the mesh to `p` (m): the smallest computed distance over all
-    /// triangles, lowest triangle index on ties. `hint` (a triangle index, e.g. the answer for a
-    /// nearby point) only bounds the search, so the answer is the same bits whatever it is
-    /// (which keeps generation deterministic). Complexity: O(log T) typical.
+    /// triangles, lowest index on ties. Triangle indices are the BVH's own order (not the
+    /// mesh's). `hint` (such an index, e.g. the answer for a nearby point) only bounds the
+    /// search, so the answer is the same bits whatever it is, which keeps generation
+    /// deterministic. Complexity: O(log T) typical.
     Closest closest(const glm::dvec3& p, uint32_t hint = kNoHint) const;
     static constexpr uint32_t kNoHint = ~0u;
 
@@ -63,6 +64,7 @@ private:
 
     std::vector<Triangle> mTriangles;
     std::vector<Node> mNodes;
+    double mTolerance = 0.0;  ///< rounding bound of closest-point distances, m
 };
 
 }  // namespace kizamu::mesh

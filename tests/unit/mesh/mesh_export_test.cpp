@@ -106,6 +106,7 @@ TEST_F(MeshExport, AdmeshFindsAClosedStl) {
 TEST_F(MeshExport, RejectsUnknownFormatsAndInvalidMeshes) {
     MeshBuffers mesh = uvSphere(0.2f, 6, 8);
     EXPECT_THROW(exportMesh(mesh, (mDir / "sphere.fbx").string()), FileError);
+    EXPECT_THROW(exportMesh(MeshBuffers{}, (mDir / "empty.glb").string()), FileError);
     mesh.indices.push_back(99999);
     mesh.indices.push_back(0);
     mesh.indices.push_back(1);

@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -110,6 +111,41 @@ TEST(MeshImport, DamagedFilesNameTheProblem) {
     EXPECT_NE(errorOf("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", MeshFormat::Off).find("out of range"), std::string::npos);
     EXPECT_NE(errorOf("PLY\n", MeshFormat::Off).find("not an OFF file"), std::string::npos);
     EXPECT_THROW(importMesh("/nonexistent/dir/x.obj"), FileError);
+    // Hostile PLY headers: entries without properties, repeated elements, NaN or fractional indices.
+    const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+    EXPECT_NE(errorOf("ply\nformat ascii 1.0\nelement vertex 99999\nend_header\n", MeshFormat::Ply).find("no properties"),
+              std::string::npos);
+    EXPECT_NE(errorOf(head + "element vertex 3\nproperty float x\nend_header\n", MeshFormat::Ply).find("appears twice"),
+              std::string::npos);
+    const std::string tri = "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n";
+    EXPECT_NE(errorOf(head + tri + "3 0 1 nan\n", MeshFormat::Ply).find("out of range"), std::string::npos);
+    EXPECT_NE(errorOf(head + tri + "3 0 1 1.5\n", MeshFormat::Ply).find("out of range"), std::string::npos);
+    EXPECT_NE(errorOf(head + tri + "nan 0 1 2\n", MeshFormat::Ply).find("items"), std::string::npos);
+}
+
+TEST(MeshImport, LongPolygonsOptionalWAndCommentsInObj) {
+    std::string obj = "v 0 0 0 1  # w is optional\n";
+    for (int i = 1; i < 100; ++i)
+        obj += "v " + std::to_string(std::cos(i * 0.063)) + " " + std::to_string(std::sin(i * 0.063)) + " 0\n";
+    obj += "f";
+    for (int i = 1; i <= 100; ++i) obj += " " + std::to_string(i);
+    obj += "  # a 100-gon\n";
+    EXPECT_EQ(decodeMesh(obj, MeshFormat::Obj, "x").triangleCount(), 98u);
+}
+
+TEST(MeshImport, StlWeldsPlusAndMinusZero) {
+    std::string stl(84, '\0');
+    const uint32_t count = 2;
+    std::memcpy(stl.data() + 80, &count, 4);
+    auto facet = [&](std::initializer_list<float> v) {
+        float rec[12] = {};
+        std::copy(v.begin(), v.end(), rec + 3);
+        stl.append(reinterpret_cast<const char*>(rec), 48);
+        stl.append(2, '\0');
+    };
+    facet({0.0f, 0.0f, 0.0f, 1, 0, 0, 0, 1, 0});
+    facet({-0.0f, 0.0f, -0.0f, 0, 0, 1, 1, 0, 0});
+    EXPECT_EQ(decodeMesh(stl, MeshFormat::Stl, "x").vertexCount(), 4u);
 }
 
 }  // namespace

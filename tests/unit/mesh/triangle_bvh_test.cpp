@@ -72,6 +72,34 @@ TEST(TriangleBvh, ClosestPointMatchesBruteForce) {
     }
 }
 
+TEST(TriangleBvh, DegenerateTrianglesStillAnswer) {
+    MeshBuffers m;
+    m.positions = {{0, 0, 0}, {0, 0, 0}, {1, 0, 0}};  // two equal corners, as welding leaves them
+    m.indices = {0, 1, 2};
+    const TriangleBvh::Closest c = TriangleBvh(m).closest({0.5, 1.0, 0.0});
+    EXPECT_NEAR(c.distanceSquared, 1.0, 1e-12);
+    EXPECT_NEAR(c.point.x, 0.5, 1e-12);
+}
+
+TEST(TriangleBvh, HintsNeverChangeTheAnswerNearSharedEdges) {
+    const MeshBuffers mesh = icosphere(0.3f, 3);
+    const TriangleBvh bvh(mesh);
+    std::mt19937_64 rng(8);
+    std::uniform_real_distribution<double> tiny(-1e-7, 1e-7);
+    for (std::size_t t = 0; t < mesh.triangleCount(); t += 7) {
+        // Just off the midpoint of an edge, where two triangles tie.
+        const glm::dvec3 a(mesh.positions[mesh.indices[3 * t]]), b(mesh.positions[mesh.indices[3 * t + 1]]);
+        const glm::dvec3 p = 0.5 * (a + b) * (1.0 + tiny(rng)) + glm::dvec3(tiny(rng), tiny(rng), tiny(rng));
+        const TriangleBvh::Closest plain = bvh.closest(p);
+        for (uint32_t hint : {0u, uint32_t(t), uint32_t(mesh.triangleCount() - 1)}) {
+            const TriangleBvh::Closest hinted = bvh.closest(p, hint);
+            ASSERT_EQ(hinted.distanceSquared, plain.distanceSquared);
+            ASSERT_EQ(hinted.triangle, plain.triangle);
+            ASSERT_EQ(hinted.point, plain.point);
+        }
+    }
+}
+
 TEST(TriangleBvh, WindingNumberIsOneInsideZeroOutsideAndSurvivesHoles) {
     MeshBuffers mesh = icosphere(0.3f, 3);
     const TriangleBvh closed(mesh);
