@@ -237,13 +237,12 @@ void AdfBuilder::setTile(TilePtr tile) {
 }
 
 const Tile* AdfBuilder::tileAtSlot(glm::uvec3 slot) const {
+    // Only a root entry can still be unassigned here (chunks start filled or copied); the rest
+    // is the snapshot's own lookup.
     const Adf& a = *mAdf;
-    const glm::uvec3 r = slot / a.mChunkDim;
-    const uintptr_t e = a.mRoot[(r.z * a.mRootDim + r.y) * a.mRootDim + r.x];
-    if (e == 0) return nullptr;
-    if (e & 1u) return reinterpret_cast<const Tile*>(e & ~uintptr_t(1));
-    const glm::uvec3 c = slot % a.mChunkDim;
-    return reinterpret_cast<const Chunk*>(e)->tiles[(c.z * a.mChunkDim + c.y) * a.mChunkDim + c.x];
+    const glm::uvec3 r = slot >> uint32_t(a.mChunkLevels);
+    if (a.mRoot[(r.z * a.mRootDim + r.y) * a.mRootDim + r.x] == 0) return nullptr;
+    return a.tileAtSlot(slot);
 }
 
 AdfPtr AdfBuilder::build(uint64_t version) {

@@ -127,9 +127,12 @@ struct CellRule {
     }
 };
 
-[[noreturn]] void throwNonFinite(const glm::dvec3& p) {
-    throw std::domain_error("the distance source returned a non-finite value at (" + std::to_string(p.x) + ", " +
-                            std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+/// A source's value as stored, or a domain_error naming the point if it is NaN or infinite.
+float checkedDistance(double d, const glm::dvec3& p) {
+    if (!std::isfinite(d))
+        throw std::domain_error("the distance source returned a non-finite value at (" + std::to_string(p.x) + ", " +
+                                std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+    return float(d);
 }
 
 TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version) {
@@ -383,7 +386,7 @@ private:
             mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
             mEvaluations += uint64_t(m);
             for (int k = 0; k < m; ++k) {
-                const float value = checkedValue(out[k], pts[k]);
+                const float value = checkedDistance(out[k], pts[k]);
                 mValues[index(todo[k])] = value;
                 recordBorder(todo[k], value);
             }
@@ -399,11 +402,6 @@ private:
             if (m == kBatch) flush();
         }
         if (m > 0) flush();
-    }
-
-    static float checkedValue(double d, const glm::dvec3& p) {
-        if (!std::isfinite(d)) throwNonFinite(p);
-        return float(d);
     }
 
     void makeLeaf(uint32_t nodeIndex, const float* corners) {
@@ -517,9 +515,7 @@ private:
         float* v = mUpperSamples.findOrInsert(latticeKey(p), 0.0f, fresh);
         if (fresh) {
             const glm::dvec3 w = mDomain.latticeToWorld(p.x, p.y, p.z);
-            const double d = mSource.distance(w);
-            if (!std::isfinite(d)) throwNonFinite(w);
-            *v = float(d);
+            *v = checkedDistance(mSource.distance(w), w);
             ++mEvaluations;
         }
         return *v;
@@ -606,20 +602,20 @@ private:
     void coalesceUpper() {
         // Candidates were recorded after their children (post-order), so walking forwards merges
         // children before their parents are looked at and merges cascade upwards.
-        for (auto it = mCoalesceCandidates.begin(); it != mCoalesceCandidates.end(); ++it) {
-            const uint32_t half = mDomain.cellLattice(it->level + 1);
+        for (const Candidate& cand : mCoalesceCandidates) {
+            const uint32_t half = mDomain.cellLattice(cand.level + 1);
             CellType first = CellType::Boundary;
             bool same = true;
             for (int c = 0; c < 8 && same; ++c) {
-                const glm::uvec3 o = it->origin + childOffset(c) * half;
+                const glm::uvec3 o = cand.origin + childOffset(c) * half;
                 const Tile* t = mBuilder.tileAtSlot(o >> uint32_t(mDomain.tileSpan()));
-                same = t->level() == it->level + 1 && t->singleLeaf() &&
+                same = t->level() == cand.level + 1 && t->singleLeaf() &&
                        t->rootType() != CellType::Boundary && (c == 0 || t->rootType() == first);
                 if (c == 0) first = t->rootType();
             }
             if (same) {
                 ++mCoarseTiles;
-                addTile(makeSingleCellTile(it->level, it->origin, it->corners.data(), mVersion));
+                addTile(makeSingleCellTile(cand.level, cand.origin, cand.corners.data(), mVersion));
             }
         }
     }

@@ -23,7 +23,7 @@ namespace kizamu::mesh {
 
 namespace {
 
-using Bytes = util::ByteWriter;
+using util::ByteWriter;
 
 glm::vec3 faceNormal(const MeshBuffers& m, std::size_t t) {
     const glm::vec3 a = m.positions[m.indices[3 * t]], b = m.positions[m.indices[3 * t + 1]],
@@ -33,7 +33,7 @@ glm::vec3 faceNormal(const MeshBuffers& m, std::size_t t) {
     return len > 0.0f ? n / len : glm::vec3(0.0f);
 }
 
-void writeObj(const MeshBuffers& m, Bytes& out) {
+void writeObj(const MeshBuffers& m, ByteWriter& out) {
     char line[160];
     out.text("# Kizamu mesh\n");
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
@@ -60,7 +60,7 @@ void writeObj(const MeshBuffers& m, Bytes& out) {
     }
 }
 
-void writeStl(const MeshBuffers& m, Bytes& out) {
+void writeStl(const MeshBuffers& m, ByteWriter& out) {
     char header[80] = {};
     std::snprintf(header, sizeof header, "Kizamu binary STL");
     out.putRaw(header, sizeof header);
@@ -72,7 +72,7 @@ void writeStl(const MeshBuffers& m, Bytes& out) {
     }
 }
 
-void writePly(const MeshBuffers& m, Bytes& out) {
+void writePly(const MeshBuffers& m, ByteWriter& out) {
     std::string header = "ply\nformat binary_little_endian 1.0\ncomment Kizamu mesh\nelement vertex " +
                          std::to_string(m.vertexCount()) + "\nproperty float x\nproperty float y\nproperty float z\n";
     if (!m.normals.empty()) header += "property float nx\nproperty float ny\nproperty float nz\n";
@@ -92,8 +92,8 @@ void writePly(const MeshBuffers& m, Bytes& out) {
 
 /// glTF 2.0 binary: one mesh, one primitive (triangles), positions/normals/colours/indices in
 /// one buffer, each view 4-byte aligned.
-void writeGlb(const MeshBuffers& m, Bytes& out) {
-    Bytes bin;
+void writeGlb(const MeshBuffers& m, ByteWriter& out) {
+    ByteWriter bin;
     nlohmann::ordered_json views = nlohmann::ordered_json::array(), accessors = nlohmann::ordered_json::array();
     auto addView = [&](const void* data, std::size_t bytes, int target) {
         bin.pad(4, std::byte{0});
@@ -181,7 +181,7 @@ void exportMesh(const MeshBuffers& mesh, const std::string& path) {
     for (const glm::vec3& p : mesh.positions)
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             throw FileError(path, "refusing to write a mesh with non-finite positions");
-    Bytes out;
+    ByteWriter out;
     switch (format) {
         case MeshFormat::Obj: writeObj(mesh, out); break;
         case MeshFormat::Stl: writeStl(mesh, out); break;
