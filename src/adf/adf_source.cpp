@@ -16,17 +16,63 @@ namespace kizamu::adf {
 
 namespace {
 
+/// The field of a snapshot. At a lattice point that is a corner of some leaf it answers that
+/// corner's stored value rather than whichever leaf the half-open lookup lands in: a larger
+/// neighbour's interpolation there can differ, even in sign, and a regenerated tile must agree
+/// with the untouched tiles around it on every corner they share (the mesher relies on it).
 class AdfSource final : public DistanceSource {
 public:
-    explicit AdfSource(AdfPtr adf) : mAdf(std::move(adf)) {}
-    double distance(const glm::dvec3& p) const override { return mAdf->sample(glm::vec3(p)).distance; }
+    explicit AdfSource(AdfPtr adf)
+        : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld),
+          mInvCell(1.0 / mAdf->domain().finestCellSize()), mTop(mAdf->domain().latticeSize()) {}
+    double distance(const glm::dvec3& p) const override {
+        double corner;
+        if (cornerValue(p, corner)) return corner;
+        return mAdf->sample(glm::vec3(p)).distance;
+    }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         AdfAccessor acc(*mAdf);  // batches are coherent (one cell's points): cache the leaf
-        for (std::size_t i = 0; i < p.size(); ++i) out[i] = acc.sample(glm::vec3(p[i])).distance;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            double corner;
+            out[i] = cornerValue(p[i], corner) ? corner : acc.sample(glm::vec3(p[i])).distance;
+        }
     }
 
 private:
+    /// Stored value at `p` if it is a lattice point and a corner of one of the (up to 8) leaves
+    /// around it; the first in octant order wins (their values differ only by quantisation).
+    bool cornerValue(const glm::dvec3& p, double& value) const {
+        const glm::dvec3 u = (p - mOrigin) * mInvCell;
+        const glm::dvec3 r = glm::round(u);
+        if (!(glm::all(glm::lessThan(glm::abs(u - r), glm::dvec3(1e-4)))) || glm::any(glm::lessThan(r, glm::dvec3(0.0))) ||
+            glm::any(glm::greaterThan(r, glm::dvec3(mTop))))
+            return false;
+        const glm::uvec3 pt(r);
+        for (int o = 0; o < 8; ++o) {
+            const glm::uvec3 off(o & 1, (o >> 1) & 1, o >> 2);
+            if (glm::any(glm::lessThan(pt, off))) continue;
+            const glm::uvec3 cube = pt - off;
+            if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
+            const LeafRef leaf = mAdf->findLeaf(cube);
+            const glm::uvec3 rel = pt - leaf.latticeOrigin;
+            int c = 0;
+            bool corner = true;
+            for (int k = 0; k < 3; ++k) {
+                if (rel[k] == leaf.latticeSize) c |= 1 << k;
+                else if (rel[k] != 0) corner = false;
+            }
+            if (corner) {
+                value = leaf.corners[c];
+                return true;
+            }
+        }
+        return false;
+    }
+
     AdfPtr mAdf;
+    glm::dvec3 mOrigin;
+    double mInvCell;
+    uint32_t mTop;
 };
 
 class RegionLimited final : public DistanceSource {
