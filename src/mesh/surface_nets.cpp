@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <array>
 #include <bit>
+#include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -120,6 +122,56 @@ inline CellLoc locate(const Adf& adf, glm::uvec3 p) {
     return {tile, (p >> shift) << shift, 1u << shift, level};
 }
 
+/// locate() with a cached path: a query near the last one climbs only to their common cell.
+class LeafLocator {
+public:
+    explicit LeafLocator(const Adf& adf)
+        : mAdf(adf), mMaxLevel(adf.domain().maxLevel),
+          mSlotShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())) {}
+
+    CellLoc locate(glm::uvec3 p) {
+        while (mDepth > 0 && !contains(mPath[mDepth - 1], p)) --mDepth;
+        if (mDepth == 0) {
+            mTile = mAdf.tileAtSlot(p >> mSlotShift);
+            mPath[0] = {mTile->latticeOrigin(), 1u << uint32_t(mMaxLevel - mTile->level()), 0, mTile->level()};
+            mDepth = 1;
+        }
+        const uint32_t* nodes = mTile->nodes();
+        Entry e = mPath[mDepth - 1];
+        uint32_t w = nodes[e.node];
+        while (adf::node::isInternal(w)) {
+            const uint32_t half = e.size >> 1;
+            const glm::uvec3 bit((p - e.origin) / half);
+            e = {e.origin + bit * half, half, w + (bit.x | (bit.y << 1) | (bit.z << 2)), e.level + 1};
+            mPath[mDepth++] = e;
+            w = nodes[e.node];
+        }
+        if (adf::node::isBrick(w)) {
+            const uint32_t half = e.size >> 1;
+            return {mTile, e.origin + glm::uvec3((p - e.origin) / half) * half, half, e.level + 1};
+        }
+        return {mTile, e.origin, e.size, e.level};
+    }
+
+private:
+    struct Entry {
+        glm::uvec3 origin;
+        uint32_t size;
+        uint32_t node;
+        int level;
+    };
+    static bool contains(const Entry& e, glm::uvec3 p) {
+        const glm::uvec3 r = p - e.origin;  // wraps below the origin
+        return r.x < e.size && r.y < e.size && r.z < e.size;
+    }
+    const Adf& mAdf;
+    int mMaxLevel;
+    uint32_t mSlotShift;
+    const Tile* mTile = nullptr;
+    int mDepth = 0;
+    Entry mPath[adf::kMaxSupportedLevel + 2];
+};
+
 inline bool isBoundary(const float* c) {
     bool anyIn = false, anyOut = false;
     for (int i = 0; i < 8; ++i) (c[i] < 0.0f ? anyIn : anyOut) = true;
@@ -216,23 +268,62 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
     end = lo + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
 }
 
+/// Raw quantised values change sign (quantisation keeps signs).
+template <int N>
+inline bool signChange(const int16_t* v) {
+    bool neg = false, pos = false;
+    for (int i = 0; i < N; ++i) (v[i] < 0 ? neg : pos) = true;
+    return neg && pos;
+}
+
+/// The leaves of `tm`'s tile with a sign change at their corners, skipping the others by
+/// their raw values (a brick's 27 values are tested once for its 8 children).
 void scanLeaves(const Adf& adf, TileMesh& tm) {
     tm.leaves.clear();
     const Tile& t = *tm.tile;
-    if (t.singleLeaf() && t.rootType() != adf::CellType::Boundary) return;
-    adf::forEachLeaf(t, adf.domain().maxLevel, [&](const adf::LeafRef& r) {
-        if (!isBoundary(r.corners)) return;
-        BoundaryLeaf b;
-        b.origin = r.latticeOrigin;
-        b.size = r.latticeSize;
-        std::copy(r.corners, r.corners + 8, b.corners);
-        tm.leaves.push_back(b);
-    });
+    if (t.singleLeaf() && !signChange<8>(t.corners())) return;
+    const int maxLevel = adf.domain().maxLevel;
+    struct Item {
+        uint32_t node;
+        glm::uvec3 origin;
+        uint32_t size;
+    };
+    Item stack[8 * (adf::kMaxSupportedLevel + 1)];
+    int top = 0;
+    stack[top++] = {0, t.latticeOrigin(), 1u << uint32_t(maxLevel - t.level())};
+    const float scale = t.scale();
+    while (top > 0) {
+        const Item it = stack[--top];
+        const uint32_t w = t.nodes()[it.node];
+        const uint32_t half = it.size >> 1;
+        if (adf::node::isInternal(w)) {
+            for (int c = 7; c >= 0; --c)
+                stack[top++] = {w + uint32_t(c), it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, half};
+        } else if (adf::node::isLeaf(w)) {
+            const int16_t* q = t.corners() + 8 * adf::node::leafIndex(w);
+            if (!signChange<8>(q)) continue;
+            BoundaryLeaf b{it.origin, it.size, {}};
+            for (int c = 0; c < 8; ++c) b.corners[c] = float(q[c]) * scale;
+            tm.leaves.push_back(b);
+        } else {
+            const int16_t* q = t.bricks() + 27 * adf::node::brickIndex(w);
+            if (!signChange<27>(q)) continue;
+            for (int child = 0; child < 8; ++child) {
+                BoundaryLeaf b{it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half, half, {}};
+                int16_t raw[8];
+                for (int c = 0; c < 8; ++c) raw[c] = q[adf::brickPoint(child, c)];
+                if (!signChange<8>(raw)) continue;
+                for (int c = 0; c < 8; ++c) b.corners[c] = float(raw[c]) * scale;
+                tm.leaves.push_back(b);
+            }
+        }
+    }
 }
 
 /// The crossings emitted by `tm`'s boundary leaves.
 void computeCrossings(const Adf& adf, const TileMesh& tm, std::vector<Crossing>& out, SurfaceNetsStats& st) {
     const uint32_t top = adf.domain().latticeSize();
+    LeafLocator locator(adf);
     for (const BoundaryLeaf& leaf : tm.leaves) {
         for (int k = 0; k < 3; ++k) {
             const int a = (k + 1) % 3, b = (k + 2) % 3;
@@ -261,7 +352,7 @@ void computeCrossings(const Adf& adf, const TileMesh& tm, std::vector<Crossing>&
                         s[b] -= 1;
                     }
                     if (s[a] >= top || s[b] >= top) { open = true; break; }
-                    ring[q] = locate(adf, s);
+                    ring[q] = locator.locate(s);
                     // Not minimal: a smaller leaf splits this edge. Not canonical: an equal
                     // leaf earlier in quadrant order emits it.
                     if (ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine)) skip = true;
@@ -368,9 +459,11 @@ inline glm::vec3 clampToCell(glm::vec3 p, const Vertex& v) {
 }
 
 /// One Newton step onto the zero set along the gradient, in lattice units, kept in the cell.
-inline glm::vec3 projectOnce(adf::AdfAccessor& acc, const Adf& adf, glm::vec3 p, const Vertex& v) {
+inline glm::vec3 projectOnce(adf::AdfAccessor& acc, const Adf& adf, glm::vec3 p, const Vertex& v,
+                             glm::vec3* gradient = nullptr) {
     const float h = adf.metresPerLattice();
     const adf::Sample s = acc.sample(adf.originWorldF() + p * h);
+    if (gradient) *gradient = s.gradient;
     const float g2 = glm::dot(s.gradient, s.gradient);
     if (!(g2 > 1e-12f) || !std::isfinite(s.distance)) return p;
     return clampToCell(p - (s.distance / g2) * s.gradient / h, v);
@@ -504,9 +597,10 @@ void computeVertices(const Context& ctx, TileMesh& tm, const std::vector<uint64_
         if (tm.vertices.size() - firstVertex > 1) ++st.multiSheetCells;
         {
             // Figure 9B: a cell without a sign change at its own corners still gets a vertex.
+            // A crossing as long as the cell's edge is one of its own edges, so its corners differ.
             bool emits = false;
             for (uint32_t j = 0; j < n && !emits; ++j)
-                emits = inc[i0 + j].x->ringCell[inc[i0 + j].x->emitter] == inc[i0].cell;
+                emits = inc[i0 + j].x->length == tm.vertices[firstVertex].size;
             if (!emits && !isBoundary(adf.findLeaf(tm.vertices[firstVertex].origin).corners)) ++st.signlessCells;
         }
         for (uint32_t vi = firstVertex; vi < tm.vertices.size(); ++vi) {
@@ -583,18 +677,18 @@ void relaxVertices(const Context& ctx, TileMesh& tm) {
         const glm::vec3 p = v.projected;
         const adf::Sample s = acc.sample(adf.originWorldF() + p * h);
         glm::vec3 moved = p;
+        glm::vec3 gradient = s.gradient;  // the normal: gradient where the last projection started
         const float g = glm::length(s.gradient);
         if (count > 0 && g > 1e-6f) {
             const glm::vec3 n = s.gradient / g;
             const glm::vec3 d = sum / float(count) - p;
             moved = clampToCell(p + 0.5f * (d - glm::dot(n, d) * n), v);
-            moved = projectOnce(acc, adf, moved, v);
+            moved = projectOnce(acc, adf, moved, v, &gradient);
         }
         v.position = moved;
-        const adf::Sample e = acc.sample(adf.originWorldF() + moved * h);
-        const float ge = glm::length(e.gradient);
+        const float ge = glm::length(gradient);
         if (ge > 1e-6f && std::isfinite(ge)) {
-            v.normal = e.gradient / ge;
+            v.normal = gradient / ge;
         } else {
             const float cn = glm::length(v.crossingNormal);
             v.normal = cn > 0.0f ? v.crossingNormal / cn : glm::vec3(0.0f, 0.0f, 1.0f);
@@ -644,6 +738,7 @@ void SurfaceMesher::update(adf::AdfPtr adf) {
 }
 
 void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everything) {
+    const auto tStart = std::chrono::steady_clock::now();
     const Adf& adf = *mAdf;
     SurfaceNetsStats st;
     const uint32_t shift = uint32_t(adf.domain().maxLevel - adf.domain().tileLevel());
@@ -741,6 +836,7 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
         st.openCrossings += s.openCrossings;
     }
 
+    const auto tPhase1 = std::chrono::steady_clock::now();
     // 2. Vertices of every tile that owns a cell of a changed crossing, or whose field changed.
     std::vector<uint64_t> meshKeys = dirtyNeighbours, owners;
     for (std::size_t i = 0; i < scanTiles.size(); ++i) {
@@ -776,6 +872,7 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
         st.signlessCells += s.signlessCells;
     }
 
+    const auto tPhase2 = std::chrono::steady_clock::now();
     // 3. Relaxation reads neighbours' projected vertices: the meshed tiles and their neighbours.
     std::vector<uint64_t> relaxKeys;
     for (TileMesh* tm : meshTiles) neighbourKeys(adf, tm->slotMin, tm->slotEnd, relaxKeys);
@@ -791,6 +888,8 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
         relaxVertices(ctx, *relaxTiles[i]);
     });
 
+    const auto tPhase3 = std::chrono::steady_clock::now();
+    if (getenv("KZ_TIME")) fprintf(stderr, "phase1 %.2f phase2 %.2f phase3 %.2f\n", std::chrono::duration<double, std::milli>(tPhase1 - tStart).count(), std::chrono::duration<double, std::milli>(tPhase2 - tPhase1).count(), std::chrono::duration<double, std::milli>(tPhase3 - tPhase2).count());
     // Drop tiles left with nothing.
     for (auto it = mTiles.begin(); it != mTiles.end();) {
         if (it->second->crossings.empty() && it->second->vertices.empty())
