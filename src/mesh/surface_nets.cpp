@@ -3,6 +3,7 @@
 /// @brief Crossings per tile, cycles and vertices per tile, relaxation, splicing (surface_nets.h).
 #include "mesh/surface_nets.h"
 
+#include "mesh/boundary_cells.h"
 #include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
@@ -66,11 +67,7 @@ struct Crossing {
 
 namespace {
 
-struct BoundaryLeaf {
-    glm::uvec3 origin;
-    uint32_t size;
-    float corners[8];
-};
+using BoundaryLeaf = BoundaryCell;
 
 /// Quadrants a cell occupies around a crossing, as a cyclic run first..last.
 struct Incidence {
@@ -268,56 +265,9 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
     end = lo + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
 }
 
-/// Raw quantised values change sign (quantisation keeps signs).
-template <int N>
-inline bool signChange(const int16_t* v) {
-    bool neg = false, pos = false;
-    for (int i = 0; i < N; ++i) (v[i] < 0 ? neg : pos) = true;
-    return neg && pos;
-}
-
-/// The leaves of `tm`'s tile with a sign change at their corners, skipping the others by
-/// their raw values (a brick's 27 values are tested once for its 8 children).
 void scanLeaves(const Adf& adf, TileMesh& tm) {
     tm.leaves.clear();
-    const Tile& t = *tm.tile;
-    if (t.singleLeaf() && !signChange<8>(t.corners())) return;
-    const int maxLevel = adf.domain().maxLevel;
-    struct Item {
-        uint32_t node;
-        glm::uvec3 origin;
-        uint32_t size;
-    };
-    Item stack[8 * (adf::kMaxSupportedLevel + 1)];
-    int top = 0;
-    stack[top++] = {0, t.latticeOrigin(), 1u << uint32_t(maxLevel - t.level())};
-    const float scale = t.scale();
-    while (top > 0) {
-        const Item it = stack[--top];
-        const uint32_t w = t.nodes()[it.node];
-        const uint32_t half = it.size >> 1;
-        if (adf::node::isInternal(w)) {
-            for (int c = 7; c >= 0; --c)
-                stack[top++] = {w + uint32_t(c), it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, half};
-        } else if (adf::node::isLeaf(w)) {
-            const int16_t* q = t.corners() + 8 * adf::node::leafIndex(w);
-            if (!signChange<8>(q)) continue;
-            BoundaryLeaf b{it.origin, it.size, {}};
-            for (int c = 0; c < 8; ++c) b.corners[c] = float(q[c]) * scale;
-            tm.leaves.push_back(b);
-        } else {
-            const int16_t* q = t.bricks() + 27 * adf::node::brickIndex(w);
-            if (!signChange<27>(q)) continue;
-            for (int child = 0; child < 8; ++child) {
-                BoundaryLeaf b{it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half, half, {}};
-                int16_t raw[8];
-                for (int c = 0; c < 8; ++c) raw[c] = q[adf::brickPoint(child, c)];
-                if (!signChange<8>(raw)) continue;
-                for (int c = 0; c < 8; ++c) b.corners[c] = float(raw[c]) * scale;
-                tm.leaves.push_back(b);
-            }
-        }
-    }
+    appendBoundaryCells(*tm.tile, adf.domain().maxLevel, tm.leaves);
 }
 
 /// The crossings emitted by `tm`'s boundary leaves.

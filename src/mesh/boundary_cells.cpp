@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file boundary_cells.cpp
+/// @brief appendBoundaryCells.
+#include "mesh/boundary_cells.h"
+
+namespace kizamu::mesh {
+
+namespace {
+
+template <int N>
+inline bool signChange(const int16_t* v) {
+    bool neg = false, pos = false;
+    for (int i = 0; i < N; ++i) (v[i] < 0 ? neg : pos) = true;
+    return neg && pos;
+}
+
+}  // namespace
+
+void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out) {
+    namespace node = adf::node;
+    struct Item {
+        uint32_t node;
+        glm::uvec3 origin;
+        uint32_t size;
+    };
+    Item stack[8 * (adf::kMaxSupportedLevel + 1)];
+    int top = 0;
+    stack[top++] = {0, t.latticeOrigin(), 1u << uint32_t(maxLevel - t.level())};
+    const float scale = t.scale();
+    while (top > 0) {
+        const Item it = stack[--top];
+        const uint32_t w = t.nodes()[it.node];
+        const uint32_t half = it.size >> 1;
+        if (node::isInternal(w)) {
+            for (int c = 7; c >= 0; --c)
+                stack[top++] = {w + uint32_t(c), it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, half};
+        } else if (node::isLeaf(w)) {
+            const int16_t* q = t.corners() + 8 * node::leafIndex(w);
+            if (!signChange<8>(q)) continue;
+            BoundaryCell b{it.origin, it.size, {}};
+            for (int c = 0; c < 8; ++c) b.corners[c] = float(q[c]) * scale;
+            out.push_back(b);
+        } else {
+            const int16_t* q = t.bricks() + 27 * node::brickIndex(w);
+            if (!signChange<27>(q)) continue;
+            for (int child = 0; child < 8; ++child) {
+                int16_t raw[8];
+                for (int c = 0; c < 8; ++c) raw[c] = q[adf::brickPoint(child, c)];
+                if (!signChange<8>(raw)) continue;
+                BoundaryCell b{it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half, half, {}};
+                for (int c = 0; c < 8; ++c) b.corners[c] = float(raw[c]) * scale;
+                out.push_back(b);
+            }
+        }
+    }
+}
+
+}  // namespace kizamu::mesh

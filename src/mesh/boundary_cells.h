@@ -1,0 +1,27 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file boundary_cells.h
+/// @brief The leaf cells of a tile whose corners change sign: where the surface is.
+///
+/// Both the mesher and the point sampler start here. Cells without a sign change are skipped
+/// on their raw 16-bit values (quantisation keeps signs), a brick's 27 values once for its
+/// 8 children, so the cost follows the cells near the surface, not the tile's volume.
+/// Complexity: O(nodes of the tile). Threading: any thread. Memory: the output only.
+#pragma once
+
+#include "adf/adf.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace kizamu::mesh {
+
+struct BoundaryCell {
+    glm::uvec3 origin{0};  ///< lattice
+    uint32_t size = 0;     ///< lattice units
+    float corners[8] = {};  ///< m, corner order of tile.h
+};
+
+/// Appends the sign-changing leaves of `tile` (depth-first order) to `out`.
+void appendBoundaryCells(const adf::Tile& tile, int maxLevel, std::vector<BoundaryCell>& out);
+
+}  // namespace kizamu::mesh

@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file lod.cpp
+/// @brief coarsenAdf, meshLod, lodErrorForTriangles.
+#include "mesh/lod.h"
+
+#include "adf/generate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace kizamu::mesh {
+
+namespace {
+
+/// The fine field as a source: plain trilinear reconstruction (the coarse ADF is a new, full
+/// generation, so every lattice point is evaluated once and signs agree between its cells).
+class AdfSampler final : public adf::DistanceSource {
+public:
+    explicit AdfSampler(adf::AdfPtr adf) : mAdf(std::move(adf)) {}
+    double distance(const glm::dvec3& p) const override { return mAdf->sample(glm::vec3(p)).distance; }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        adf::AdfAccessor acc(*mAdf);
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = acc.sample(glm::vec3(p[i])).distance;
+    }
+
+private:
+    adf::AdfPtr mAdf;
+};
+
+}  // namespace
+
+adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool) {
+    if (!fine) throw std::invalid_argument("LOD needs a snapshot");
+    if (!(errorWorld > 0.0) || !std::isfinite(errorWorld)) throw std::invalid_argument("LOD error must be positive");
+    // The coarse lattice stops where a cell is about twice the error: finer cells could not
+    // be told apart from their parent within the bound, and a small lattice keeps the fixed
+    // costs (tile table, tiles) in proportion to the output.
+    adf::Domain d = fine->domain();
+    while (d.maxLevel > 1 && d.finestCellSize() * 2.0 <= 2.0 * errorWorld) --d.maxLevel;
+    d.tileSpanLevels = std::min(d.tileSpanLevels, d.maxLevel);
+    adf::GenerationSettings s = fine->settings();
+    s.epsilonCells = errorWorld / d.finestCellSize();
+    s.bandCells = 0.0;  // surface only: a mesh needs nothing else
+    return adf::generate(AdfSampler(fine), d, s, pool);
+}
+
+MeshBuffers meshLod(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool, SurfaceNetsStats* stats) {
+    return meshAdf(coarsenAdf(fine, errorWorld, pool), pool, stats);
+}
+
+double lodErrorForTriangles(const adf::AdfPtr& fine, std::size_t triangles, util::ThreadPool* pool) {
+    // More error, fewer triangles: bisect log(error) between a finest cell and the domain.
+    double lo = std::log(fine->domain().finestCellSize() * 0.25), hi = std::log(fine->domain().sizeWorld * 0.25);
+    double best = std::exp(hi);
+    for (int i = 0; i < 24; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        const std::size_t n = meshLod(fine, std::exp(mid), pool).triangleCount();
+        best = std::exp(mid);
+        if (std::abs(double(n) - double(triangles)) < 0.15 * double(triangles)) break;
+        if (n > triangles) lo = mid;
+        else hi = mid;
+    }
+    return best;
+}
+
+}  // namespace kizamu::mesh

@@ -1,0 +1,94 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file point_cloud.cpp
+/// @brief surfacePointCloud.
+#include "mesh/point_cloud.h"
+
+#include "mesh/boundary_cells.h"
+#include "util/thread_pool.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
+namespace kizamu::mesh {
+
+namespace {
+
+/// Small, fast, good enough for jitter (splitmix64).
+struct SplitMix {
+    uint64_t s;
+    uint64_t next() {
+        uint64_t z = (s += 0x9e3779b97f4a7c15ull);
+        z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+        z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+        return z ^ (z >> 31);
+    }
+    float unit() { return float(next() >> 40) * (1.0f / 16777216.0f); }
+};
+
+void forEach(util::ThreadPool* pool, std::size_t n, const std::function<void(std::size_t)>& fn) {
+    if (pool && n > 1) pool->parallelFor(n, fn);
+    else
+        for (std::size_t i = 0; i < n; ++i) fn(i);
+}
+
+}  // namespace
+
+PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t seed, util::ThreadPool* pool) {
+    PointCloud out;
+    // Boundary cells, tile by tile (in slot order, so the result does not depend on threads).
+    std::vector<const adf::Tile*> tiles;
+    adf.forEachTile([&](const adf::Tile& t) { tiles.push_back(&t); });
+    std::vector<std::vector<BoundaryCell>> cells(tiles.size());
+    const int maxLevel = adf.domain().maxLevel;
+    forEach(pool, tiles.size(), [&](std::size_t i) { appendBoundaryCells(*tiles[i], maxLevel, cells[i]); });
+    std::vector<BoundaryCell> all;
+    for (auto& c : cells) all.insert(all.end(), c.begin(), c.end());
+    if (all.empty() || count == 0) return out;
+
+    // Estimated area per cell, from the gradient at its centre.
+    std::vector<double> prefix(all.size() + 1, 0.0);
+    for (std::size_t i = 0; i < all.size(); ++i) {
+        const adf::Sample s = adf::trilinear(all[i].corners, glm::vec3(0.5f));
+        const float g1 = std::abs(s.gradient.x) + std::abs(s.gradient.y) + std::abs(s.gradient.z);
+        const float g2 = glm::length(s.gradient);
+        const double size = double(all[i].size);
+        prefix[i + 1] = prefix[i] + (g1 > 0.0f ? size * size * double(g2 / g1) : size * size);
+    }
+    // Cell i gets the points whose stratified positions k + 0.5 fall in its share of the total.
+    const double total = prefix.back();
+    auto firstPoint = [&](std::size_t cell) {
+        return std::size_t(std::min(double(count), std::ceil(prefix[cell] / total * double(count) - 0.5)));
+    };
+    out.positions.resize(count);
+    out.normals.resize(count);
+    const glm::vec3 origin = adf.originWorldF();
+    const float h = adf.metresPerLattice();
+    const std::size_t chunk = 4096;
+    const std::size_t chunks = (all.size() + chunk - 1) / chunk;
+    forEach(pool, chunks, [&](std::size_t c) {
+        for (std::size_t i = c * chunk; i < std::min(all.size(), (c + 1) * chunk); ++i) {
+            const BoundaryCell& cell = all[i];
+            SplitMix rng{seed * 0x2545f4914f6cdd1dull + i};
+            const float size = float(cell.size);
+            const float toMetres = 1.0f / (size * h);  // gradient per unit cell -> per metre
+            for (std::size_t k = firstPoint(i); k < firstPoint(i + 1); ++k) {
+                glm::vec3 f(rng.unit(), rng.unit(), rng.unit());
+                adf::Sample s = adf::trilinear(cell.corners, f);
+                glm::vec3 g = s.gradient * toMetres;
+                const float g2 = glm::dot(g, g);
+                if (g2 > 1e-12f) f -= (s.distance / g2) * g / (size * h);  // one projection step
+                f = glm::clamp(f, glm::vec3(-0.5f), glm::vec3(1.5f));
+                g = adf::trilinear(cell.corners, f).gradient;
+                const float gl = glm::length(g);
+                out.positions[k] = origin + (glm::vec3(cell.origin) + f * size) * h;
+                out.normals[k] = gl > 0.0f ? g / gl : glm::vec3(0.0f, 0.0f, 1.0f);
+            }
+        }
+    });
+    return out;
+}
+
+}  // namespace kizamu::mesh

@@ -1,0 +1,87 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "mesh/lod.h"
+#include "mesh/point_cloud.h"
+
+#include "adf/generate.h"
+#include "adf/test_part.h"
+#include "tests/util/mesh_check.h"
+#include "util/thread_pool.h"
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+namespace kizamu {
+namespace {
+
+using namespace adf;
+
+TEST(Lod, CoarserErrorGivesFewerTrianglesStillClosedManifoldAndWithinTheError) {
+    util::ThreadPool pool;
+    const Domain d = testPartDomain(9);
+    const SourcePtr part = makeTestPart(d);
+    const AdfPtr fine = generate(*part, d, testPartSettings(), &pool);
+    const std::size_t full = mesh::meshAdf(fine, &pool).triangleCount();
+    std::size_t previous = full + 1;
+    for (double e : {0.002, 0.004, 0.008, 0.016}) {
+        const mesh::MeshBuffers m = mesh::meshLod(fine, e, &pool);
+        ASSERT_TRUE(test::closedOrientedManifold(m)) << "error " << e;
+        EXPECT_LT(m.triangleCount(), previous) << "error " << e;
+        previous = m.triangleCount();
+        double worst = 0.0;
+        for (const glm::vec3& p : m.positions) worst = std::max(worst, std::abs(part->distance(glm::dvec3(p))));
+        EXPECT_LT(worst, 2.0 * e + d.finestCellSize()) << "error " << e;
+    }
+    EXPECT_LT(previous, full / 10);
+}
+
+TEST(Lod, ErrorForATriangleCountHitsIt) {
+    util::ThreadPool pool;
+    const Domain d = testPartDomain(9);
+    const AdfPtr fine = generate(*makeTestPart(d), d, testPartSettings(), &pool);
+    for (std::size_t target : {2000u, 20000u}) {
+        const double e = mesh::lodErrorForTriangles(fine, target, &pool);
+        const std::size_t n = mesh::meshLod(fine, e, &pool).triangleCount();
+        EXPECT_NEAR(double(n), double(target), 0.15 * double(target));
+    }
+    EXPECT_THROW(mesh::meshLod(fine, 0.0), std::invalid_argument);
+}
+
+TEST(PointCloud, PointsLieOnTheSurfaceWithNormalsAndFollowTheArea) {
+    util::ThreadPool pool;
+    Domain d;
+    d.maxLevel = 8;
+    const glm::dvec3 c(0.503, 0.49, 0.51);
+    const double r = 0.3;
+    const AdfPtr a = generate(*makeTranslated(makeSphere(r), c), d, GenerationSettings{}, &pool);
+    const std::size_t n = 200000;
+    const mesh::PointCloud pc = mesh::surfacePointCloud(*a, n, 7, &pool);
+    ASSERT_EQ(pc.positions.size(), n);
+    ASSERT_EQ(pc.normals.size(), n);
+    const double h = d.finestCellSize();
+    double worst = 0.0, worstNormal = 1.0;
+    std::vector<double> errors;
+    std::size_t octant[8] = {};
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec3 p(pc.positions[i]);
+        errors.push_back(std::abs(double(a->distance(pc.positions[i]))));  // the field's own zero set
+        worst = std::max(worst, std::abs(glm::length(p - c) - r));
+        worstNormal = std::min(worstNormal, glm::dot(glm::dvec3(pc.normals[i]), glm::normalize(p - c)));
+        octant[(p.x > c.x) | ((p.y > c.y) << 1) | ((p.z > c.z) << 2)]++;
+    }
+    // One projection step (Kizamu 6.1): exact for a plane, a fraction of a cell where the
+    // trilinear field curves.
+    std::nth_element(errors.begin(), errors.begin() + n / 2, errors.end());
+    EXPECT_LT(errors[n / 2], 0.02 * h);
+    EXPECT_LT(*std::max_element(errors.begin(), errors.end()), 0.5 * h);
+    EXPECT_LT(worst, 0.75 * h);  // plus the ADF's own error against the sphere
+    EXPECT_GT(worstNormal, 0.95);
+    // Area-proportional: each octant of the sphere gets an eighth of the points.
+    for (std::size_t o : octant) EXPECT_NEAR(double(o), n / 8.0, 0.02 * n / 8.0);
+    // Deterministic, and the same without threads.
+    const mesh::PointCloud serial = mesh::surfacePointCloud(*a, n, 7, nullptr);
+    EXPECT_EQ(serial.positions, pc.positions);
+    EXPECT_EQ(serial.normals, pc.normals);
+}
+
+}  // namespace
+}  // namespace kizamu
