@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file cmd_convert.cpp
-/// @brief `kizamu convert IN OUT`: between mesh formats, and from a mesh to an ADF (.kza).
+/// @brief `kizamu convert IN OUT`: between mesh formats and ADFs (.kza), either way.
 #include "adf/adf_file.h"
 #include "adf/generate.h"
 #include "app/commands.h"
 #include "mesh/mesh_export.h"
 #include "mesh/mesh_import.h"
+#include "mesh/lod.h"
 #include "mesh/mesh_source.h"
+#include "mesh/surface_nets.h"
 #include "util/file_error.h"
 #include "util/thread_pool.h"
 
@@ -26,8 +28,23 @@ struct ConvertOptions {
     std::string in, out;
     int level = 9;
     double error = adf::GenerationSettings{}.epsilonCells;
+    double lod = 0.0;        ///< LOD error, finest cells (0: full resolution)
+    bool levelGiven = false;  ///< mesh -> mesh goes through an ADF only when asked
     unsigned threads = 0;
 };
+
+double msSince(std::chrono::steady_clock::time_point t0) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// The SurfaceNets mesh of `a`, or its LOD mesh when o.lod > 0.
+mesh::MeshBuffers meshOf(const adf::AdfPtr& a, const ConvertOptions& o, util::ThreadPool& pool) {
+    const auto t0 = std::chrono::steady_clock::now();
+    mesh::MeshBuffers m = o.lod > 0.0 ? mesh::meshLod(a, o.lod * a->domain().finestCellSize(), &pool)
+                                      : mesh::meshAdf(a, &pool);
+    std::printf("meshed in %.1f ms: %zu vertices, %zu triangles\n", msSince(t0), m.vertexCount(), m.triangleCount());
+    return m;
+}
 
 bool isAdf(const std::string& path) {
     if (path.size() < 4) return false;
@@ -37,11 +54,18 @@ bool isAdf(const std::string& path) {
 }
 
 void runConvert(const ConvertOptions& o) {
-    if (isAdf(o.in))
-        throw FileError(o.in, "converting an ADF to a mesh needs the mesher, which is not built yet");
+    util::ThreadPool pool(o.threads);
+    if (isAdf(o.in)) {
+        if (isAdf(o.out)) throw FileError(o.out, "the input is already an ADF; pick a mesh format for the output");
+        const adf::AdfPtr a = adf::loadAdf(o.in);
+        std::printf("read %s: level %d\n", o.in.c_str(), a->domain().maxLevel);
+        mesh::exportMesh(meshOf(a, o, pool), o.out);
+        std::printf("wrote %s\n", o.out.c_str());
+        return;
+    }
     const mesh::MeshBuffers m = mesh::importMesh(o.in);
     std::printf("read %s: %zu vertices, %zu triangles\n", o.in.c_str(), m.vertexCount(), m.triangleCount());
-    if (!isAdf(o.out)) {
+    if (!isAdf(o.out) && !o.levelGiven && o.lod == 0.0) {
         mesh::exportMesh(m, o.out);
         std::printf("wrote %s\n", o.out.c_str());
         return;
@@ -49,13 +73,16 @@ void runConvert(const ConvertOptions& o) {
     adf::GenerationSettings settings;
     settings.epsilonCells = o.error;
     const adf::Domain d = mesh::domainAround(m, o.level, settings.bandCells + 2.0);
-    util::ThreadPool pool(o.threads);
     const auto t0 = std::chrono::steady_clock::now();
     const adf::AdfPtr a = adf::generate(*mesh::makeMeshSource(m), d, settings, &pool);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const adf::Adf::Stats st = a->computeStats();
-    std::printf("generated a level-%d ADF in %.1f ms: %zu cells, %.2f MB\n", o.level, ms, st.cells, double(st.bytes()) / 1e6);
-    adf::saveAdf(*a, o.out);
+    std::printf("generated a level-%d ADF in %.1f ms: %zu cells, %.2f MB\n", o.level, msSince(t0), st.cells,
+                double(st.bytes()) / 1e6);
+    if (isAdf(o.out)) {
+        adf::saveAdf(*a, o.out);
+    } else {
+        mesh::exportMesh(meshOf(a, o, pool), o.out);  // a watertight remesh of the input
+    }
     std::printf("wrote %s\n", o.out.c_str());
 }
 
@@ -63,18 +90,27 @@ void runConvert(const ConvertOptions& o) {
 
 void addConvertCommand(CLI::App& app) {
     auto* cmd = app.add_subcommand(
-        "convert", "Convert between mesh formats (.obj .stl .ply .off -> .obj .stl .ply .glb), or a mesh to an ADF (.kza)");
+        "convert",
+        "Convert between mesh formats (.obj .stl .ply .off -> .obj .stl .ply .glb) and ADFs (.kza), either way. "
+        "A mesh -> mesh conversion with --level or --lod goes through an ADF: a closed, manifold remesh.");
     auto o = std::make_shared<ConvertOptions>();
     cmd->add_option("in", o->in, "Input file")->required();
     cmd->add_option("out", o->out, "Output file; its extension picks the format")->required();
-    cmd->add_option("--level", o->level, "Maximum octree level of the ADF (mesh -> .kza)")
+    cmd->add_option("--level", o->level, "Maximum octree level of the ADF (from a mesh)")
         ->check(CLI::Range(1, 16))
         ->capture_default_str();
-    cmd->add_option("--error", o->error, "Error bound at the surface, finest cells (mesh -> .kza)")
+    cmd->add_option("--lod", o->lod,
+                    "Level of detail: mesh the coarsest cells within this error, finest cells (to a mesh; 0: full)")
+        ->check(CLI::Range(0.0, 1e6))
+        ->capture_default_str();
+    cmd->add_option("--error", o->error, "Error bound at the surface, finest cells (from a mesh)")
         ->check(CLI::Range(0.01, 10.0))
         ->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
-    cmd->callback([o] { runConvert(*o); });
+    cmd->callback([o, cmd] {
+        o->levelGiven = cmd->count("--level") > 0;
+        runConvert(*o);
+    });
 }
 
 }  // namespace kizamu::app

@@ -34,14 +34,26 @@ printf '\xff' | dd of="$tmp/flip.kza" bs=1 seek=$((size / 3)) conv=notrunc 2>/de
 check_bad "$tmp/flip.kza" "checksum mismatch"
 check_bad "$tmp/missing.kza" "cannot open"
 
-# convert: mesh formats, and a mesh to an ADF; an ADF to a mesh is refused with one line
+# convert: mesh formats, a mesh to an ADF and back, LOD, a watertight remesh; bad pairs: one line
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$tmp/tet.obj"
 "$kizamu" convert "$tmp/tet.obj" "$tmp/tet.ply" >/dev/null || fail "convert obj -> ply"
 "$kizamu" convert "$tmp/tet.ply" "$tmp/tet.stl" >/dev/null || fail "convert ply -> stl"
 "$kizamu" convert "$tmp/tet.stl" "$tmp/tet.kza" --level 6 >/dev/null || fail "convert stl -> kza"
 "$kizamu" info "$tmp/tet.kza" | grep -q "level       6" || fail "info on a converted mesh"
-"$kizamu" convert "$tmp/tet.kza" "$tmp/back.obj" >/dev/null 2>"$tmp/err" && fail "kza -> obj should be refused for now"
-[ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "kza -> obj error is not one line"
+"$kizamu" convert "$tmp/p.kza" "$tmp/p.glb" >/dev/null || fail "convert kza -> glb"
+"$kizamu" convert "$tmp/p.kza" "$tmp/p.stl" >/dev/null || fail "convert kza -> stl"
+admesh "$tmp/p.stl" | grep -q "Backwards edges *: *0" || fail "kza -> stl: admesh finds backwards edges"
+admesh "$tmp/p.stl" | grep -q "Edges fixed *: *0" || fail "kza -> stl: admesh had to fix edges (open mesh)"
+full=$(assimp info "$tmp/p.glb" --raw | sed -n 's/^Faces: *\([0-9]*\).*/\1/p')
+"$kizamu" convert "$tmp/p.kza" "$tmp/lod.ply" --lod 4 >/dev/null || fail "convert kza -> ply --lod"
+lod=$(assimp info "$tmp/lod.ply" --raw | sed -n 's/^Faces: *\([0-9]*\).*/\1/p')
+[ -n "$full" ] && [ -n "$lod" ] && [ "$lod" -gt 0 ] && [ "$lod" -lt "$full" ] || fail "LOD mesh ($lod faces) not smaller than full ($full)"
+"$kizamu" convert "$tmp/tet.obj" "$tmp/remesh.stl" --level 6 >/dev/null || fail "remesh obj -> stl --level"
+admesh "$tmp/remesh.stl" | grep -q "Edges fixed *: *0" || fail "remesh is not closed"
+"$kizamu" convert "$tmp/tet.kza" "$tmp/again.kza" >/dev/null 2>"$tmp/err" && fail "kza -> kza should be refused"
+[ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "kza -> kza error is not one line"
+"$kizamu" convert "$tmp/half.kza" "$tmp/x.obj" >/dev/null 2>"$tmp/err" && fail "a damaged kza should not convert"
+grep -q "truncated" "$tmp/err" || fail "damaged kza -> obj error lacks 'truncated'"
 
 # bench contract: only JSON objects on stdout, every figure the contract names present
 "$kizamu" bench adf --json --levels 6,7 --queries 4000 --error-points 2000 --repeats 1 \

@@ -3,6 +3,10 @@
 // admesh for STL) and compared by counts and bounds. A missing reader fails the test.
 #include "mesh/mesh_export.h"
 
+#include "adf/generate.h"
+#include "adf/test_part.h"
+#include "mesh/surface_nets.h"
+
 #include "util/file_error.h"
 
 #include <glm/geometric.hpp>
@@ -88,6 +92,45 @@ TEST_P(MeshExport, AssimpReadsBackTheSameMesh) {
     }
     EXPECT_NEAR(field(info, R"(Minimum point\s+\(([-0-9.e]+))"), 0.5 - 0.2, 1e-5) << info;
     EXPECT_NEAR(field(info, R"(Maximum point\s+\(([-0-9.e]+))"), 0.5 + 0.2, 1e-5) << info;
+}
+
+/// The mesher's output for the test part: what users export.
+MeshBuffers testPartMesh() {
+    const adf::Domain d = adf::testPartDomain(7);
+    return meshAdf(adf::generate(*adf::makeTestPart(d), d, adf::testPartSettings()));
+}
+
+TEST_P(MeshExport, AssimpReadsBackTheSurfaceNetsMesh) {
+    ASSERT_EQ(std::system("command -v assimp >/dev/null 2>&1"), 0) << "assimp (assimp-utils) is required";
+    const MeshBuffers mesh = testPartMesh();
+    ASSERT_GT(mesh.triangleCount(), 1000u);
+    glm::vec3 lo(1e9f), hi(-1e9f);
+    for (const glm::vec3& p : mesh.positions) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    const std::string path = (mDir / (std::string("part.") + GetParam())).string();
+    exportMesh(mesh, path);
+    const std::string info = run("assimp info '" + path + "' --raw");
+    ASSERT_NE(info.find("Importing file ...                   OK"), std::string::npos) << info;
+    EXPECT_EQ(field(info, R"(Faces:\s+(\d+))"), double(mesh.triangleCount())) << info;
+    if (std::string(GetParam()) == "ply" || std::string(GetParam()) == "glb") {
+        EXPECT_EQ(field(info, R"(Vertices:\s+(\d+))"), double(mesh.vertexCount())) << info;
+    }
+    EXPECT_NEAR(field(info, R"(Minimum point\s+\(([-0-9.e]+))"), lo.x, 1e-5) << info;
+    EXPECT_NEAR(field(info, R"(Maximum point\s+\(([-0-9.e]+))"), hi.x, 1e-5) << info;
+}
+
+TEST_F(MeshExport, AdmeshFindsTheSurfaceNetsStlClosed) {
+    ASSERT_EQ(std::system("command -v admesh >/dev/null 2>&1"), 0) << "admesh is required";
+    const MeshBuffers mesh = testPartMesh();
+    const std::string path = (mDir / "part.stl").string();
+    exportMesh(mesh, path);
+    const std::string report = run("admesh '" + path + "'");
+    EXPECT_EQ(field(report, R"(Number of facets\s*:\s*(\d+))"), double(mesh.triangleCount())) << report;
+    EXPECT_EQ(field(report, R"(Edges fixed\s*:\s*(\d+))"), 0.0) << report;
+    EXPECT_EQ(field(report, R"(Backwards edges\s*:\s*(\d+))"), 0.0) << report;
+    EXPECT_EQ(field(report, R"(Number of parts\s*:\s*(\d+))"), 1.0) << report;
 }
 
 INSTANTIATE_TEST_SUITE_P(Formats, MeshExport, ::testing::Values("obj", "stl", "ply", "glb"));
