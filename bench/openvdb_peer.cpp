@@ -12,7 +12,9 @@
 #include <openvdb/math/Stencils.h>
 #include <openvdb/math/Transform.h>
 #include <openvdb/openvdb.h>
+#include <openvdb/tools/MeshToVolume.h>
 #include <openvdb/tools/SignedFloodFill.h>
+#include <openvdb/tools/VolumeToMesh.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -205,6 +207,38 @@ adf::Sample OpenVdbPeer::sample(const glm::vec3& pWorld) {
     const float d = stencil.interpolation(xyz);
     const openvdb::Vec3f g = stencil.gradient(xyz);
     return adf::Sample{d, glm::vec3(g.x(), g.y(), g.z())};
+}
+
+OpenVdbPeer::MeshResult OpenVdbPeer::meshSurface() const {
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    const auto start = std::chrono::steady_clock::now();
+    openvdb::tools::volumeToMesh(*mImpl->grid, points, triangles, quads, 0.0, 0.0);
+    MeshResult r;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    r.points = points.size();
+    r.quads = quads.size();
+    r.triangles = triangles.size();
+    return r;
+}
+
+double openVdbMeshToLevelSet(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
+                             double voxelWorld, float halfWidthVoxels, std::size_t* activeVoxels) {
+    openvdb::initialize();
+    std::vector<openvdb::Vec3s> points;
+    points.reserve(positions.size());
+    for (const glm::vec3& p : positions) points.emplace_back(p.x, p.y, p.z);  // world space
+    std::vector<openvdb::Vec3I> triangles;
+    triangles.reserve(indices.size() / 3);
+    for (std::size_t i = 0; i + 2 < indices.size(); i += 3)
+        triangles.emplace_back(indices[i], indices[i + 1], indices[i + 2]);
+    const auto xform = openvdb::math::Transform::createLinearTransform(voxelWorld);
+    const auto start = std::chrono::steady_clock::now();
+    auto grid = openvdb::tools::meshToLevelSet<openvdb::FloatGrid>(*xform, points, triangles, halfWidthVoxels);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (activeVoxels) *activeVoxels = std::size_t(grid->activeVoxelCount());
+    return seconds;
 }
 
 }  // namespace kizamu::bench

@@ -16,7 +16,9 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <span>
 
 namespace kizamu::bench {
 
@@ -40,9 +42,25 @@ public:
     /// Not thread-safe (the stencil caches). Memory: none.
     adf::Sample sample(const glm::vec3& pWorld);
 
+    /// What tools::volumeToMesh produced.
+    struct MeshResult {
+        double seconds = 0.0;
+        std::size_t points = 0, quads = 0, triangles = 0;
+        /// Triangles if every quad were split in two (what our count compares with).
+        std::size_t triangleEquivalent() const { return triangles + 2 * quads; }
+    };
+    /// tools::volumeToMesh of the zero level set with adaptivity 0 (OpenVDB's own threading).
+    MeshResult meshSurface() const;
+
 private:
     struct Impl;
     std::unique_ptr<Impl> mImpl;
 };
+
+/// tools::meshToLevelSet of a triangle mesh (m) at voxel size `voxelWorld` with a band of
+/// `halfWidthVoxels`: OpenVDB's mesh import, timed (s). Returns the seconds; `activeVoxels`
+/// gets the voxel count of the result.
+double openVdbMeshToLevelSet(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
+                             double voxelWorld, float halfWidthVoxels, std::size_t* activeVoxels = nullptr);
 
 }  // namespace kizamu::bench

@@ -3,6 +3,7 @@
 /// @brief `kizamu bench <area>`: the benchmarks, with the figure contract of the design brief.
 #include "app/commands.h"
 #include "bench/adf_bench.h"
+#include "bench/mesh_bench.h"
 
 #include <CLI/CLI.hpp>
 
@@ -42,6 +43,28 @@ void addBenchCommand(CLI::App& app) {
         ->check(CLI::Range(0, 8));
     adfCmd->callback([o] {
         const int rc = bench::runAdfBench(*o);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+
+    auto* meshCmd = bench->add_subcommand(
+        "mesh", "SurfaceNets of the test part and real meshes, LOD, points, tile re-mesh, mesh import");
+    auto m = std::make_shared<bench::MeshBenchOptions>();
+    meshCmd->add_flag("--json", m->json, "One JSON object per figure per line, nothing else on stdout");
+    meshCmd->add_flag("--vs-openvdb", m->vsOpenVdb,
+                      "Also run OpenVDB's volumeToMesh and meshToLevelSet on the same inputs and compare");
+    meshCmd->add_option("--level", m->level, "Finest level of the test part and the imported meshes")
+        ->check(CLI::Range(4, 12))
+        ->capture_default_str();
+    meshCmd->add_option("--repeats", m->repeats, "Timed runs per figure (median)")->check(CLI::Range(1, 100))->capture_default_str();
+    meshCmd->add_option("--points", m->points, "Point-cloud size")
+        ->check(CLI::Range(std::size_t(1), std::size_t(100'000'000)))
+        ->capture_default_str();
+    meshCmd->add_option("--models", m->models, "Meshes from Debian's CGAL data (data/meshes/...), e.g. bunny00.off")
+        ->delimiter(',')
+        ->capture_default_str();
+    meshCmd->add_option("--threads", m->threads, "Worker threads (0: all cores)")->capture_default_str();
+    meshCmd->callback([m] {
+        const int rc = bench::runMeshBench(*m);
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 }

@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file mesh_bench.cpp
+/// @brief runMeshBench.
+#include "bench/mesh_bench.h"
+
+#include "adf/adf_source.h"
+#include "adf/generate.h"
+#include "adf/test_part.h"
+#include "bench/figures.h"
+#include "bench/timing.h"
+#include "mesh/lod.h"
+#include "mesh/mesh_import.h"
+#include "mesh/mesh_source.h"
+#include "mesh/point_cloud.h"
+#include "mesh/surface_nets.h"
+#include "util/thread_pool.h"
+#ifdef KIZAMU_HAVE_OPENVDB
+#include "bench/openvdb_peer.h"
+#endif
+
+#include <glm/common.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <unistd.h>
+
+namespace kizamu::bench {
+
+namespace {
+
+using namespace adf;
+
+constexpr const char* kCgalData = "/usr/share/doc/libcgal-dev/data.tar.gz";
+
+/// Median wall time (ms) of `repeats` runs of `fn` after one warm-up run.
+double medianMs(int repeats, const std::function<void()>& fn) {
+    fn();
+    std::vector<double> ms;
+    for (int r = 0; r < repeats; ++r) {
+        const double t0 = nowSeconds();
+        fn();
+        ms.push_back((nowSeconds() - t0) * 1e3);
+    }
+    return median(ms);
+}
+
+/// Extracts data/meshes/NAME from Debian's CGAL data archive into `dir`.
+std::string extractModel(const std::filesystem::path& dir, const std::string& name) {
+    const std::string cmd = std::string("tar -xzf ") + kCgalData + " -C '" + dir.string() + "' 'data/meshes/" + name + "'";
+    if (std::system(cmd.c_str()) != 0)
+        throw std::runtime_error("cannot extract " + name + " from " + kCgalData + " (install libcgal-demo)");
+    return (dir / "data" / "meshes" / name).string();
+}
+
+std::string stem(const std::string& file) {
+    std::string s = std::filesystem::path(file).stem().string();
+    while (!s.empty() && std::isdigit(static_cast<unsigned char>(s.back()))) s.pop_back();  // bunny00 -> bunny
+    return s;
+}
+
+}  // namespace
+
+int runMeshBench(const MeshBenchOptions& opt) {
+    FigureSink out(opt.json);
+    util::ThreadPool pool(opt.threads);
+    const std::string L = ".level" + std::to_string(opt.level);
+    if (!opt.json)
+        std::printf("kizamu bench mesh: %u threads; times are medians of %d runs after a warm-up\n", pool.threadCount(),
+                    opt.repeats);
+
+    // ---- the test part ----
+    const Domain d = testPartDomain(opt.level);
+    out.section("test part, level " + std::to_string(opt.level));
+    out.progress("generating the test part");
+    const AdfPtr part = generate(*makeTestPart(d), d, testPartSettings(), &pool);
+
+    out.progress("full mesh");
+    mesh::MeshBuffers full;
+    const double fullMs = medianMs(opt.repeats, [&] { full = mesh::meshAdf(part, &pool); });
+    out.add("mesh.full_ms" + L, fullMs, "ms", "SurfaceNets of every boundary cell, into flat buffers");
+    out.add("mesh.full_triangles" + L, double(full.triangleCount()), "triangles");
+    out.add("mesh.full_vertices" + L, double(full.vertexCount()), "vertices");
+    out.add("mesh.triangles_per_s", double(full.triangleCount()) / (fullMs * 1e-3), "triangles/s", "test part" + L);
+
+    out.progress("LOD meshes");
+    for (const std::size_t target : {std::size_t(2000), std::size_t(20000)}) {
+        const double e = mesh::lodErrorForTriangles(part, target, &pool);
+        mesh::MeshBuffers lod;
+        const double ms = medianMs(opt.repeats, [&] { lod = mesh::meshLod(part, e, &pool); });
+        const std::string k = target == 2000 ? "2k" : "20k";
+        out.add("mesh.lod" + k + "_ms", ms, "ms", "error " + std::to_string(e / d.finestCellSize()) + " cells");
+        out.add("mesh.lod" + k + "_triangles", double(lod.triangleCount()), "triangles");
+    }
+
+    out.progress("points");
+    {
+        mesh::PointCloud pc;
+        const double ms = medianMs(opt.repeats, [&] { pc = mesh::surfacePointCloud(*part, opt.points, 1, &pool); });
+        out.add("mesh.points800k_ms", ms, "ms", std::to_string(pc.positions.size()) + " points with normals");
+    }
+
+    out.progress("incremental re-mesh of one tile");
+    {
+        // A carve dab (r = 5 finest cells) well inside one tile, at surface points spread over
+        // the part; the mesher re-meshes what the new snapshot does not share and splices it in.
+        mesh::SurfaceMesher mesher(&pool);
+        mesher.build(part);
+        const double h = d.finestCellSize(), r = 5.0 * h, tile = h * double(1u << d.tileSpan());
+        const SourcePtr old = makeAdfSource(part);
+        std::vector<double> ms, tiles;
+        for (std::size_t i = 0; i < full.vertexCount() && ms.size() < 15; i += 997) {
+            const glm::dvec3 c(full.positions[i]);
+            const glm::dvec3 inTile = glm::mod(c - d.originWorld, tile);
+            const double margin = r + 10.0 * h;
+            if (glm::any(glm::lessThan(inTile, glm::dvec3(margin))) || glm::any(glm::greaterThan(inTile, glm::dvec3(tile - margin))))
+                continue;
+            const BoxWorld region{c - glm::dvec3(r + 2 * h), c + glm::dvec3(r + 2 * h)};
+            const AdfPtr edited = regenerate(
+                *part, *makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)), region),
+                region, &pool);
+            const double t0 = nowSeconds();
+            mesher.update(edited);
+            ms.push_back((nowSeconds() - t0) * 1e3);
+            tiles.push_back(double(mesher.stats().tilesMeshed));
+            mesher.update(part);  // back to the base for the next dab
+        }
+        out.add("mesh.tile_remesh_ms", median(ms), "ms", "update after a dab inside one tile, median of " + std::to_string(ms.size()));
+        out.add("mesh.tile_remesh_tiles", median(tiles), "tiles", "tiles whose vertices were recomputed (median)");
+    }
+
+#ifdef KIZAMU_HAVE_OPENVDB
+    std::unique_ptr<OpenVdbPeer> peer;
+    if (opt.vsOpenVdb) {
+        out.progress("OpenVDB level set of the test part");
+        peer = std::make_unique<OpenVdbPeer>(*makeTestPart(d), d, 3.0f);
+        OpenVdbPeer::MeshResult vm;
+        std::vector<double> vdbMs, ours, ratio;
+        // Interleaved runs, ratio per pair: the machine is noisy.
+        for (int r = 0; r < opt.repeats; ++r) {
+            vm = peer->meshSurface();
+            const double t0 = nowSeconds();
+            const mesh::MeshBuffers m = mesh::meshAdf(part, &pool);
+            ours.push_back((nowSeconds() - t0) * 1e3);
+            vdbMs.push_back(vm.seconds * 1e3);
+            ratio.push_back(vdbMs.back() / ours.back());
+        }
+        out.add("mesh.openvdb.mesh_ms" + L, median(vdbMs), "ms", "volumeToMesh, adaptivity 0, same lattice");
+        out.add("mesh.openvdb.mesh_triangles" + L, double(vm.triangleEquivalent()), "triangles",
+                std::to_string(vm.quads) + " quads + " + std::to_string(vm.triangles) + " triangles");
+        out.add("mesh.vs_openvdb.mesh_speedup", median(ratio), "ratio", "OpenVDB time / ours, same surface and lattice");
+    }
+#else
+    if (opt.vsOpenVdb) out.progress("OpenVDB was not found at build time: no comparison");
+#endif
+
+    // ---- real meshes ----
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("kizamu_bench_mesh_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    for (const std::string& model : opt.models) {
+        const std::string name = stem(model);
+        out.section(name + ", level " + std::to_string(opt.level));
+        const mesh::MeshBuffers input = mesh::importMesh(extractModel(dir, model));
+        GenerationSettings settings;
+        const Domain md = mesh::domainAround(input, opt.level, settings.bandCells + 2.0);
+        out.progress(name + ": import (" + std::to_string(input.triangleCount()) + " triangles)");
+        AdfPtr a;
+        const double t0 = nowSeconds();
+        a = generate(*mesh::makeMeshSource(input), md, settings, &pool);
+        const double importMs = (nowSeconds() - t0) * 1e3;  // one run: imports take seconds
+        out.add("mesh.import_ms." + name + L, importMs, "ms",
+                std::to_string(input.triangleCount()) + " triangles -> ADF (exact distance, winding-number sign)");
+        mesh::MeshBuffers m;
+        const double ms = medianMs(opt.repeats, [&] { m = mesh::meshAdf(a, &pool); });
+        out.add("mesh.full_ms." + name + L, ms, "ms");
+        out.add("mesh.full_triangles." + name + L, double(m.triangleCount()), "triangles");
+#ifdef KIZAMU_HAVE_OPENVDB
+        if (opt.vsOpenVdb) {
+            out.progress(name + ": OpenVDB meshToLevelSet");
+            const double vdbS = openVdbMeshToLevelSet(input.positions, input.indices, md.finestCellSize(), 3.0f);
+            out.add("mesh.openvdb.import_ms." + name + L, vdbS * 1e3, "ms", "meshToLevelSet, half width 3 voxels");
+            if (&model == &opt.models.front())
+                out.add("mesh.vs_openvdb.import_speedup", vdbS * 1e3 / importMs, "ratio", "OpenVDB time / ours, " + name);
+        }
+#endif
+    }
+    std::filesystem::remove_all(dir);
+    return 0;
+}
+
+}  // namespace kizamu::bench
