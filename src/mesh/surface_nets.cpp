@@ -90,6 +90,7 @@ struct Vertex {
     glm::vec3 position{0.0f};   ///< final, lattice units
     glm::vec3 normal{0.0f};
     glm::vec3 crossingNormal{0.0f};  ///< sum of the crossed edges' directions (fallback normal)
+    float corners[8] = {};  ///< the cell's: projection reads the cell's own trilinear field
     uint32_t incBegin = 0, incEnd = 0;
 };
 
@@ -268,6 +269,9 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
 void scanLeaves(const Adf& adf, TileMesh& tm) {
     tm.leaves.clear();
     appendBoundaryCells(*tm.tile, adf.domain().maxLevel, tm.leaves);
+    std::sort(tm.leaves.begin(), tm.leaves.end(), [](const BoundaryLeaf& l, const BoundaryLeaf& r) {
+        return packLattice(l.origin) < packLattice(r.origin);
+    });
 }
 
 /// The crossings emitted by `tm`'s boundary leaves.
@@ -409,14 +413,22 @@ inline glm::vec3 clampToCell(glm::vec3 p, const Vertex& v) {
 }
 
 /// One Newton step onto the zero set along the gradient, in lattice units, kept in the cell.
-inline glm::vec3 projectOnce(adf::AdfAccessor& acc, const Adf& adf, glm::vec3 p, const Vertex& v,
-                             glm::vec3* gradient = nullptr) {
-    const float h = adf.metresPerLattice();
-    const adf::Sample s = acc.sample(adf.originWorldF() + p * h);
+/// The cell's trilinear field at lattice point `p`: distance (m) and gradient (m per lattice unit).
+inline adf::Sample cellSample(const Vertex& v, glm::vec3 p) {
+    const float inv = 1.0f / float(v.size);
+    adf::Sample s = adf::trilinear(v.corners, (p - glm::vec3(v.origin)) * inv);
+    s.gradient *= inv;
+    return s;
+}
+
+/// One Newton step onto the cell's zero set along its gradient, in lattice units, kept in the
+/// cell. Reads only the cell's corners: inside its box that is the field itself.
+inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient = nullptr) {
+    const adf::Sample s = cellSample(v, p);
     if (gradient) *gradient = s.gradient;
     const float g2 = glm::dot(s.gradient, s.gradient);
-    if (!(g2 > 1e-12f) || !std::isfinite(s.distance)) return p;
-    return clampToCell(p - (s.distance / g2) * s.gradient / h, v);
+    if (!(g2 > 1e-20f) || !std::isfinite(s.distance)) return p;
+    return clampToCell(p - (s.distance / g2) * s.gradient, v);
 }
 
 /// Incidences of cell-owner `tm`: crossings in its own list and its neighbours' border lists
@@ -461,8 +473,8 @@ void computeVertices(const Context& ctx, TileMesh& tm, const std::vector<uint64_
     tm.vertices.clear();
     tm.incidences.clear();
     tm.multiFaces.clear();
-    adf::AdfAccessor acc(adf);
     SmallUnionFind uf;
+    std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the incidences
     struct FaceEntry {
         uint64_t neighbour;
         int q;  ///< ring position of the neighbour
@@ -544,15 +556,20 @@ void computeVertices(const Context& ctx, TileMesh& tm, const std::vector<uint64_
                 tm.vertices.push_back(v);
             }
         }
-        if (tm.vertices.size() - firstVertex > 1) ++st.multiSheetCells;
-        {
-            // Figure 9B: a cell without a sign change at its own corners still gets a vertex.
-            // A crossing as long as the cell's edge is one of its own edges, so its corners differ.
-            bool emits = false;
-            for (uint32_t j = 0; j < n && !emits; ++j)
-                emits = inc[i0 + j].x->length == tm.vertices[firstVertex].size;
-            if (!emits && !isBoundary(adf.findLeaf(tm.vertices[firstVertex].origin).corners)) ++st.signlessCells;
+        // The cell's corners: a boundary leaf of this tile, or (figure 9B) looked up.
+        while (leafAt < tm.leaves.size() && packLattice(tm.leaves[leafAt].origin) < inc[i0].cell) ++leafAt;
+        const bool known = leafAt < tm.leaves.size() && packLattice(tm.leaves[leafAt].origin) == inc[i0].cell;
+        float corners[8];
+        if (known) {
+            std::copy(tm.leaves[leafAt].corners, tm.leaves[leafAt].corners + 8, corners);
+        } else {
+            const adf::LeafRef r = adf.findLeaf(tm.vertices[firstVertex].origin);
+            std::copy(r.corners, r.corners + 8, corners);
+            if (!isBoundary(corners)) ++st.signlessCells;
         }
+        for (uint32_t vi = firstVertex; vi < tm.vertices.size(); ++vi)
+            std::copy(corners, corners + 8, tm.vertices[vi].corners);
+        if (tm.vertices.size() - firstVertex > 1) ++st.multiSheetCells;
         for (uint32_t vi = firstVertex; vi < tm.vertices.size(); ++vi) {
             Vertex& v = tm.vertices[vi];
             v.incBegin = uint32_t(tm.incidences.size());
@@ -572,8 +589,7 @@ void computeVertices(const Context& ctx, TileMesh& tm, const std::vector<uint64_
             }
             v.incEnd = uint32_t(tm.incidences.size());
             mass /= float(v.incEnd - v.incBegin);
-            glm::vec3 p = projectOnce(acc, adf, mass, v);
-            v.projected = projectOnce(acc, adf, p, v);
+            v.projected = projectOnce(v, projectOnce(v, mass));
         }
         i0 = i1;
     }
@@ -608,10 +624,7 @@ void splitFaces(TileMesh& tm) {
 }
 
 /// Tangential relaxation toward the neighbours' mean, projection, normals.
-void relaxVertices(const Context& ctx, TileMesh& tm) {
-    const Adf& adf = *ctx.adf;
-    adf::AdfAccessor acc(adf);
-    const float h = adf.metresPerLattice();
+void relaxVertices(TileMesh& tm) {
     for (Vertex& v : tm.vertices) {
         glm::vec3 sum(0.0f);
         uint32_t count = 0;
@@ -625,19 +638,18 @@ void relaxVertices(const Context& ctx, TileMesh& tm) {
             }
         }
         const glm::vec3 p = v.projected;
-        const adf::Sample s = acc.sample(adf.originWorldF() + p * h);
+        const adf::Sample s = cellSample(v, p);
         glm::vec3 moved = p;
         glm::vec3 gradient = s.gradient;  // the normal: gradient where the last projection started
         const float g = glm::length(s.gradient);
-        if (count > 0 && g > 1e-6f) {
+        if (count > 0 && g > 1e-12f) {
             const glm::vec3 n = s.gradient / g;
             const glm::vec3 d = sum / float(count) - p;
-            moved = clampToCell(p + 0.5f * (d - glm::dot(n, d) * n), v);
-            moved = projectOnce(acc, adf, moved, v, &gradient);
+            moved = projectOnce(v, clampToCell(p + 0.5f * (d - glm::dot(n, d) * n), v), &gradient);
         }
         v.position = moved;
         const float ge = glm::length(gradient);
-        if (ge > 1e-6f && std::isfinite(ge)) {
+        if (ge > 1e-12f && std::isfinite(ge)) {
             v.normal = gradient / ge;
         } else {
             const float cn = glm::length(v.crossingNormal);
@@ -835,7 +847,7 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
     }
     runParallel(mPool, relaxTiles.size(), [&](std::size_t i) {
         splitFaces(*relaxTiles[i]);
-        relaxVertices(ctx, *relaxTiles[i]);
+        relaxVertices(*relaxTiles[i]);
     });
 
     const auto tPhase3 = std::chrono::steady_clock::now();
