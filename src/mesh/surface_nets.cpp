@@ -225,7 +225,14 @@ struct SurfaceMesher::TileMesh {
     bool leavesScanned = false;
     std::vector<BoundaryLeaf> leaves;
     std::vector<Crossing> crossings;  ///< emitted by this tile's leaves, in leaf order
-    std::vector<uint32_t> border;     ///< crossings with a leaf owned by another tile
+    /// Crossings with a leaf owned by another tile, by that tile's key: a neighbour gathering
+    /// its cells' crossings reads only its own range instead of every border crossing.
+    struct BorderRef {
+        uint64_t owner;
+        uint32_t index;
+        bool operator<(const BorderRef& o) const { return owner != o.owner ? owner < o.owner : index < o.index; }
+    };
+    std::vector<BorderRef> border;
     std::vector<Vertex> vertices;     ///< by cell key, then cycle
     std::vector<VertexIncidence> incidences;
     std::vector<MultiFace> multiFaces;
@@ -457,12 +464,32 @@ void gatherIncidences(const Context& ctx, const TileMesh& tm, const std::vector<
         if (src.key == tm.key) {
             for (Crossing& x : src.crossings) take(x);
         } else {
-            for (uint32_t i : src.border) take(src.crossings[i]);
+            auto b = std::lower_bound(src.border.begin(), src.border.end(), TileMesh::BorderRef{tm.key, 0});
+            for (; b != src.border.end() && b->owner == tm.key; ++b) take(src.crossings[b->index]);
         }
     }
-    std::sort(out.begin(), out.end(), [](const Incidence& l, const Incidence& r) {
-        return l.cell != r.cell ? l.cell < r.cell : l.crossingKey < r.crossingKey;
-    });
+    // Group by cell, keeping the gathering order inside a cell (it is the same in every run:
+    // neighbour tiles in key order, their crossings in leaf order). Cells of a stored tile have
+    // 8-bit local coordinates: three counting passes instead of a comparison sort.
+    const uint32_t extent = tm.tile->level() >= 0 ? 1u << uint32_t(ctx.adf->domain().maxLevel - tm.tile->level()) : 0u;
+    if (extent > 256) {
+        std::stable_sort(out.begin(), out.end(), [](const Incidence& l, const Incidence& r) { return l.cell < r.cell; });
+        return;
+    }
+    const glm::uvec3 o = tm.tile->latticeOrigin();
+    auto local = [&](uint64_t c) {
+        return (uint32_t(c & 0xfffff) - o.x) | ((uint32_t((c >> 20) & 0xfffff) - o.y) << 8) |
+               ((uint32_t((c >> 40) & 0xfffff) - o.z) << 16);
+    };
+    std::vector<Incidence> tmp(out.size());
+    for (int pass = 0; pass < 3; ++pass) {
+        uint32_t count[257] = {};
+        const int shift = 8 * pass;
+        for (const Incidence& i : out) ++count[((local(i.cell) >> shift) & 255u) + 1];
+        for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
+        for (const Incidence& i : out) tmp[count[(local(i.cell) >> shift) & 255u]++] = i;
+        out.swap(tmp);
+    }
 }
 
 /// Cycles and projected vertices of the cells `tm` owns; writes their refs into the crossings.
@@ -495,6 +522,32 @@ void computeVertices(const Context& ctx, TileMesh& tm, const std::vector<uint64_
             const int qa = (c.first + 3) % 4, qb = (c.last + 1) % 4;
             faces.push_back({c.x->ringCell[qa], qa, j});
             faces.push_back({c.x->ringCell[qb], qb, j});
+        }
+        // Most faces carry exactly two crossings: pair those directly, sort only the rest.
+        {
+            const std::size_t m = faces.size();
+            uint32_t partner[64];
+            const bool small = m <= 64;
+            if (small) {
+                for (std::size_t a = 0; a < m; ++a) {
+                    std::size_t match = SIZE_MAX, matches = 0;
+                    for (std::size_t b = 0; b < m; ++b)
+                        if (b != a && faces[b].neighbour == faces[a].neighbour) {
+                            match = b;
+                            ++matches;
+                        }
+                    partner[a] = matches == 1 ? uint32_t(match) : UINT32_MAX;
+                }
+                std::size_t keep = 0;
+                for (std::size_t a = 0; a < m; ++a) {
+                    if (partner[a] == UINT32_MAX) {
+                        faces[keep++] = faces[a];
+                    } else if (partner[a] > a) {
+                        uf.unite(faces[a].local, faces[partner[a]].local);
+                    }
+                }
+                faces.resize(keep);
+            }
         }
         std::sort(faces.begin(), faces.end(), [](const FaceEntry& l, const FaceEntry& r) {
             return l.neighbour != r.neighbour ? l.neighbour < r.neighbour : l.local < r.local;
@@ -783,11 +836,10 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
             for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
                 const Crossing& x = tm.crossings[j];
                 for (int q = 0; q < 4; ++q)
-                    if (x.ringOwner[q] != tm.key) {
-                        tm.border.push_back(j);
-                        break;
-                    }
+                    if (x.ringOwner[q] != tm.key && std::find(x.ringOwner, x.ringOwner + q, x.ringOwner[q]) == x.ringOwner + q)
+                        tm.border.push_back({x.ringOwner[q], j});
             }
+            std::sort(tm.border.begin(), tm.border.end());
             changed[i] = 1;
         }
         fresh[i] = {};
