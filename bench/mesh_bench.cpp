@@ -180,8 +180,14 @@ int runMeshBench(const MeshBenchOptions& opt) {
 #ifdef KIZAMU_HAVE_OPENVDB
         if (opt.vsOpenVdb) {
             out.progress(name + ": OpenVDB meshToLevelSet");
-            const double vdbS = openVdbMeshToLevelSet(input.positions, input.indices, md.finestCellSize(), 3.0f);
-            out.add("mesh.openvdb.import_ms." + name + L, vdbS * 1e3, "ms", "meshToLevelSet, half width 3 voxels");
+            // The same band as ours (bandCells each side), at the same voxel size.
+            const float halfWidth = float(settings.bandCells);
+            const double vdbS = openVdbMeshToLevelSet(input.positions, input.indices, md.finestCellSize(), halfWidth);
+            out.add("mesh.openvdb.import_ms." + name + L, vdbS * 1e3, "ms",
+                    "meshToLevelSet, half width " + std::to_string(int(halfWidth)) + " voxels (our band)");
+            const double vdb3 = openVdbMeshToLevelSet(input.positions, input.indices, md.finestCellSize(), 3.0f);
+            out.add("mesh.openvdb.import_ms_halfwidth3." + name + L, vdb3 * 1e3, "ms",
+                    "meshToLevelSet at its default half width of 3 voxels (a narrower band than ours)");
             if (&model == &opt.models.front())
                 out.add("mesh.vs_openvdb.import_speedup", vdbS * 1e3 / importMs, "ratio", "OpenVDB time / ours, " + name);
         }

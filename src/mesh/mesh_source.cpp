@@ -5,7 +5,11 @@
 
 #include <glm/common.hpp>
 
+#include <glm/geometric.hpp>
+
 #include <algorithm>
+#include <cstdint>
+#include <vector>
 #include <cmath>
 #include <stdexcept>
 #include <tuple>
@@ -15,26 +19,59 @@ namespace kizamu::mesh {
 
 namespace {
 
+/// Every directed edge is matched by its reverse, once: closed and consistently oriented.
+bool closedAndOriented(const MeshBuffers& mesh) {
+    std::vector<uint64_t> edges;
+    edges.reserve(mesh.indices.size());
+    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
+        for (int i = 0; i < 3; ++i)
+            edges.push_back((uint64_t(mesh.indices[t + i]) << 32) | mesh.indices[t + (i + 1) % 3]);
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size(); ++i) {
+        if (i + 1 < edges.size() && edges[i] == edges[i + 1]) return false;
+        const uint64_t rev = (edges[i] << 32) | (edges[i] >> 32);
+        if ((edges[i] >> 32) == (edges[i] & 0xffffffffu) || !std::binary_search(edges.begin(), edges.end(), rev))
+            return false;
+    }
+    return true;
+}
+
 class MeshSource final : public adf::DistanceSource {
 public:
-    explicit MeshSource(const MeshBuffers& mesh) : mBvh(mesh) {}
-    double distance(const glm::dvec3& p) const override { return signedDistance(p, TriangleBvh::kNoHint).first; }
+    explicit MeshSource(const MeshBuffers& mesh) : mBvh(mesh), mClosed(closedAndOriented(mesh)) {}
+    double distance(const glm::dvec3& p) const override {
+        const TriangleBvh::Closest c = mBvh.closest(p, TriangleBvh::kNoHint);
+        const double d = std::sqrt(c.distanceSquared);
+        return inside(p) ? -d : d;
+    }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         // Batches are one cell's points: each answer's triangle seeds the next search.
         uint32_t hint = TriangleBvh::kNoHint;
-        for (std::size_t i = 0; i < p.size(); ++i) std::tie(out[i], hint) = signedDistance(p[i], hint);
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const TriangleBvh::Closest c = mBvh.closest(p[i], hint);
+            hint = c.triangle;
+            out[i] = std::sqrt(c.distanceSquared);
+        }
+        // Signs: by a signed neighbour when no surface can lie between (closed meshes only).
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            int sign = 0;
+            if (mClosed)
+                for (std::size_t j = 0; j < i && sign == 0; ++j) {
+                    const double gap = glm::distance(p[i], p[j]);
+                    if (out[i] + std::abs(out[j]) > gap * (1.0 + 1e-9) + mSlack) sign = out[j] < 0.0 ? -1 : 1;
+                }
+            if (sign == 0) sign = inside(p[i]) ? -1 : 1;
+            out[i] *= sign;
+        }
     }
+    bool closed() const { return mClosed; }
 
 private:
-    std::pair<double, uint32_t> signedDistance(const glm::dvec3& p, uint32_t hint) const {
-        const TriangleBvh::Closest c = mBvh.closest(p, hint);
-        const double d = std::sqrt(c.distanceSquared);
-        return {mBvh.windingNumber(p) > 0.5 ? -d : d, c.triangle};
-    }
+    bool inside(const glm::dvec3& p) const { return mBvh.windingNumber(p) > 0.5; }
     TriangleBvh mBvh;
-};
-
-}  // namespace
+    bool mClosed;
+    double mSlack = 1e-12;
+};}  // namespace
 
 adf::SourcePtr makeMeshSource(const MeshBuffers& mesh) {
     if (mesh.triangleCount() == 0 || !mesh.valid()) throw std::invalid_argument("mesh source needs a valid mesh with triangles");

@@ -4,7 +4,11 @@
 /// sign from the fast generalised winding number (inside where it exceeds 1/2).
 ///
 /// This is how imported meshes become ADFs (`generate` with this source). The winding number
-/// makes the sign robust for real meshes with holes, duplicate faces or several parts. Thread-safe.
+/// makes the sign robust for real meshes with holes, duplicate faces or several parts. For a
+/// closed, consistently oriented mesh the winding number is an integer off the surface and
+/// changes only across it, so inside one batch (one cell's points) a point whose distance ball
+/// overlaps a signed neighbour's (d_i + d_j > |p_i - p_j|: no surface between them) takes that
+/// neighbour's sign without a winding-number query. Thread-safe.
 #pragma once
 
 #include "adf/distance_source.h"
