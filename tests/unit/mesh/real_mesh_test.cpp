@@ -69,6 +69,36 @@ TEST_P(RealMesh, BecomesAnAdfWhoseInsideMatchesTheWindingNumber) {
     EXPECT_GE(agree, checked - checked / 100) << "inside/outside disagreements with the exact winding number";
 }
 
+TEST_P(RealMesh, BatchSignsEqualPointSigns) {
+    // Batches may take a neighbour's sign (closed meshes): never a different answer.
+    ASSERT_TRUE(std::filesystem::exists(kCgalData)) << "libcgal-demo is required (scripts/install-deps)";
+    const std::string path = extract(GetParam());
+    ASSERT_FALSE(path.empty());
+    const MeshBuffers mesh = importMesh(path);
+    const adf::SourcePtr src = makeMeshSource(mesh);
+    const adf::Domain d = domainAround(mesh, 8, 10.0);
+    const TriangleBvh bvh(mesh);
+    const double h = d.finestCellSize();
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    int negative = 0, positive = 0;
+    for (int cell = 0; cell < 300; ++cell) {
+        const glm::dvec3 c = bvh.boundsMin() + (bvh.boundsMax() - bvh.boundsMin()) * glm::dvec3(u(rng), u(rng), u(rng));
+        const double size = h * double(1 << (cell % 5));  // cells of 1 to 16 finest cells
+        std::vector<glm::dvec3> pts;
+        for (int i = 0; i < 27; ++i) pts.push_back(c + size * 0.5 * glm::dvec3(i % 3, (i / 3) % 3, i / 9));
+        std::vector<double> batch(pts.size());
+        src->distances(pts, batch);
+        for (std::size_t i = 0; i < pts.size(); ++i) {
+            const double single = src->distance(pts[i]);
+            ASSERT_EQ(batch[i], single) << "cell " << cell << " point " << i;
+            (single < 0.0 ? negative : positive)++;
+        }
+    }
+    EXPECT_GT(negative, 100);
+    EXPECT_GT(positive, 100);
+}
+
 INSTANTIATE_TEST_SUITE_P(Cgal, RealMesh, ::testing::Values("bunny00.off", "elephant-with-holes.off"),
                          [](const auto& param) {
                              std::string n = param.param;
