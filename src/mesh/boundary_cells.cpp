@@ -37,7 +37,7 @@ void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryC
         } else if (node::isLeaf(w)) {
             const int16_t* q = t.corners() + 8 * node::leafIndex(w);
             if (!signChange<8>(q)) continue;
-            BoundaryCell b{it.origin, it.size, {}};
+            BoundaryCell b{it.origin, it.size, {}, false};
             for (int c = 0; c < 8; ++c) b.corners[c] = float(q[c]) * scale;
             out.push_back(b);
         } else {
@@ -47,7 +47,7 @@ void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryC
                 int16_t raw[8];
                 for (int c = 0; c < 8; ++c) raw[c] = q[adf::brickPoint(child, c)];
                 if (!signChange<8>(raw)) continue;
-                BoundaryCell b{it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half, half, {}};
+                BoundaryCell b{it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half, half, {}, true};
                 for (int c = 0; c < 8; ++c) b.corners[c] = float(raw[c]) * scale;
                 out.push_back(b);
             }

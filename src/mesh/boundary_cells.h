@@ -19,6 +19,7 @@ struct BoundaryCell {
     glm::uvec3 origin{0};  ///< lattice
     uint32_t size = 0;     ///< lattice units
     float corners[8] = {};  ///< m, corner order of tile.h
+    bool brickChild = false;  ///< its 7 siblings are leaves of the same size (no lookup needed)
 };
 
 /// Appends the sign-changing leaves of `tile` (depth-first order) to `out`.

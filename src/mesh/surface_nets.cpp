@@ -313,7 +313,13 @@ void computeCrossings(const Adf& adf, const TileMesh& tm, std::vector<Crossing>&
                         s[b] -= 1;
                     }
                     if (s[a] >= top || s[b] >= top) { open = true; break; }
-                    ring[q] = locator.locate(s);
+                    const glm::uvec3 parent = leaf.origin & ~glm::uvec3(2 * leaf.size - 1);
+                    if (leaf.brickChild && glm::all(glm::lessThan(s - parent, glm::uvec3(2 * leaf.size)))) {
+                        // A sibling in the same brick: same size, same tile.
+                        ring[q] = {nullptr, s & ~glm::uvec3(leaf.size - 1), leaf.size, 0};
+                    } else {
+                        ring[q] = locator.locate(s);
+                    }
                     // Not minimal: a smaller leaf splits this edge. Not canonical: an equal
                     // leaf earlier in quadrant order emits it.
                     if (ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine)) skip = true;
@@ -332,6 +338,10 @@ void computeCrossings(const Adf& adf, const TileMesh& tm, std::vector<Crossing>&
                 for (int q = 0; q < 4; ++q) {
                     if (q == mine) {
                         x.ringCell[q] = packLattice(leaf.origin);
+                        x.ringOwner[q] = tm.key;
+                        x.ringLevel[q] = uint8_t(adf.domain().maxLevel - std::countr_zero(leaf.size));
+                    } else if (!ring[q].tile) {  // brick sibling
+                        x.ringCell[q] = packLattice(ring[q].origin);
                         x.ringOwner[q] = tm.key;
                         x.ringLevel[q] = uint8_t(adf.domain().maxLevel - std::countr_zero(leaf.size));
                     } else {
@@ -855,20 +865,28 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
     std::vector<uint64_t> meshKeys = dirtyNeighbours, owners;
     for (std::size_t i = 0; i < scanTiles.size(); ++i) {
         if (!changed[i]) continue;
-        for (const Crossing& x : scanTiles[i]->crossings)
-            for (int q = 0; q < 4; ++q) owners.push_back(x.ringOwner[q]);
-        neighbours(scanTiles[i]->key, meshKeys);
+        owners.push_back(scanTiles[i]->key);
+        for (const TileMesh::BorderRef& b : scanTiles[i]->border)
+            if (owners.back() != b.owner) owners.push_back(b.owner);
+        if (!everything) neighbours(scanTiles[i]->key, meshKeys);
     }
     sortUnique(owners);
-    meshKeys.insert(meshKeys.end(), owners.begin(), owners.end());
-    sortUnique(meshKeys);
     std::vector<TileMesh*> meshTiles;
-    for (uint64_t k : meshKeys) {
-        auto it = mTiles.find(k);
-        TileMesh* tm = it != mTiles.end() ? it->second.get() : nullptr;
-        // A tile with no boundary leaf can still own a cell that crossings touch (figure 9B).
-        if (!tm && std::binary_search(owners.begin(), owners.end(), k)) tm = ensure(k);
-        if (tm) meshTiles.push_back(tm);
+    if (everything) {
+        // Every tile is new: mesh all of them (owners first get their entries).
+        for (uint64_t k : owners) ensure(k);
+        for (const auto& [key, tm] : mTiles) meshTiles.push_back(tm.get());
+        std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
+    } else {
+        meshKeys.insert(meshKeys.end(), owners.begin(), owners.end());
+        sortUnique(meshKeys);
+        for (uint64_t k : meshKeys) {
+            auto it = mTiles.find(k);
+            TileMesh* tm = it != mTiles.end() ? it->second.get() : nullptr;
+            // A tile with no boundary leaf can still own a cell that crossings touch (figure 9B).
+            if (!tm && std::binary_search(owners.begin(), owners.end(), k)) tm = ensure(k);
+            if (tm) meshTiles.push_back(tm);
+        }
     }
     const Context ctx{&adf, &mTiles, shift};
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
@@ -888,14 +906,18 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
 
     const auto tPhase2 = std::chrono::steady_clock::now();
     // 3. Relaxation reads neighbours' projected vertices: the meshed tiles and their neighbours.
-    std::vector<uint64_t> relaxKeys;
-    for (TileMesh* tm : meshTiles) neighbourKeys(adf, tm->slotMin, tm->slotEnd, relaxKeys);
-    sortUnique(relaxKeys);
     std::vector<TileMesh*> relaxTiles;
-    for (uint64_t k : relaxKeys) {
-        auto it = mTiles.find(k);
-        if (it != mTiles.end() && !it->second->vertices.empty()) relaxTiles.push_back(it->second.get());
-        // (splitFaces reads only ring vertices, written by phase 2 for every tile it meshed)
+    if (everything) {
+        for (TileMesh* tm : meshTiles)
+            if (!tm->vertices.empty()) relaxTiles.push_back(tm);
+    } else {
+        std::vector<uint64_t> relaxKeys;
+        for (TileMesh* tm : meshTiles) neighbourKeys(adf, tm->slotMin, tm->slotEnd, relaxKeys);
+        sortUnique(relaxKeys);
+        for (uint64_t k : relaxKeys) {
+            auto it = mTiles.find(k);
+            if (it != mTiles.end() && !it->second->vertices.empty()) relaxTiles.push_back(it->second.get());
+        }
     }
     runParallel(mPool, relaxTiles.size(), [&](std::size_t i) {
         splitFaces(*relaxTiles[i]);
