@@ -127,8 +127,12 @@ int runMeshBench(const MeshBenchOptions& opt) {
             tiles.push_back(double(mesher.stats().tilesMeshed));
             mesher.update(part);  // back to the base for the next dab
         }
-        out.add("mesh.tile_remesh_ms", median(ms), "ms", "update after a dab inside one tile, median of " + std::to_string(ms.size()));
-        out.add("mesh.tile_remesh_tiles", median(tiles), "tiles", "tiles whose vertices were recomputed (median)");
+        if (ms.empty()) {
+            out.progress("no surface point lies well inside a tile at this level: no re-mesh figure");
+        } else {
+            out.add("mesh.tile_remesh_ms", median(ms), "ms", "update after a dab inside one tile, median of " + std::to_string(ms.size()));
+            out.add("mesh.tile_remesh_tiles", median(tiles), "tiles", "tiles whose vertices were recomputed (median)");
+        }
     }
 
 #ifdef KIZAMU_HAVE_OPENVDB

@@ -12,7 +12,6 @@
 #include <array>
 #include <bit>
 #include <chrono>
-#include <cstdio>
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
@@ -925,7 +924,10 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
     });
 
     const auto tPhase3 = std::chrono::steady_clock::now();
-    if (getenv("KZ_TIME")) fprintf(stderr, "phase1 %.2f phase2 %.2f phase3 %.2f\n", std::chrono::duration<double, std::milli>(tPhase1 - tStart).count(), std::chrono::duration<double, std::milli>(tPhase2 - tPhase1).count(), std::chrono::duration<double, std::milli>(tPhase3 - tPhase2).count());
+    auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
+    st.crossingMs = ms(tStart, tPhase1);
+    st.vertexMs = ms(tPhase1, tPhase2);
+    st.relaxMs = ms(tPhase2, tPhase3);
     // Drop tiles left with nothing.
     for (auto it = mTiles.begin(); it != mTiles.end();) {
         if (it->second->crossings.empty() && it->second->vertices.empty())

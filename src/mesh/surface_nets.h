@@ -58,6 +58,9 @@ struct SurfaceNetsStats {
     std::size_t openCrossings = 0;     ///< crossings on the domain boundary (left open), scanned tiles
     std::size_t splitEdges = 0;        ///< doubled dual edges split by an extra vertex, whole mesh
     std::size_t oddFaces = 0;          ///< faces with an odd crossing count (never expected)
+    double crossingMs = 0.0;           ///< wall time: boundary leaves and crossings
+    double vertexMs = 0.0;             ///< wall time: cycles, vertices, first projection
+    double relaxMs = 0.0;              ///< wall time: split edges, relaxation, normals
 };
 
 /// Builds and keeps the SurfaceNets mesh of a sequence of snapshots.

@@ -76,5 +76,24 @@ assert names["adf.max_error_in_band.level7"] <= 1.0, "band error above the bound
 PY
 "$kizamu" bench adf --help | grep -q -- "--vs-openvdb" || fail "bench adf --help lacks --vs-openvdb"
 
+# bench mesh contract (small: level 6, one run, the bunny from Debian's CGAL data)
+"$kizamu" bench mesh --json --level 6 --repeats 1 --points 20000 \
+    >"$tmp/mesh.json" 2>/dev/null || fail "bench mesh exited non-zero"
+python3 - "$tmp/mesh.json" <<'PY' || failures=$((failures + 1))
+import json, sys
+names = {}
+for line in open(sys.argv[1]):
+    obj = json.loads(line)
+    assert set(obj) == {"figure", "value", "unit"}, obj
+    names[obj["figure"]] = obj["value"]
+need = ["mesh.full_ms.level6", "mesh.full_triangles.level6", "mesh.triangles_per_s", "mesh.lod2k_ms",
+        "mesh.lod20k_ms", "mesh.points800k_ms", "mesh.tile_remesh_ms", "mesh.import_ms.bunny.level6",
+        "mesh.full_ms.bunny.level6", "mesh.full_triangles.bunny.level6"]
+missing = [n for n in need if n not in names]
+assert not missing, f"missing figures: {missing}"
+assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
+PY
+"$kizamu" bench mesh --help | grep -q -- "--vs-openvdb" || fail "bench mesh --help lacks --vs-openvdb"
+
 if [ "$failures" -eq 0 ]; then echo "cli: all checks passed"; exit 0; fi
 echo "cli: $failures check(s) failed"; exit 1
