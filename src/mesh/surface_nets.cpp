@@ -28,7 +28,6 @@ inline uint64_t packLattice(glm::uvec3 p) {
     return uint64_t(p.x) | (uint64_t(p.y) << 20) | (uint64_t(p.z) << 40);
 }
 
-inline glm::uvec3 unitOf(int axis) { return glm::uvec3(axis == 0, axis == 1, axis == 2); }
 
 }  // namespace
 
@@ -100,26 +99,8 @@ struct CellLoc {
     int level;
 };
 
-/// Leaf containing lattice point p (inside the domain); like Adf::findLeaf without decoding.
-inline CellLoc locate(const Adf& adf, glm::uvec3 p) {
-    const adf::Domain& d = adf.domain();
-    const int maxLevel = d.maxLevel;
-    const Tile* tile = adf.tileAtSlot(p >> uint32_t(maxLevel - d.tileLevel()));
-    const uint32_t* nodes = tile->nodes();
-    uint32_t w = nodes[0];
-    int level = tile->level();
-    while (adf::node::isInternal(w)) {
-        const int shift = maxLevel - level - 1;
-        const uint32_t child = ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
-        w = nodes[w + child];
-        ++level;
-    }
-    if (adf::node::isBrick(w)) ++level;
-    const uint32_t shift = uint32_t(maxLevel - level);
-    return {tile, (p >> shift) << shift, 1u << shift, level};
-}
-
-/// locate() with a cached path: a query near the last one climbs only to their common cell.
+/// The leaf containing a lattice point (like Adf::findLeaf, without decoding corners), with a
+/// cached path: a query near the last one climbs only to their common cell.
 class LeafLocator {
 public:
     explicit LeafLocator(const Adf& adf)
