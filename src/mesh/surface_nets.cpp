@@ -117,16 +117,17 @@ public:
         const uint32_t* nodes = mTile->nodes();
         Entry e = mPath[mDepth - 1];
         uint32_t w = nodes[e.node];
+        // Sizes are powers of two: shifts and masks, no divisions.
         while (adf::node::isInternal(w)) {
-            const uint32_t half = e.size >> 1;
-            const glm::uvec3 bit((p - e.origin) / half);
-            e = {e.origin + bit * half, half, w + (bit.x | (bit.y << 1) | (bit.z << 2)), e.level + 1};
+            const uint32_t shift = uint32_t(mMaxLevel - e.level - 1), half = 1u << shift;
+            const glm::uvec3 bit = ((p - e.origin) >> shift) & 1u;
+            e = {e.origin + (bit << shift), half, w + (bit.x | (bit.y << 1) | (bit.z << 2)), e.level + 1};
             mPath[mDepth++] = e;
             w = nodes[e.node];
         }
         if (adf::node::isBrick(w)) {
-            const uint32_t half = e.size >> 1;
-            return {mTile, e.origin + glm::uvec3((p - e.origin) / half) * half, half, e.level + 1};
+            const uint32_t shift = uint32_t(mMaxLevel - e.level - 1);
+            return {mTile, (p >> shift) << shift, 1u << shift, e.level + 1};
         }
         return {mTile, e.origin, e.size, e.level};
     }
