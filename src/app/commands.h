@@ -15,7 +15,9 @@ void addInfoCommand(CLI::App& app);
 void addGenerateCommand(CLI::App& app);
 /// Registers `convert`: mesh formats, and mesh to ADF.
 void addConvertCommand(CLI::App& app);
-/// Registers `bench` with its areas (`bench adf`).
+/// Registers `run`: replays a stroke script.
+void addRunCommand(CLI::App& app);
+/// Registers `bench` with its areas (`bench adf`, `bench mesh`).
 void addBenchCommand(CLI::App& app);
 
 }  // namespace kizamu::app

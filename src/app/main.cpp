@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     kizamu::app::addInfoCommand(app);
     kizamu::app::addGenerateCommand(app);
     kizamu::app::addConvertCommand(app);
+    kizamu::app::addRunCommand(app);
     kizamu::app::addBenchCommand(app);
     try {
         app.parse(argc, argv);

@@ -1,0 +1,131 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file sculptor.cpp
+/// @brief Sculptor: strokes as regenerated CSG, undo and redo.
+#include "sculpt/sculptor.h"
+
+#include "adf/adf_source.h"
+#include "adf/generate.h"
+#include "sculpt/swept_tool.h"
+
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <memory>
+#include <span>
+#include <unordered_set>
+
+namespace kizamu::sculpt {
+
+namespace {
+
+/// old − tool (carve) or old ∪ tool (add), as min/max CSG, asking the swept tool only as far as
+/// it can change the answer.
+class StrokeEdit final : public adf::DistanceSource {
+public:
+    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool)
+        : mOld(std::move(old)), mTool(std::move(tool)), mCarve(mTool->tool().op == ToolOp::Carve) {
+        mSmallestFeature = std::min(mOld->smallestFeature(), mTool->smallestFeature());
+    }
+    double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        mOld->distances(p, out);
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(p[i], out[i]);
+    }
+    double featureSize(const glm::dvec3& c, double radius) const override {
+        return std::min(mOld->featureSize(c, radius), mTool->featureSize(c, radius));
+    }
+
+private:
+    double combine(const glm::dvec3& p, double old) const {
+        // carve: max(old, -tool), decided by tool < -old; add: min(old, tool), by tool < old.
+        return mCarve ? std::max(old, -mTool->distanceBelow(p, -old)) : std::min(old, mTool->distanceBelow(p, old));
+    }
+    adf::SourcePtr mOld;
+    std::shared_ptr<const SweptTool> mTool;
+    bool mCarve;
+};
+
+/// Bytes of the tiles `before` has in `region` that `after` replaced.
+std::size_t replacedBytes(const adf::Adf& before, const adf::Adf& after, const adf::BoxWorld& region) {
+    const adf::Domain& d = before.domain();
+    const double slot = d.finestCellSize() * double(1u << d.tileSpan());
+    const uint32_t n = d.slotsPerAxis();
+    auto toSlot = [&](double w, double o) {
+        return uint32_t(std::clamp((w - o) / slot, 0.0, double(n - 1)));
+    };
+    std::unordered_set<const adf::Tile*> seen;
+    std::size_t bytes = 0;
+    for (uint32_t z = toSlot(region.min.z, d.originWorld.z); z <= toSlot(region.max.z, d.originWorld.z); ++z)
+        for (uint32_t y = toSlot(region.min.y, d.originWorld.y); y <= toSlot(region.max.y, d.originWorld.y); ++y)
+            for (uint32_t x = toSlot(region.min.x, d.originWorld.x); x <= toSlot(region.max.x, d.originWorld.x); ++x) {
+                const adf::Tile* old = before.tileAtSlot({x, y, z});
+                if (old != after.tileAtSlot({x, y, z}) && seen.insert(old).second) bytes += old->bytes();
+            }
+    return bytes;
+}
+
+}  // namespace
+
+Sculptor::Sculptor(adf::AdfPtr start, util::ThreadPool* pool, std::size_t historyBytes)
+    : mPool(pool), mCurrent(std::move(start)), mBudget(historyBytes) {
+    if (!mCurrent) throw std::invalid_argument("sculptor needs a start snapshot");
+}
+
+adf::BoxWorld strokeRegion(const adf::Adf& adf, const adf::BoxWorld& swept) {
+    const adf::Domain& d = adf.domain();
+    const double pad = adf.settings().bandWorld(d) + 2.0 * d.finestCellSize();
+    const glm::dvec3 lo = d.originWorld, hi = d.originWorld + glm::dvec3(d.sizeWorld);
+    return {glm::clamp(swept.min - pad, lo, hi), glm::clamp(swept.max + pad, lo, hi)};
+}
+
+void Sculptor::apply(const Stroke& stroke) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const auto swept = makeSweptTool(stroke.tool, stroke.samples);
+    const adf::BoxWorld region = strokeRegion(*mCurrent, swept->bounds());
+    const adf::SourcePtr old = adf::makeAdfSource(mCurrent);
+    const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept);
+    adf::GenerationStats gs;
+    adf::AdfPtr next = adf::regenerate(*mCurrent, *adf::makeRegionLimited(old, edited, region), region, mPool, &gs);
+    mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    mLast.tilesRebuilt = gs.tilesGenerated + gs.coarseTiles;
+    mLast.replacedBytes = replacedBytes(*mCurrent, *next, region);
+
+    mRedo.clear();
+    mUndo.push_back({mCurrent, mLast.replacedBytes});
+    mHistoryBytes += mLast.replacedBytes;
+    while (mHistoryBytes > mBudget && !mUndo.empty()) {
+        mHistoryBytes -= mUndo.front().bytes;
+        mUndo.pop_front();
+    }
+    mCurrent = std::move(next);
+}
+
+bool Sculptor::undo() {
+    if (mUndo.empty()) return false;
+    Record r = std::move(mUndo.back());
+    mUndo.pop_back();
+    mHistoryBytes -= r.bytes;
+    mRedo.push_back({mCurrent, r.bytes});
+    mCurrent = std::move(r.snapshot);
+    return true;
+}
+
+bool Sculptor::redo() {
+    if (mRedo.empty()) return false;
+    Record r = std::move(mRedo.back());
+    mRedo.pop_back();
+    mUndo.push_back({mCurrent, r.bytes});
+    mHistoryBytes += r.bytes;
+    mCurrent = std::move(r.snapshot);
+    return true;
+}
+
+adf::AdfPtr startAdf(const Script& script, int level, util::ThreadPool* pool) {
+    adf::Domain d = script.domain;
+    if (level > 0) d.maxLevel = level;
+    if (!d.valid()) throw std::invalid_argument("invalid domain or level for the script");
+    return adf::generate(*script.start.source(d), d, adf::GenerationSettings{}, pool);
+}
+
+}  // namespace kizamu::sculpt

@@ -1,0 +1,184 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file stroke_script.cpp
+/// @brief Stroke script reading and writing (nlohmann::json per line).
+#include "sculpt/stroke_script.h"
+
+#include "adf/test_part.h"
+#include "util/atomic_file.h"
+#include "util/file_error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace kizamu::sculpt {
+
+namespace {
+
+using nlohmann::json;
+
+glm::dvec3 vec3Of(const json& j, const char* what) {
+    if (!j.is_array() || j.size() != 3) throw std::invalid_argument(std::string(what) + " must be [x, y, z]");
+    glm::dvec3 v(j[0].get<double>(), j[1].get<double>(), j[2].get<double>());
+    if (!std::isfinite(v.x + v.y + v.z)) throw std::invalid_argument(std::string(what) + " is not finite");
+    return v;
+}
+
+glm::dquat quatOf(const json& j) {
+    if (!j.is_array() || j.size() != 4) throw std::invalid_argument("orientation must be [w, x, y, z]");
+    const glm::dquat q(j[0].get<double>(), j[1].get<double>(), j[2].get<double>(), j[3].get<double>());
+    if (!std::isfinite(q.w + q.x + q.y + q.z) || glm::length(q) < 1e-9)
+        throw std::invalid_argument("orientation is not a finite, non-zero quaternion");
+    // Kept as written when already unit, so a script reads back to the same text.
+    return std::abs(glm::length(q) - 1.0) > 1e-9 ? glm::normalize(q) : q;
+}
+
+json vecJson(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+json quatJson(const glm::dquat& q) { return json::array({q.w, q.x, q.y, q.z}); }
+
+double number(const json& j, const char* key, double fallback) {
+    if (!j.contains(key)) return fallback;
+    return j.at(key).get<double>();
+}
+
+void parseHeader(const json& h, Script& s) {
+    if (h.value("kizamu", "") != "stroke-script") throw std::invalid_argument("not a Kizamu stroke script (no header)");
+    s.version = h.at("version").get<int>();
+    if (s.version != kScriptVersion)
+        throw std::invalid_argument("stroke script version " + std::to_string(s.version) + " is not supported (this build reads " +
+                                    std::to_string(kScriptVersion) + ")");
+    const json& d = h.at("domain");
+    s.domain.originWorld = d.contains("origin") ? vec3Of(d.at("origin"), "domain origin") : glm::dvec3(0.0);
+    s.domain.sizeWorld = d.at("size").get<double>();
+    s.domain.maxLevel = d.value("level", 10);
+    if (!s.domain.valid()) throw std::invalid_argument("invalid domain (size > 0, level 1..16)");
+    const json& st = h.at("start");
+    const std::string shape = st.at("shape").get<std::string>();
+    if (shape == "box") {
+        s.start.kind = StartShape::Kind::Box;
+        s.start.halfSize = vec3Of(st.at("half"), "start half");
+        s.start.rounding = number(st, "rounding", 0.0);
+    } else if (shape == "sphere") {
+        s.start.kind = StartShape::Kind::Sphere;
+        s.start.radius = st.at("radius").get<double>();
+    } else if (shape == "test-part") {
+        s.start.kind = StartShape::Kind::TestPart;
+    } else {
+        throw std::invalid_argument("unknown start shape '" + shape + "' (box, sphere, test-part)");
+    }
+    if (st.contains("centre")) s.start.centre = vec3Of(st.at("centre"), "start centre");
+}
+
+Stroke parseStroke(const json& j) {
+    Stroke s;
+    s.tool.op = parseOp(j.at("op").get<std::string>());
+    s.tool.shape = parseShape(j.at("shape").get<std::string>());
+    s.tool.radius = j.at("radius").get<double>();
+    s.tool.halfLength = 0.5 * number(j, "length", 2.0 * s.tool.radius);
+    s.tool.strength = number(j, "strength", 1.0);
+    s.tool.validate();
+    const json& path = j.at("path");
+    if (!path.is_array() || path.empty()) throw std::invalid_argument("path must be a non-empty list of points");
+    glm::dquat fixed(1.0, 0.0, 0.0, 0.0);
+    if (j.contains("orientation")) fixed = quatOf(j.at("orientation"));
+    const json* each = j.contains("orientations") ? &j.at("orientations") : nullptr;
+    if (each && (!each->is_array() || each->size() != path.size()))
+        throw std::invalid_argument("orientations must have one entry per path point");
+    for (std::size_t i = 0; i < path.size(); ++i)
+        s.samples.push_back({vec3Of(path[i], "path point"), each ? quatOf((*each)[i]) : fixed});
+    return s;
+}
+
+}  // namespace
+
+adf::SourcePtr StartShape::source(const adf::Domain& domain) const {
+    switch (kind) {
+    case Kind::Box:
+        return adf::makeTranslated(rounding > 0.0 ? adf::makeRoundedBox(halfSize, rounding) : adf::makeBox(halfSize), centre);
+    case Kind::Sphere: return adf::makeTranslated(adf::makeSphere(radius), centre);
+    case Kind::TestPart: return adf::makeTestPart(domain);
+    }
+    return nullptr;
+}
+
+Script parseScript(const std::string& text, const std::string& name) {
+    Script s;
+    std::istringstream in(text);
+    std::string line;
+    int lineNo = 0;
+    bool header = false;
+    while (std::getline(in, line)) {
+        ++lineNo;
+        const auto first = line.find_first_not_of(" \t\r");
+        if (first == std::string::npos || line[first] == '#') continue;
+        try {
+            const json j = json::parse(line);
+            if (!header) {
+                parseHeader(j, s);
+                header = true;
+            } else {
+                s.strokes.push_back(parseStroke(j));
+            }
+        } catch (const json::exception& e) {
+            throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
+        } catch (const std::invalid_argument& e) {
+            throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
+        }
+    }
+    if (!header) throw FileError(name, "not a Kizamu stroke script (no header line)");
+    return s;
+}
+
+Script readScript(const std::string& path) {
+    return parseScript(util::readWholeFile(path), path);
+}
+
+std::string headerLine(const Script& s) {
+    json start;
+    switch (s.start.kind) {
+    case StartShape::Kind::Box:
+        start = {{"shape", "box"}, {"centre", vecJson(s.start.centre)}, {"half", vecJson(s.start.halfSize)}};
+        if (s.start.rounding > 0.0) start["rounding"] = s.start.rounding;
+        break;
+    case StartShape::Kind::Sphere:
+        start = {{"shape", "sphere"}, {"centre", vecJson(s.start.centre)}, {"radius", s.start.radius}};
+        break;
+    case StartShape::Kind::TestPart: start = {{"shape", "test-part"}}; break;
+    }
+    const json h = {{"kizamu", "stroke-script"},
+                    {"version", s.version},
+                    {"domain", {{"origin", vecJson(s.domain.originWorld)}, {"size", s.domain.sizeWorld}, {"level", s.domain.maxLevel}}},
+                    {"start", start}};
+    return h.dump();
+}
+
+std::string strokeLine(const Stroke& s) {
+    json j = {{"op", opName(s.tool.op)}, {"shape", shapeName(s.tool.shape)}, {"radius", s.tool.radius}};
+    if (s.tool.shape == ToolShape::Cylinder) j["length"] = 2.0 * s.tool.halfLength;
+    if (s.tool.strength != 1.0) j["strength"] = s.tool.strength;
+    json path = json::array();
+    bool sameOrientation = true;
+    for (const ToolSample& t : s.samples) {
+        path.push_back(vecJson(t.position));
+        sameOrientation = sameOrientation && t.orientation == s.samples.front().orientation;
+    }
+    j["path"] = path;
+    if (sameOrientation) {
+        if (s.samples.front().orientation != glm::dquat(1.0, 0.0, 0.0, 0.0)) j["orientation"] = quatJson(s.samples.front().orientation);
+    } else {
+        json o = json::array();
+        for (const ToolSample& t : s.samples) o.push_back(quatJson(t.orientation));
+        j["orientations"] = o;
+    }
+    return j.dump();
+}
+
+std::string formatScript(const Script& s) {
+    std::string out = headerLine(s) + "\n";
+    for (const Stroke& st : s.strokes) out += strokeLine(st) + "\n";
+    return out;
+}
+
+}  // namespace kizamu::sculpt

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file tool.h
+/// @brief Sculpting tools: a shape, a size, a strength and what they do to the clay.
+///
+/// SI units everywhere (metres). A tool is posed by a ToolSample (position and orientation, the
+/// tool's local frame to world); its shape is centred on the pose, the cylinder and the chisel
+/// along local z. Plain values; any thread.
+#pragma once
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace kizamu::sculpt {
+
+enum class ToolShape : uint8_t { Sphere, Cube, Cylinder };
+enum class ToolOp : uint8_t { Carve, Add };
+
+struct Tool {
+    ToolShape shape = ToolShape::Sphere;
+    ToolOp op = ToolOp::Carve;
+    double radius = 0.01;      ///< m: sphere radius, half edge of the cube, cylinder radius
+    double halfLength = 0.01;  ///< m: half length of the cylinder along local z
+    double strength = 1.0;     ///< (0, 1]: how much of the tool bites (it shrinks by (1 - s) * radius)
+
+    /// Largest distance from the pose to a point of the tool, m.
+    double boundingRadius() const;
+    /// Smallest dimension, m (what generation must resolve: DistanceSource::featureSize).
+    double smallestDimension() const;
+    /// Throws std::invalid_argument with a readable message if a size is not positive and finite
+    /// or the strength is outside (0, 1].
+    void validate() const;
+};
+
+/// A tool pose at one instant of a stroke.
+struct ToolSample {
+    glm::dvec3 position{0.0};                ///< m, world
+    glm::dquat orientation{1.0, 0.0, 0.0, 0.0};  ///< tool frame to world, unit
+};
+
+/// Signed distance (m, negative inside) from `local` (tool frame, m) to the tool, with its
+/// strength applied. Exact for the sphere and the cylinder, exact outside and a lower bound
+/// inside the cube (the usual box distance). Convex in `local` for every shape.
+double toolDistance(const Tool& tool, const glm::dvec3& local);
+
+const char* shapeName(ToolShape s);
+const char* opName(ToolOp o);
+/// Parses "sphere" / "cube" / "cylinder" (also "chisel" for the cylinder). Throws
+/// std::invalid_argument naming the accepted words otherwise.
+ToolShape parseShape(const std::string& s);
+/// Parses "carve" / "add".
+ToolOp parseOp(const std::string& s);
+
+}  // namespace kizamu::sculpt
