@@ -9,6 +9,7 @@
 #include "mesh/lod.h"
 #include "mesh/mesh_source.h"
 #include "mesh/surface_nets.h"
+#include "sculpt/session.h"
 #include "util/file_error.h"
 #include "util/thread_pool.h"
 
@@ -19,6 +20,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace kizamu::app {
 
@@ -55,6 +57,19 @@ bool isAdf(const std::string& path) {
 
 void runConvert(const ConvertOptions& o) {
     util::ThreadPool pool(o.threads);
+    if (sculpt::isSessionDir(o.in)) {
+        std::vector<std::string> warnings;
+        const auto session = sculpt::Session::open(o.in, &pool, &warnings);
+        for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+        std::printf("opened session %s: %zu steps\n", o.in.c_str(), session->steps());
+        if (isAdf(o.out)) {
+            adf::saveAdf(*session->sculptor().current(), o.out);
+        } else {
+            mesh::exportMesh(meshOf(session->sculptor().current(), o, pool), o.out);
+        }
+        std::printf("wrote %s\n", o.out.c_str());
+        return;
+    }
     if (isAdf(o.in)) {
         if (isAdf(o.out)) throw FileError(o.out, "the input is already an ADF; pick a mesh format for the output");
         const adf::AdfPtr a = adf::loadAdf(o.in);

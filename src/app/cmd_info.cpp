@@ -1,20 +1,46 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file cmd_info.cpp
-/// @brief `kizamu info FILE`: level, tiles, cells, memory and bounds of a .kza file.
+/// @brief `kizamu info FILE|DIR`: level, tiles, cells, memory and bounds of a .kza file, or
+/// what a session directory holds.
 #include "adf/adf_file.h"
 #include "app/commands.h"
+#include "sculpt/session.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <memory>
+#include <vector>
 #include <string>
 
 namespace kizamu::app {
 
 namespace {
 
+void printSessionInfo(const std::string& dir) {
+    std::vector<std::string> warnings;
+    const auto session = sculpt::Session::open(dir, nullptr, &warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
+    std::size_t strokes = 0, undos = 0, redos = 0;
+    for (const sculpt::Step& s : session->journal().steps) {
+        strokes += s.kind == sculpt::Step::Kind::Stroke;
+        undos += s.kind == sculpt::Step::Kind::Undo;
+        redos += s.kind == sculpt::Step::Kind::Redo;
+    }
+    const adf::Adf& a = *session->sculptor().current();
+    const adf::Adf::Stats st = a.computeStats();
+    std::printf("%s: Kizamu session\n", dir.c_str());
+    std::printf("  strokes     %zu (and %zu undo, %zu redo records); %zu steps in the checkpoint\n", strokes, undos, redos,
+                session->checkpointSteps());
+    std::printf("  level       %d\n", a.domain().maxLevel);
+    std::printf("  cells       %zu leaves, %.2f MB\n", st.cells, double(st.bytes()) / 1e6);
+}
+
 void printInfo(const std::string& path) {
+    if (sculpt::isSessionDir(path)) {
+        printSessionInfo(path);
+        return;
+    }
     const adf::AdfPtr a = adf::loadAdf(path);
     const adf::Domain& d = a->domain();
     const adf::GenerationSettings& s = a->settings();
@@ -44,9 +70,9 @@ void printInfo(const std::string& path) {
 }  // namespace
 
 void addInfoCommand(CLI::App& app) {
-    auto* cmd = app.add_subcommand("info", "Print level, tiles, cells, memory and bounds of a .kza file");
+    auto* cmd = app.add_subcommand("info", "Print level, tiles, cells, memory and bounds of a .kza file, or the strokes of a session directory");
     auto path = std::make_shared<std::string>();
-    cmd->add_option("file", *path, "ADF file (.kza)")->required();
+    cmd->add_option("file", *path, "ADF file (.kza) or session directory")->required();
     cmd->callback([path] { printInfo(*path); });
 }
 

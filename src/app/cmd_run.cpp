@@ -6,6 +6,7 @@
 #include "mesh/mesh_export.h"
 #include "mesh/surface_nets.h"
 #include "sculpt/sculptor.h"
+#include "sculpt/session.h"
 #include "sculpt/stroke_script.h"
 #include "util/thread_pool.h"
 
@@ -23,7 +24,8 @@ namespace kizamu::app {
 namespace {
 
 struct RunOptions {
-    std::string script, out;
+    std::string script, out, session;
+    std::size_t checkpointEvery = 100;
     int level = 0;
     bool stats = false;
     unsigned threads = 0;
@@ -38,18 +40,33 @@ void runScript(const RunOptions& o) {
     const sculpt::Script script = sculpt::readScript(o.script);
     util::ThreadPool pool(o.threads);
     const auto t0 = std::chrono::steady_clock::now();
-    sculpt::Sculptor sculptor(sculpt::startAdf(script, o.level, &pool), &pool);
+    // With --session every step is journaled (fsynced) as it finishes, with checkpoints.
+    std::unique_ptr<sculpt::Session> session;
+    std::unique_ptr<sculpt::Sculptor> plain;
+    if (!o.session.empty()) {
+        session = sculpt::Session::create(o.session, script, o.level, &pool);
+    } else {
+        plain = std::make_unique<sculpt::Sculptor>(sculpt::startAdf(script, o.level, &pool), &pool);
+    }
+    const sculpt::Sculptor& sculptor = session ? session->sculptor() : *plain;
     const double startMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::vector<double> ms;
     std::size_t tiles = 0;
-    for (const sculpt::Stroke& s : script.strokes) {
-        sculptor.apply(s);
+    for (const sculpt::Step& s : script.steps) {
+        if (session) {
+            session->record(s);
+            if (session->steps() % o.checkpointEvery == 0) session->checkpoint();
+        } else {
+            plain->replay(s);
+        }
+        if (s.kind != sculpt::Step::Kind::Stroke) continue;
         ms.push_back(sculptor.lastEdit().ms);
         tiles += sculptor.lastEdit().tilesRebuilt;
     }
+    if (session) session->checkpoint();
     const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const adf::Adf& a = *sculptor.current();
-    std::printf("replayed %zu strokes at level %d in %.1f ms (start shape %.1f ms)\n", script.strokes.size(),
+    std::printf("replayed %zu steps at level %d in %.1f ms (start shape %.1f ms)\n", script.steps.size(),
                 a.domain().maxLevel, total, startMs);
     if (o.stats) {
         const adf::Adf::Stats st = a.computeStats();
@@ -82,6 +99,10 @@ void addRunCommand(CLI::App& app) {
     cmd->add_option("--level", o->level, "Finest level to replay at (0: the script's own)")->check(CLI::Range(0, 16));
     cmd->add_option("--out", o->out, "Output: .kza, or a mesh (.obj .stl .ply .glb)");
     cmd->add_flag("--stats", o->stats, "Print per-stroke timing, memory and undo figures");
+    cmd->add_option("--session", o->session, "Journal into this new session directory as it goes (fsync per step)");
+    cmd->add_option("--checkpoint-every", o->checkpointEvery, "Steps between checkpoints in the session")
+        ->check(CLI::Range(std::size_t(1), std::size_t(1) << 30))
+        ->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
     cmd->callback([o] { runScript(*o); });
 }

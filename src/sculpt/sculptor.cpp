@@ -121,6 +121,14 @@ bool Sculptor::redo() {
     return true;
 }
 
+void Sculptor::replay(const Step& step) {
+    switch (step.kind) {
+    case Step::Kind::Stroke: apply(step.stroke); break;
+    case Step::Kind::Undo: undo(); break;
+    case Step::Kind::Redo: redo(); break;
+    }
+}
+
 adf::AdfPtr startAdf(const Script& script, int level, util::ThreadPool* pool) {
     adf::Domain d = script.domain;
     if (level > 0) d.maxLevel = level;

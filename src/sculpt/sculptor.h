@@ -43,6 +43,8 @@ public:
     bool undo();
     /// Re-applies the last undone stroke; false when there is none. Complexity: O(1).
     bool redo();
+    /// A script step: apply, undo or redo.
+    void replay(const Step& step);
 
     const adf::AdfPtr& current() const { return mCurrent; }
     std::size_t undoDepth() const { return mUndo.size(); }

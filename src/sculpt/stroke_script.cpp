@@ -53,6 +53,7 @@ void parseHeader(const json& h, Script& s) {
     s.domain.originWorld = d.contains("origin") ? vec3Of(d.at("origin"), "domain origin") : glm::dvec3(0.0);
     s.domain.sizeWorld = d.at("size").get<double>();
     s.domain.maxLevel = d.value("level", 10);
+    s.domain.tileSpanLevels = d.value("tile_span", adf::Domain{}.tileSpanLevels);
     if (!s.domain.valid()) throw std::invalid_argument("invalid domain (size > 0, level 1..16)");
     const json& st = h.at("start");
     const std::string shape = st.at("shape").get<std::string>();
@@ -91,7 +92,15 @@ Stroke parseStroke(const json& j) {
     return s;
 }
 
+Step stepOf(const json& j) {
+    if (j.contains("undo")) return Step::undo();
+    if (j.contains("redo")) return Step::redo();
+    return {Step::Kind::Stroke, parseStroke(j)};
+}
+
 }  // namespace
+
+Step parseStep(const std::string& line) { return stepOf(json::parse(line)); }
 
 adf::SourcePtr StartShape::source(const adf::Domain& domain) const {
     switch (kind) {
@@ -119,7 +128,7 @@ Script parseScript(const std::string& text, const std::string& name) {
                 parseHeader(j, s);
                 header = true;
             } else {
-                s.strokes.push_back(parseStroke(j));
+                s.steps.push_back(stepOf(j));
             }
         } catch (const json::exception& e) {
             throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
@@ -149,7 +158,11 @@ std::string headerLine(const Script& s) {
     }
     const json h = {{"kizamu", "stroke-script"},
                     {"version", s.version},
-                    {"domain", {{"origin", vecJson(s.domain.originWorld)}, {"size", s.domain.sizeWorld}, {"level", s.domain.maxLevel}}},
+                    {"domain",
+                     {{"origin", vecJson(s.domain.originWorld)},
+                      {"size", s.domain.sizeWorld},
+                      {"level", s.domain.maxLevel},
+                      {"tile_span", s.domain.tileSpanLevels}}},
                     {"start", start}};
     return h.dump();
 }
@@ -175,9 +188,18 @@ std::string strokeLine(const Stroke& s) {
     return j.dump();
 }
 
+std::string stepLine(const Step& step) {
+    switch (step.kind) {
+    case Step::Kind::Undo: return R"({"undo": 1})";
+    case Step::Kind::Redo: return R"({"redo": 1})";
+    case Step::Kind::Stroke: break;
+    }
+    return strokeLine(step.stroke);
+}
+
 std::string formatScript(const Script& s) {
     std::string out = headerLine(s) + "\n";
-    for (const Stroke& st : s.strokes) out += strokeLine(st) + "\n";
+    for (const Step& st : s.steps) out += stepLine(st) + "\n";
     return out;
 }
 

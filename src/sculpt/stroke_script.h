@@ -36,22 +36,35 @@ struct Stroke {
     std::vector<ToolSample> samples;  ///< at least one
 };
 
+/// One record after the header: a stroke, or an undo or redo of the latest one.
+struct Step {
+    enum class Kind : uint8_t { Stroke, Undo, Redo } kind = Kind::Stroke;
+    Stroke stroke;  ///< for Kind::Stroke
+    static Step undo() { return {Kind::Undo, {}}; }
+    static Step redo() { return {Kind::Redo, {}}; }
+};
+
 struct Script {
     int version = kScriptVersion;
     adf::Domain domain;  ///< origin, size and default level
     StartShape start;
-    std::vector<Stroke> strokes;
+    std::vector<Step> steps;
+    void add(const Stroke& s) { steps.push_back({Step::Kind::Stroke, s}); }
 };
 
-/// Parses script text; `name` appears in errors. Strokes after `maxStrokes` are not parsed.
+/// Parses script text; `name` appears in errors.
 /// @throw kizamu::FileError "name: line N: problem" for anything malformed.
 Script parseScript(const std::string& text, const std::string& name);
+/// Parses one record line (a stroke, {"undo": 1} or {"redo": 1}). @throw std::invalid_argument,
+/// nlohmann::json::exception.
+Step parseStep(const std::string& line);
 /// Reads and parses a file. @throw kizamu::FileError.
 Script readScript(const std::string& path);
 
 /// The header line and one stroke line (no newline), as the reader expects them.
 std::string headerLine(const Script& script);
 std::string strokeLine(const Stroke& stroke);
+std::string stepLine(const Step& step);
 /// The whole script as text.
 std::string formatScript(const Script& script);
 

@@ -191,16 +191,21 @@ TEST(StrokeScript, RoundTripsAndReportsTheLine) {
     a.samples = {{{0.1, 0.2, 0.3}, glm::normalize(glm::dquat(0.9, 0.1, 0.2, 0.3))}, {{0.2, 0.2, 0.3}, kIdentity}};
     Stroke b;
     b.samples = {{{0.5, 0.5, 0.5}, kIdentity}};
-    s.strokes = {a, b};
+    s.add(a);
+    s.add(b);
+    s.steps.push_back(Step::undo());
+    s.steps.push_back(Step::redo());
     const Script r = parseScript(formatScript(s), "mem");
-    ASSERT_EQ(r.strokes.size(), 2u);
+    ASSERT_EQ(r.steps.size(), 4u);
+    EXPECT_EQ(r.steps[2].kind, Step::Kind::Undo);
+    EXPECT_EQ(r.steps[3].kind, Step::Kind::Redo);
     EXPECT_EQ(r.domain, s.domain);
-    EXPECT_EQ(r.strokes[0].tool.shape, ToolShape::Cylinder);
-    EXPECT_EQ(r.strokes[0].tool.op, ToolOp::Add);
-    EXPECT_DOUBLE_EQ(r.strokes[0].tool.halfLength, 0.02);
-    EXPECT_DOUBLE_EQ(r.strokes[0].tool.strength, 0.5);
-    EXPECT_EQ(r.strokes[0].samples[0].position, a.samples[0].position);
-    EXPECT_NEAR(glm::dot(r.strokes[0].samples[0].orientation, a.samples[0].orientation), 1.0, 1e-12);
+    EXPECT_EQ(r.steps[0].stroke.tool.shape, ToolShape::Cylinder);
+    EXPECT_EQ(r.steps[0].stroke.tool.op, ToolOp::Add);
+    EXPECT_DOUBLE_EQ(r.steps[0].stroke.tool.halfLength, 0.02);
+    EXPECT_DOUBLE_EQ(r.steps[0].stroke.tool.strength, 0.5);
+    EXPECT_EQ(r.steps[0].stroke.samples[0].position, a.samples[0].position);
+    EXPECT_NEAR(glm::dot(r.steps[0].stroke.samples[0].orientation, a.samples[0].orientation), 1.0, 1e-12);
     EXPECT_EQ(formatScript(r), formatScript(s));
     const std::string header = headerLine(s) + "\n";
     auto error = [&](const std::string& text) {
@@ -234,12 +239,13 @@ TEST(StrokeScript, ReplayIsBitIdenticalAndScalesToAnotherLevel) {
         st.tool.op = i % 4 == 3 ? ToolOp::Add : ToolOp::Carve;
         st.tool.radius *= 0.5;
         for (int k = 0; k < 3; ++k) st.samples.push_back({{0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng), 0.5}, randomRotation(rng)});
-        s.strokes.push_back(st);
+        s.add(st);
+        if (i == 5) s.steps.push_back(Step::undo());
     }
     util::ThreadPool pool(3);
     auto replay = [&](int level, util::ThreadPool* p) {
         Sculptor sc(startAdf(s, level, p), p);
-        for (const Stroke& st : s.strokes) sc.apply(st);
+        for (const Step& st : s.steps) sc.replay(st);
         return sc.current();
     };
     const adf::AdfPtr a = replay(0, &pool), b = replay(0, nullptr);

@@ -1,0 +1,203 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file session.cpp
+/// @brief Session: journal appends with fsync, atomic checkpoints, recovery.
+#include "sculpt/session.h"
+
+#include "adf/adf_file.h"
+#include "util/atomic_file.h"
+#include "util/file_error.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <system_error>
+
+namespace kizamu::sculpt {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kJournal = "journal.jsonl";
+
+std::string journalPath(const std::string& dir) { return (fs::path(dir) / kJournal).string(); }
+
+std::string checkpointName(std::size_t steps) {
+    char name[64];
+    std::snprintf(name, sizeof name, "checkpoint-%08zu.kza", steps);
+    return name;
+}
+
+/// Step counts of the checkpoints in `dir`, newest first.
+std::vector<std::size_t> checkpoints(const std::string& dir) {
+    std::vector<std::size_t> out;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+        const std::string n = e.path().filename().string();
+        unsigned long long steps = 0;
+        char tail[8] = {};
+        if (n.size() == 23 && std::sscanf(n.c_str(), "checkpoint-%8llu%4s", &steps, tail) == 2 && std::string(tail) == ".kza")
+            out.push_back(std::size_t(steps));
+    }
+    std::sort(out.rbegin(), out.rend());
+    return out;
+}
+
+void fsyncDir(const std::string& dir) {
+    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (fd >= 0) {
+        ::fsync(fd);  // best effort: some filesystems refuse directory fsync
+        ::close(fd);
+    }
+}
+
+void writeAll(int fd, const std::string& text, const std::string& path) {
+    std::size_t done = 0;
+    while (done < text.size()) {
+        const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            throw FileError(path, std::string("cannot append: ") + std::strerror(errno));
+        }
+        done += std::size_t(n);
+    }
+    if (::fsync(fd) != 0) throw FileError(path, std::string("cannot fsync: ") + std::strerror(errno));
+}
+
+/// True when replaying steps [from, end) from a state without history would undo or redo
+/// something before `from` (the undo stack would run dry).
+bool undoReachesBefore(const Script& journal, std::size_t from) {
+    std::size_t undo = 0, redo = 0;
+    for (std::size_t i = from; i < journal.steps.size(); ++i) {
+        switch (journal.steps[i].kind) {
+        case Step::Kind::Stroke:
+            ++undo;
+            redo = 0;
+            break;
+        case Step::Kind::Undo:
+            if (undo == 0) return true;
+            --undo;
+            ++redo;
+            break;
+        case Step::Kind::Redo:
+            if (redo == 0) return true;
+            --redo;
+            ++undo;
+            break;
+        }
+    }
+    return false;
+}
+
+}  // namespace
+
+bool isSessionDir(const std::string& path) {
+    std::error_code ec;
+    return fs::is_directory(path, ec) && fs::exists(journalPath(path), ec);
+}
+
+Session::~Session() {
+    if (mFd >= 0) ::close(mFd);
+}
+
+void Session::openJournalForAppend() {
+    const std::string path = journalPath(mDir);
+    mFd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+    if (mFd < 0) throw FileError(path, std::string("cannot open for appending: ") + std::strerror(errno));
+}
+
+std::unique_ptr<Session> Session::create(const std::string& dir, const Script& script, int level, util::ThreadPool* pool) {
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw FileError(dir, "cannot create the session directory: " + ec.message());
+    if (fs::exists(journalPath(dir))) throw FileError(dir, "already holds a session (journal.jsonl); open it instead");
+    std::unique_ptr<Session> s(new Session());
+    s->mDir = dir;
+    s->mPool = pool;
+    s->mJournal = script;
+    s->mJournal.steps.clear();
+    if (level > 0) s->mJournal.domain.maxLevel = level;
+    s->mSculptor = std::make_unique<Sculptor>(startAdf(s->mJournal, 0, pool), pool);
+    const std::string header = headerLine(s->mJournal) + "\n";
+    util::writeFileAtomically(journalPath(dir), std::as_bytes(std::span(header.data(), header.size())));
+    fsyncDir(dir);
+    s->openJournalForAppend();
+    return s;
+}
+
+std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool* pool, std::vector<std::string>* warnings) {
+    const std::string path = journalPath(dir);
+    if (!isSessionDir(dir)) throw FileError(dir, "not a Kizamu session (no journal.jsonl)");
+    std::string text = util::readWholeFile(path);
+    // A record is finished when its line ends: cut a last line without its newline (a process
+    // killed mid-append) and keep every step before it.
+    const std::size_t lastNewline = text.rfind('\n');
+    const std::size_t keep = lastNewline == std::string::npos ? 0 : lastNewline + 1;
+    if (keep < text.size()) {
+        if (warnings)
+            warnings->push_back(path + ": the last record was cut short (" + std::to_string(text.size() - keep) +
+                                " bytes); the session continues from the steps before it");
+        if (::truncate(path.c_str(), off_t(keep)) != 0)
+            throw FileError(path, std::string("cannot cut the unfinished record: ") + std::strerror(errno));
+        text.resize(keep);
+    }
+    std::unique_ptr<Session> s(new Session());
+    s->mDir = dir;
+    s->mPool = pool;
+    s->mJournal = parseScript(text, path);
+    const std::size_t total = s->mJournal.steps.size();
+    // Newest checkpoint that loads and that the journal covers; otherwise from the start.
+    adf::AdfPtr base;
+    for (std::size_t steps : checkpoints(dir)) {
+        if (steps > total) continue;
+        const std::string cp = (fs::path(dir) / checkpointName(steps)).string();
+        try {
+            base = adf::loadAdf(cp);
+            s->mCheckpointSteps = steps;
+            break;
+        } catch (const FileError& e) {
+            if (warnings) warnings->push_back(std::string(e.what()) + " (an older checkpoint or the journal is used)");
+        }
+    }
+    // An undo after the checkpoint may reach back before it; then the history is needed and
+    // the journal is replayed from the start.
+    if (base && undoReachesBefore(s->mJournal, s->mCheckpointSteps)) base.reset();
+    if (!base) {
+        base = startAdf(s->mJournal, 0, pool);
+        s->mCheckpointSteps = 0;
+    }
+    s->mSculptor = std::make_unique<Sculptor>(base, pool);
+    for (std::size_t i = s->mCheckpointSteps; i < total; ++i) s->mSculptor->replay(s->mJournal.steps[i]);
+    s->openJournalForAppend();
+    return s;
+}
+
+void Session::record(const Step& step) {
+    // Opened from a checkpoint, the sculptor has no history before it: an undo reaching there
+    // first rebuilds it from the journal, so the live session matches any later replay.
+    if (step.kind == Step::Kind::Undo && mSculptor->undoDepth() == 0 && mCheckpointSteps > 0) {
+        mSculptor = std::make_unique<Sculptor>(startAdf(mJournal, 0, mPool), mPool);
+        for (const Step& s : mJournal.steps) mSculptor->replay(s);
+        mCheckpointSteps = 0;
+    }
+    mSculptor->replay(step);
+    writeAll(mFd, stepLine(step) + "\n", journalPath(mDir));
+    mJournal.steps.push_back(step);
+}
+
+void Session::checkpoint() {
+    const std::size_t steps = mJournal.steps.size();
+    const std::string path = (fs::path(mDir) / checkpointName(steps)).string();
+    adf::saveAdf(*mSculptor->current(), path);  // temporary file, fsync, rename, directory fsync
+    for (std::size_t old : checkpoints(mDir))
+        if (old != steps) {
+            std::error_code ec;
+            fs::remove(fs::path(mDir) / checkpointName(old), ec);
+        }
+    mCheckpointSteps = steps;
+}
+
+}  // namespace kizamu::sculpt

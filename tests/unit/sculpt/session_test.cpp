@@ -1,0 +1,194 @@
+// SPDX-License-Identifier: Apache-2.0
+// Sessions never lose a finished stroke: reopen equals the live state; a process killed with
+// SIGKILL mid-run reopens with every finished stroke; a journal cut mid-record opens with the
+// strokes before it and a warning; a damaged checkpoint falls back to an older one or the journal.
+#include "sculpt/session.h"
+
+#include "adf/adf_file.h"
+#include "tests/util/adf_compare.h"
+#include "util/file_error.h"
+
+#include <gtest/gtest.h>
+
+#include <csignal>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
+
+namespace kizamu {
+namespace {
+
+using namespace sculpt;
+namespace fs = std::filesystem;
+
+const glm::dquat kIdentity(1.0, 0.0, 0.0, 0.0);
+
+Script slab(int level, int strokes, uint64_t seed) {
+    Script s;
+    s.domain.maxLevel = level;
+    s.domain.tileSpanLevels = 3;
+    s.start.kind = StartShape::Kind::Box;
+    s.start.centre = {0.5, 0.5, 0.4};
+    s.start.halfSize = {0.35, 0.35, 0.1};
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < strokes; ++i) {
+        Stroke st;
+        st.tool.shape = ToolShape::Cylinder;
+        st.tool.radius = 0.01 + 0.01 * u(rng);
+        st.tool.halfLength = 0.02;
+        const glm::dvec3 a(0.2 + 0.6 * u(rng), 0.2 + 0.6 * u(rng), 0.5), b = a + glm::dvec3(0.1 * u(rng) - 0.05, 0.1 * u(rng) - 0.05, 0);
+        st.samples = {{a, kIdentity}, {b, kIdentity}};
+        s.add(st);
+    }
+    return s;
+}
+
+/// The ADF after the first `steps` steps, replayed in memory.
+adf::AdfPtr replay(const Script& s, std::size_t steps) {
+    Sculptor sc(startAdf(s, 0));
+    for (std::size_t i = 0; i < steps; ++i) sc.replay(s.steps[i]);
+    return sc.current();
+}
+
+class SessionTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mDir = fs::temp_directory_path() / ("kizamu_session_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(mDir);
+    }
+    void TearDown() override { fs::remove_all(mDir); }
+    fs::path mDir;
+};
+
+TEST_F(SessionTest, ReopensToTheSameClayWithUndoAndCheckpoints) {
+    Script s = slab(6, 6, 1);
+    s.steps.insert(s.steps.begin() + 4, Step::undo());
+    s.steps.insert(s.steps.begin() + 5, Step::redo());
+    s.steps.insert(s.steps.begin() + 6, Step::undo());
+    {
+        auto live = Session::create(mDir.string(), s, 0);
+        for (std::size_t i = 0; i < s.steps.size(); ++i) {
+            live->record(s.steps[i]);
+            if (i == 2 || i == 7) live->checkpoint();
+        }
+        std::vector<std::string> warnings;
+        auto again = Session::open(mDir.string(), nullptr, &warnings);
+        EXPECT_TRUE(warnings.empty());
+        EXPECT_EQ(again->steps(), s.steps.size());
+        EXPECT_TRUE(test::sameAdf(*again->sculptor().current(), *live->sculptor().current()));
+        EXPECT_TRUE(test::sameAdf(*again->sculptor().current(), *replay(s, s.steps.size())));
+    }
+    // Only the newest checkpoint is kept.
+    std::size_t cps = 0;
+    for (const auto& e : fs::directory_iterator(mDir)) cps += e.path().extension() == ".kza";
+    EXPECT_EQ(cps, 1u);
+    EXPECT_THROW(Session::create(mDir.string(), s, 0), FileError);  // never overwrites a session
+    EXPECT_THROW(Session::open((mDir / "nothing").string()), FileError);
+}
+
+TEST_F(SessionTest, UndoAfterReopeningFromACheckpointReachesTheWholeHistory) {
+    const Script s = slab(6, 4, 5);
+    {
+        auto live = Session::create(mDir.string(), s, 0);
+        for (const Step& st : s.steps) live->record(st);
+        live->checkpoint();
+    }
+    {
+        auto reopened = Session::open(mDir.string());
+        EXPECT_EQ(reopened->checkpointSteps(), 4u);
+        reopened->record(Step::undo());  // reaches before the checkpoint
+        reopened->record(Step::undo());
+        EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(s, 2)));
+    }
+    auto third = Session::open(mDir.string());
+    EXPECT_EQ(third->steps(), 6u);
+    EXPECT_TRUE(test::sameAdf(*third->sculptor().current(), *replay(s, 2)));
+}
+
+TEST_F(SessionTest, AJournalCutMidRecordOpensWithTheStrokesBeforeItAndAWarning) {
+    const Script s = slab(6, 4, 2);
+    {
+        auto live = Session::create(mDir.string(), s, 0);
+        for (const Step& st : s.steps) live->record(st);
+    }
+    const fs::path journal = mDir / "journal.jsonl";
+    const auto size = fs::file_size(journal);
+    const std::string last = stepLine(s.steps.back());
+    fs::resize_file(journal, size - last.size() / 2 - 1);  // cut the last record in the middle
+    std::vector<std::string> warnings;
+    auto reopened = Session::open(mDir.string(), nullptr, &warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("cut short"), std::string::npos) << warnings[0];
+    EXPECT_EQ(reopened->steps(), 3u);
+    EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(s, 3)));
+    // The session goes on, and the journal is whole again.
+    reopened->record(s.steps.back());
+    reopened.reset();
+    warnings.clear();
+    auto third = Session::open(mDir.string(), nullptr, &warnings);
+    EXPECT_TRUE(warnings.empty());
+    EXPECT_EQ(third->steps(), 4u);
+    EXPECT_TRUE(test::sameAdf(*third->sculptor().current(), *replay(s, 4)));
+}
+
+TEST_F(SessionTest, ADamagedCheckpointFallsBackWithAWarning) {
+    const Script s = slab(6, 4, 3);
+    {
+        auto live = Session::create(mDir.string(), s, 0);
+        for (const Step& st : s.steps) live->record(st);
+        live->checkpoint();
+    }
+    fs::path cp;
+    for (const auto& e : fs::directory_iterator(mDir))
+        if (e.path().extension() == ".kza") cp = e.path();
+    ASSERT_FALSE(cp.empty());
+    fs::resize_file(cp, fs::file_size(cp) / 2);
+    std::vector<std::string> warnings;
+    auto reopened = Session::open(mDir.string(), nullptr, &warnings);
+    ASSERT_EQ(warnings.size(), 1u);
+    EXPECT_NE(warnings[0].find("truncated"), std::string::npos) << warnings[0];
+    EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(s, 4)));
+}
+
+TEST_F(SessionTest, SigkillMidRunLosesNoFinishedStroke) {
+    const Script s = slab(7, 400, 4);
+    const pid_t child = ::fork();
+    ASSERT_GE(child, 0);
+    if (child == 0) {
+        // The child sculpts until it is killed.
+        auto live = Session::create(mDir.string(), s, 0);
+        for (std::size_t i = 0; i < s.steps.size(); ++i) {
+            live->record(s.steps[i]);
+            if (i % 7 == 6) live->checkpoint();
+        }
+        ::_exit(0);
+    }
+    // Wait until a dozen strokes are journaled, then kill it without warning.
+    const fs::path journal = mDir / "journal.jsonl";
+    for (int i = 0; i < 6000; ++i) {
+        std::error_code ec;
+        std::ifstream in(journal);
+        const auto lines = std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n');
+        if (lines >= 13) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ::kill(child, SIGKILL);
+    int status = 0;
+    ::waitpid(child, &status, 0);
+    ASSERT_TRUE(WIFSIGNALED(status)) << "the child finished before it could be killed";
+    std::vector<std::string> warnings;
+    auto reopened = Session::open(mDir.string(), nullptr, &warnings);
+    const std::size_t k = reopened->steps();
+    EXPECT_GE(k, 12u);
+    EXPECT_LT(k, s.steps.size());
+    // Every finished stroke is there, exactly as a replay of the script's first k strokes.
+    EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(s, k)));
+}
+
+}  // namespace
+}  // namespace kizamu
