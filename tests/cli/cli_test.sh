@@ -55,6 +55,25 @@ admesh "$tmp/remesh.stl" | grep -q "Edges fixed *: *0" || fail "remesh is not cl
 "$kizamu" convert "$tmp/half.kza" "$tmp/x.obj" >/dev/null 2>"$tmp/err" && fail "a damaged kza should not convert"
 grep -q "truncated" "$tmp/err" || fail "damaged kza -> obj error lacks 'truncated'"
 
+# run: replay a stroke script; identical bytes twice; a session holds the same clay; bad scripts
+repo="$(cd "$(dirname "$0")/../.." && pwd)"
+"$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --out "$tmp/c1.kza" >/dev/null || fail "run carve_basics"
+"$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --threads 1 --out "$tmp/c2.kza" >/dev/null || fail "run again"
+cmp -s "$tmp/c1.kza" "$tmp/c2.kza" || fail "replaying a script twice gave different bytes"
+"$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --out "$tmp/c.stl" >/dev/null || fail "run to stl"
+admesh "$tmp/c.stl" | grep -q "Edges fixed *: *0" || fail "carved mesh is not closed"
+"$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --session "$tmp/sess" --checkpoint-every 2 >/dev/null || fail "run --session"
+"$kizamu" info "$tmp/sess" | grep -q "strokes     5 " || fail "info on a session: $("$kizamu" info "$tmp/sess")"
+"$kizamu" convert "$tmp/sess" "$tmp/s.kza" >/dev/null || fail "convert a session"
+cmp -s "$tmp/c1.kza" "$tmp/s.kza" || fail "the session's clay differs from the plain replay"
+"$kizamu" run "$repo/examples/carve_basics.jsonl" --session "$tmp/sess" >/dev/null 2>"$tmp/err" && fail "a session must not be overwritten"
+printf '%s\n{"op": "carve", "shape": "blob", "radius": 0.1, "path": [[0,0,0]]}\n' "$(head -1 "$repo/examples/carve_basics.jsonl")" >"$tmp/bad.jsonl"
+"$kizamu" run "$tmp/bad.jsonl" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] || fail "a bad script exited $rc, expected 2"
+grep -q "bad.jsonl: line 2: unknown tool shape" "$tmp/err" || fail "bad script error: $(cat "$tmp/err")"
+[ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "bad script error is not one line"
+python3 "$repo/scripts/make_slab.py" | cmp -s - "$repo/examples/slab2000.jsonl" || fail "examples/slab2000.jsonl differs from scripts/make_slab.py"
+
 # bench contract: only JSON objects on stdout, every figure the contract names present
 "$kizamu" bench adf --json --levels 6,7 --queries 4000 --error-points 2000 --repeats 1 \
     >"$tmp/bench.json" 2>/dev/null || fail "bench adf exited non-zero"
