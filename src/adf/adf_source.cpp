@@ -41,6 +41,7 @@ public:
 private:
     /// Stored value at `p` if it is a lattice point and a corner of one of the (up to 8) leaves
     /// around it; the first in octant order wins (their values differ only by quantisation).
+    /// Only octants across faces of the first leaf that `p` lies on can hold such a corner.
     bool cornerValue(const glm::dvec3& p, double& value) const {
         const glm::dvec3 u = (p - mOrigin) * mInvCell;
         const glm::dvec3 r = glm::round(u);
@@ -48,20 +49,37 @@ private:
             glm::any(glm::greaterThan(r, glm::dvec3(mTop))))
             return false;
         const glm::uvec3 pt(r);
-        for (int o = 0; o < 8; ++o) {
+        auto cornerOf = [&](const LeafRef& leaf) {
+            const glm::uvec3 rel = pt - leaf.latticeOrigin;
+            int c = 0;
+            for (int k = 0; k < 3; ++k) {
+                if (rel[k] == leaf.latticeSize) c |= 1 << k;
+                else if (rel[k] != 0) return -1;
+            }
+            return c;
+        };
+        // Octant 0 (the unit cube above p), when inside the domain.
+        uint32_t onFace = 7;  // axes where p lies on the first leaf's lower face
+        if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
+            const LeafRef first = mAdf->findLeaf(pt);
+            const int c = cornerOf(first);
+            if (c >= 0) {
+                value = first.corners[c];
+                return true;
+            }
+            onFace = 0;
+            for (int k = 0; k < 3; ++k)
+                if (pt[k] == first.latticeOrigin[k]) onFace |= 1u << k;
+        }
+        for (uint32_t o = 1; o < 8; ++o) {
+            if ((o & onFace) != o) continue;  // that cube lies in the first leaf too
             const glm::uvec3 off(o & 1, (o >> 1) & 1, o >> 2);
             if (glm::any(glm::lessThan(pt, off))) continue;
             const glm::uvec3 cube = pt - off;
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
             const LeafRef leaf = mAdf->findLeaf(cube);
-            const glm::uvec3 rel = pt - leaf.latticeOrigin;
-            int c = 0;
-            bool corner = true;
-            for (int k = 0; k < 3; ++k) {
-                if (rel[k] == leaf.latticeSize) c |= 1 << k;
-                else if (rel[k] != 0) corner = false;
-            }
-            if (corner) {
+            const int c = cornerOf(leaf);
+            if (c >= 0) {
                 value = leaf.corners[c];
                 return true;
             }

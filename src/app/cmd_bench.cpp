@@ -3,6 +3,7 @@
 /// @brief `kizamu bench <area>`: the benchmarks, with the figure contract of the design brief.
 #include "app/commands.h"
 #include "bench/adf_bench.h"
+#include "bench/edit_bench.h"
 #include "bench/mesh_bench.h"
 
 #include <CLI/CLI.hpp>
@@ -63,6 +64,20 @@ void addBenchCommand(CLI::App& app) {
         ->delimiter(',')
         ->capture_default_str();
     meshCmd->add_option("--threads", m->threads, "Worker threads (0: all cores)")->capture_default_str();
+    auto* editCmd = bench->add_subcommand("edit", "Carve dabs with and without re-meshing, a long stroke, the chisel slab, undo");
+    auto e = std::make_shared<bench::EditBenchOptions>();
+    editCmd->add_flag("--json", e->json, "One JSON object per figure per line, nothing else on stdout");
+    editCmd->add_option("--levels", e->levels, "Levels for the dabs")->delimiter(',')->check(CLI::Range(4, 14))->capture_default_str();
+    editCmd->add_option("--dabs", e->dabs, "Dabs per level")->check(CLI::Range(2, 10000))->capture_default_str();
+    editCmd->add_option("--slab-level", e->slabLevel, "Level of the slab replay")->check(CLI::Range(4, 14))->capture_default_str();
+    editCmd->add_option("--slab-strokes", e->slabStrokes, "Strokes of the slab to replay (0: skip)")->capture_default_str();
+    editCmd->add_option("--slab-script", e->slabScript, "The slab's stroke script")->capture_default_str();
+    editCmd->add_option("--threads", e->threads, "Worker threads (0: all cores)")->capture_default_str();
+    editCmd->callback([e] {
+        const int rc = bench::runEditBench(*e);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+
     meshCmd->callback([m] {
         const int rc = bench::runMeshBench(*m);
         if (rc != 0) throw CLI::RuntimeError(rc);

@@ -114,5 +114,22 @@ assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "
 PY
 "$kizamu" bench mesh --help | grep -q -- "--vs-openvdb" || fail "bench mesh --help lacks --vs-openvdb"
 
+# bench edit contract (small: level 6 dabs, 5 slab strokes at level 6)
+"$kizamu" bench edit --json --levels 6 --dabs 3 --slab-strokes 5 --slab-level 6 \
+    --slab-script "$repo/examples/slab2000.jsonl" >"$tmp/edit.json" 2>/dev/null || fail "bench edit exited non-zero"
+python3 - "$tmp/edit.json" <<'PY' || failures=$((failures + 1))
+import json, sys
+names = {}
+for line in open(sys.argv[1]):
+    obj = json.loads(line)
+    assert set(obj) == {"figure", "value", "unit"}, obj
+    names[obj["figure"]] = obj["value"]
+need = ["edit.dab_ms.level6.p50", "edit.dab_remesh_ms.level6.p50", "edit.dab_remesh_ms.level6.p99",
+        "edit.undo_ms", "edit.redo_ms", "edit.stroke500_ms.level6", "edit.slab5_s", "edit.slab5_bytes"]
+missing = [n for n in need if n not in names]
+assert not missing, f"missing figures: {missing}"
+assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
+PY
+
 if [ "$failures" -eq 0 ]; then echo "cli: all checks passed"; exit 0; fi
 echo "cli: $failures check(s) failed"; exit 1
