@@ -11,6 +11,9 @@
 #include "sculpt/sculptor.h"
 #include "sculpt/stroke_script.h"
 #include "util/thread_pool.h"
+#ifdef KIZAMU_HAVE_OPENVDB
+#include "bench/openvdb_peer.h"
+#endif
 
 #include <glm/gtc/constants.hpp>
 
@@ -63,6 +66,28 @@ int runEditBench(const EditBenchOptions& opt) {
         out.add("edit.dab_remesh_ms" + L + ".p99", quantile(total, 0.99), "ms");
         out.add("edit.remesh_ms" + L + ".p50", median(remesh), "ms", "the re-mesh alone");
         out.add("edit.dab_tiles" + L, double(sculptor.lastEdit().tilesRebuilt), "tiles", "tiles rebuilt by the last dab");
+#ifdef KIZAMU_HAVE_OPENVDB
+        if (opt.vsOpenVdb) {
+            // The same dab positions in an OpenVDB level set of the part at the same resolution.
+            out.progress("level " + std::to_string(level) + ": OpenVDB level set");
+            OpenVdbPeer peer(*adf::makeTestPart(d), d, 3.0f);
+            std::vector<double> vdbTotal, vdbStamp, ratio;
+            for (int i = 0; i < opt.dabs + 1; ++i) {
+                const glm::dvec3 c(surface.positions[(std::size_t(i) * 7919) % surface.vertexCount()]);
+                const OpenVdbPeer::DabResult r = peer.carveSphereAndMeshRegion(c, 0.01 * d.sizeWorld);
+                if (i == 0) continue;
+                vdbStamp.push_back(r.stampSeconds * 1e3);
+                vdbTotal.push_back((r.stampSeconds + r.meshSeconds) * 1e3);
+                ratio.push_back(vdbTotal.back() / total[std::size_t(i - 1)]);
+            }
+            out.add("edit.openvdb.dab_stamp_ms" + L + ".p50", median(vdbStamp), "ms", "write the sphere into the band voxels");
+            out.add("edit.openvdb.dab_remesh_ms" + L + ".p50", median(vdbTotal), "ms", "stamp + copy the region + volumeToMesh");
+            if (level == opt.levels.front())
+                out.add("edit.vs_openvdb.dab_speedup", median(ratio), "ratio", "OpenVDB stamp + region mesh / our edit + re-mesh");
+        }
+#else
+        if (opt.vsOpenVdb) out.progress("OpenVDB was not found at build time: no comparison");
+#endif
 
         // Undo and redo of one stroke: a pointer swap each (the re-mesh is the mesher's).
         std::vector<double> undoMs, redoMs;

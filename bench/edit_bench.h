@@ -12,6 +12,7 @@ namespace kizamu::bench {
 
 struct EditBenchOptions {
     bool json = false;
+    bool vsOpenVdb = false;            ///< also the same dabs in an OpenVDB level set
     std::vector<int> levels{10, 12};  ///< dab levels
     int dabs = 21;                    ///< dabs per level (median, p99)
     int slabLevel = 12;

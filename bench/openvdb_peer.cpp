@@ -223,6 +223,57 @@ OpenVdbPeer::MeshResult OpenVdbPeer::meshSurface() const {
     return r;
 }
 
+OpenVdbPeer::DabResult OpenVdbPeer::carveSphereAndMeshRegion(const glm::dvec3& c, double r) {
+    openvdb::FloatGrid& grid = *mImpl->grid;
+    const openvdb::math::Transform& xf = grid.transform();
+    const double h = xf.voxelSize()[0];
+    const double band = double(grid.background());  // the narrow band's half width, m
+    const openvdb::Vec3d lo = xf.worldToIndex(openvdb::Vec3d(c.x - r - band, c.y - r - band, c.z - r - band));
+    const openvdb::Vec3d hi = xf.worldToIndex(openvdb::Vec3d(c.x + r + band, c.y + r + band, c.z + r + band));
+    const openvdb::CoordBBox box(openvdb::Coord::floor(lo), openvdb::Coord::floor(hi) + openvdb::Coord(1));
+    DabResult out;
+    const auto t0 = std::chrono::steady_clock::now();
+    {
+        openvdb::FloatGrid::Accessor acc = grid.getAccessor();
+        for (openvdb::Coord ijk = box.min(); ijk.x() <= box.max().x(); ++ijk.x())
+            for (ijk.y() = box.min().y(); ijk.y() <= box.max().y(); ++ijk.y())
+                for (ijk.z() = box.min().z(); ijk.z() <= box.max().z(); ++ijk.z()) {
+                    const openvdb::Vec3d w = xf.indexToWorld(ijk);
+                    const double sphere = std::sqrt((w.x() - c.x) * (w.x() - c.x) + (w.y() - c.y) * (w.y() - c.y) +
+                                                    (w.z() - c.z) * (w.z() - c.z)) - r;
+                    const float old = acc.getValue(ijk);
+                    const float v = std::max(old, float(-sphere));
+                    if (std::abs(v) < float(band) || acc.isValueOn(ijk)) acc.setValue(ijk, std::clamp(v, -float(band), float(band)));
+                }
+    }
+    const auto t1 = std::chrono::steady_clock::now();
+    // The region's voxels copied into a small grid (tools::clip would copy the whole tree first).
+    openvdb::FloatGrid::Ptr region = openvdb::FloatGrid::create(grid.background());
+    region->setTransform(grid.transformPtr());
+    region->setGridClass(openvdb::GRID_LEVEL_SET);
+    {
+        openvdb::FloatGrid::ConstAccessor src = grid.getConstAccessor();
+        openvdb::FloatGrid::Accessor dst = region->getAccessor();
+        for (openvdb::Coord ijk = box.min(); ijk.x() <= box.max().x(); ++ijk.x())
+            for (ijk.y() = box.min().y(); ijk.y() <= box.max().y(); ++ijk.y())
+                for (ijk.z() = box.min().z(); ijk.z() <= box.max().z(); ++ijk.z()) {
+                    float v;
+                    if (src.probeValue(ijk, v)) dst.setValue(ijk, v);
+                    else dst.setValueOff(ijk, v);
+                }
+    }
+    std::vector<openvdb::Vec3s> points;
+    std::vector<openvdb::Vec3I> triangles;
+    std::vector<openvdb::Vec4I> quads;
+    openvdb::tools::volumeToMesh(*region, points, triangles, quads, 0.0, 0.0);
+    const auto t2 = std::chrono::steady_clock::now();
+    out.stampSeconds = std::chrono::duration<double>(t1 - t0).count();
+    out.meshSeconds = std::chrono::duration<double>(t2 - t1).count();
+    out.triangles = triangles.size() + 2 * quads.size();
+    (void)h;
+    return out;
+}
+
 double openVdbMeshToLevelSet(std::span<const glm::vec3> positions, std::span<const uint32_t> indices,
                              double voxelWorld, float halfWidthVoxels, std::size_t* activeVoxels) {
     openvdb::initialize();

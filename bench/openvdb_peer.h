@@ -52,6 +52,15 @@ public:
     /// tools::volumeToMesh of the zero level set with adaptivity 0 (OpenVDB's own threading).
     MeshResult meshSurface() const;
 
+    /// A carve dab the OpenVDB way: the sphere's distance written into the voxels of its box
+    /// plus the narrow band (max(old, -sphere), through an accessor), then the region (that box)
+    /// clipped out and meshed with volumeToMesh.
+    struct DabResult {
+        double stampSeconds = 0.0, meshSeconds = 0.0;
+        std::size_t triangles = 0;  ///< triangle equivalent of the region mesh
+    };
+    DabResult carveSphereAndMeshRegion(const glm::dvec3& centreWorld, double radiusWorld);
+
 private:
     struct Impl;
     std::unique_ptr<Impl> mImpl;

@@ -67,6 +67,7 @@ void addBenchCommand(CLI::App& app) {
     auto* editCmd = bench->add_subcommand("edit", "Carve dabs with and without re-meshing, a long stroke, the chisel slab, undo");
     auto e = std::make_shared<bench::EditBenchOptions>();
     editCmd->add_flag("--json", e->json, "One JSON object per figure per line, nothing else on stdout");
+    editCmd->add_flag("--vs-openvdb", e->vsOpenVdb, "Also stamp the same dabs into an OpenVDB level set and mesh the region");
     editCmd->add_option("--levels", e->levels, "Levels for the dabs")->delimiter(',')->check(CLI::Range(4, 14))->capture_default_str();
     editCmd->add_option("--dabs", e->dabs, "Dabs per level")->check(CLI::Range(2, 10000))->capture_default_str();
     editCmd->add_option("--slab-level", e->slabLevel, "Level of the slab replay")->check(CLI::Range(4, 14))->capture_default_str();
