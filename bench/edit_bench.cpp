@@ -45,6 +45,10 @@ int runEditBench(const EditBenchOptions& opt) {
         mesh::SurfaceMesher mesher(&pool);
         mesher.build(part);
         const mesh::MeshBuffers surface = mesher.mesh();
+        if (surface.vertexCount() == 0) {
+            out.progress("the test part has no surface at this level: no dab figures");
+            continue;
+        }
         std::vector<double> edit, remesh, total;
         Sculptor sculptor(part, &pool);
         for (int i = 0; i < opt.dabs + 1; ++i) {  // the first is a warm-up

@@ -99,7 +99,8 @@ int runMeshBench(const MeshBenchOptions& opt) {
     {
         mesh::PointCloud pc;
         const double ms = medianMs(opt.repeats, [&] { pc = mesh::surfacePointCloud(*part, opt.points, 1, &pool); });
-        out.add("mesh.points800k_ms", ms, "ms", std::to_string(pc.positions.size()) + " points with normals");
+        const std::string name = opt.points == 800'000 ? "800k" : std::to_string(opt.points);
+        out.add("mesh.points" + name + "_ms", ms, "ms", std::to_string(pc.positions.size()) + " points with normals");
     }
 
     out.progress("incremental re-mesh of one tile");

@@ -226,7 +226,6 @@ OpenVdbPeer::MeshResult OpenVdbPeer::meshSurface() const {
 OpenVdbPeer::DabResult OpenVdbPeer::carveSphereAndMeshRegion(const glm::dvec3& c, double r) {
     openvdb::FloatGrid& grid = *mImpl->grid;
     const openvdb::math::Transform& xf = grid.transform();
-    const double h = xf.voxelSize()[0];
     const double band = double(grid.background());  // the narrow band's half width, m
     const openvdb::Vec3d lo = xf.worldToIndex(openvdb::Vec3d(c.x - r - band, c.y - r - band, c.z - r - band));
     const openvdb::Vec3d hi = xf.worldToIndex(openvdb::Vec3d(c.x + r + band, c.y + r + band, c.z + r + band));
@@ -243,11 +242,16 @@ OpenVdbPeer::DabResult OpenVdbPeer::carveSphereAndMeshRegion(const glm::dvec3& c
                                                     (w.z() - c.z) * (w.z() - c.z)) - r;
                     const float old = acc.getValue(ijk);
                     const float v = std::max(old, float(-sphere));
-                    if (std::abs(v) < float(band) || acc.isValueOn(ijk)) acc.setValue(ijk, std::clamp(v, -float(band), float(band)));
+                    if (std::abs(v) < float(band)) {
+                        acc.setValue(ijk, v);
+                    } else if (acc.isValueOn(ijk) || v > 0.0f) {
+                        acc.setValueOff(ijk, v > 0.0f ? float(band) : -float(band));  // left the band
+                    }
                 }
     }
     const auto t1 = std::chrono::steady_clock::now();
-    // The region's voxels copied into a small grid (tools::clip would copy the whole tree first).
+    // The region's active voxels copied into a small grid (tools::clip would copy the whole
+    // tree first), inside and outside restored by a signed flood fill.
     openvdb::FloatGrid::Ptr region = openvdb::FloatGrid::create(grid.background());
     region->setTransform(grid.transformPtr());
     region->setGridClass(openvdb::GRID_LEVEL_SET);
@@ -259,9 +263,9 @@ OpenVdbPeer::DabResult OpenVdbPeer::carveSphereAndMeshRegion(const glm::dvec3& c
                 for (ijk.z() = box.min().z(); ijk.z() <= box.max().z(); ++ijk.z()) {
                     float v;
                     if (src.probeValue(ijk, v)) dst.setValue(ijk, v);
-                    else dst.setValueOff(ijk, v);
                 }
     }
+    openvdb::tools::signedFloodFill(region->tree());
     std::vector<openvdb::Vec3s> points;
     std::vector<openvdb::Vec3I> triangles;
     std::vector<openvdb::Vec4I> quads;
@@ -270,7 +274,6 @@ OpenVdbPeer::DabResult OpenVdbPeer::carveSphereAndMeshRegion(const glm::dvec3& c
     out.stampSeconds = std::chrono::duration<double>(t1 - t0).count();
     out.meshSeconds = std::chrono::duration<double>(t2 - t1).count();
     out.triangles = triangles.size() + 2 * quads.size();
-    (void)h;
     return out;
 }
 

@@ -48,18 +48,13 @@ mesh::MeshBuffers meshOf(const adf::AdfPtr& a, const ConvertOptions& o, util::Th
     return m;
 }
 
-bool isAdf(const std::string& path) {
-    if (path.size() < 4) return false;
-    std::string ext = path.substr(path.size() - 4);
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return ext == ".kza";
-}
+bool isAdf(const std::string& path) { return isAdfPath(path); }
 
 void runConvert(const ConvertOptions& o) {
     util::ThreadPool pool(o.threads);
     if (sculpt::isSessionDir(o.in)) {
         std::vector<std::string> warnings;
-        const auto session = sculpt::Session::open(o.in, &pool, &warnings);
+        const auto session = sculpt::Session::open(o.in, &pool, &warnings, /*readOnly=*/true);
         for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
         std::printf("opened session %s: %zu steps\n", o.in.c_str(), session->steps());
         if (isAdf(o.out)) {
@@ -102,6 +97,13 @@ void runConvert(const ConvertOptions& o) {
 }
 
 }  // namespace
+
+bool isAdfPath(const std::string& path) {
+    if (path.size() < 4) return false;
+    std::string ext = path.substr(path.size() - 4);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return ext == ".kza";
+}
 
 void addConvertCommand(CLI::App& app) {
     auto* cmd = app.add_subcommand(

@@ -19,7 +19,7 @@ namespace {
 
 void printSessionInfo(const std::string& dir) {
     std::vector<std::string> warnings;
-    const auto session = sculpt::Session::open(dir, nullptr, &warnings);
+    const auto session = sculpt::Session::open(dir, nullptr, &warnings, /*readOnly=*/true);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::size_t strokes = 0, undos = 0, redos = 0;
     for (const sculpt::Step& s : session->journal().steps) {

@@ -31,11 +31,6 @@ struct RunOptions {
     unsigned threads = 0;
 };
 
-bool endsWith(std::string s, const std::string& ext) {
-    for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-    return s.size() >= ext.size() && s.compare(s.size() - ext.size(), ext.size(), ext) == 0;
-}
-
 void runScript(const RunOptions& o) {
     const sculpt::Script script = sculpt::readScript(o.script);
     util::ThreadPool pool(o.threads);
@@ -48,7 +43,8 @@ void runScript(const RunOptions& o) {
     } else {
         plain = std::make_unique<sculpt::Sculptor>(sculpt::startAdf(script, o.level, &pool), &pool);
     }
-    const sculpt::Sculptor& sculptor = session ? session->sculptor() : *plain;
+    // The session may replace its sculptor (an undo reaching before a checkpoint): ask each time.
+    auto sculptor = [&]() -> const sculpt::Sculptor& { return session ? session->sculptor() : *plain; };
     const double startMs = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     std::vector<double> ms;
     std::size_t tiles = 0;
@@ -60,12 +56,12 @@ void runScript(const RunOptions& o) {
             plain->replay(s);
         }
         if (s.kind != sculpt::Step::Kind::Stroke) continue;
-        ms.push_back(sculptor.lastEdit().ms);
-        tiles += sculptor.lastEdit().tilesRebuilt;
+        ms.push_back(sculptor().lastEdit().ms);
+        tiles += sculptor().lastEdit().tilesRebuilt;
     }
     if (session) session->checkpoint();
     const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    const adf::Adf& a = *sculptor.current();
+    const adf::Adf& a = *sculptor().current();
     std::printf("replayed %zu steps at level %d in %.1f ms (start shape %.1f ms)\n", script.steps.size(),
                 a.domain().maxLevel, total, startMs);
     if (o.stats) {
@@ -76,14 +72,14 @@ void runScript(const RunOptions& o) {
         const double p99 = sorted.empty() ? 0.0 : sorted[std::min(sorted.size() - 1, sorted.size() * 99 / 100)];
         std::printf("  strokes     median %.2f ms, p99 %.2f ms, %zu tiles rebuilt\n", median, p99, tiles);
         std::printf("  adf         %zu cells, %zu tiles, %.2f MB\n", st.cells, st.tiles, double(st.bytes()) / 1e6);
-        std::printf("  undo        %zu records, %.2f MB of replaced tiles\n", sculptor.undoDepth(),
-                    double(sculptor.historyBytes()) / 1e6);
+        std::printf("  undo        %zu records, %.2f MB of replaced tiles\n", sculptor().undoDepth(),
+                    double(sculptor().historyBytes()) / 1e6);
     }
     if (o.out.empty()) return;
-    if (endsWith(o.out, ".kza")) {
+    if (isAdfPath(o.out)) {
         adf::saveAdf(a, o.out);
     } else {
-        const mesh::MeshBuffers m = mesh::meshAdf(sculptor.current(), &pool);
+        const mesh::MeshBuffers m = mesh::meshAdf(sculptor().current(), &pool);
         mesh::exportMesh(m, o.out);
         std::printf("meshed: %zu vertices, %zu triangles\n", m.vertexCount(), m.triangleCount());
     }

@@ -3,11 +3,16 @@
 /// @brief The `kizamu` subcommands: each registers its options on a CLI11 app and runs.
 #pragma once
 
+#include <string>
+
 namespace CLI {
 class App;
 }
 
 namespace kizamu::app {
+
+/// True when `path` names an ADF file (.kza, any case).
+bool isAdfPath(const std::string& path);
 
 /// Registers `info`: summary of a .kza file.
 void addInfoCommand(CLI::App& app);

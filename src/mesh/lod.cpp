@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -33,11 +34,11 @@ private:
 adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool) {
     if (!fine) throw std::invalid_argument("LOD needs a snapshot");
     if (!(errorWorld > 0.0) || !std::isfinite(errorWorld)) throw std::invalid_argument("LOD error must be positive");
-    // The coarse lattice stops where a cell is about twice the error: finer cells could not
-    // be told apart from their parent within the bound, and a small lattice keeps the fixed
-    // costs (tile table, tiles) in proportion to the output.
+    // The coarse lattice stops where a finest cell is between once and twice the error: finer
+    // cells could not be told apart from their parent within the bound, and a small lattice
+    // keeps the fixed costs (tile table, tiles) in proportion to the output.
     adf::Domain d = fine->domain();
-    while (d.maxLevel > 1 && d.finestCellSize() * 2.0 <= 2.0 * errorWorld) --d.maxLevel;
+    while (d.maxLevel > 1 && d.finestCellSize() <= errorWorld) --d.maxLevel;  // finest cell in (E, 2E]
     d.tileSpanLevels = std::min(d.tileSpanLevels, d.maxLevel);
     adf::GenerationSettings s = fine->settings();
     s.epsilonCells = errorWorld / d.finestCellSize();
@@ -50,14 +51,19 @@ MeshBuffers meshLod(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool
 }
 
 double lodErrorForTriangles(const adf::AdfPtr& fine, std::size_t triangles, util::ThreadPool* pool) {
+    if (!fine) throw std::invalid_argument("LOD needs a snapshot");
     // More error, fewer triangles: bisect log(error) between a finest cell and the domain.
     double lo = std::log(fine->domain().finestCellSize() * 0.25), hi = std::log(fine->domain().sizeWorld * 0.25);
-    double best = std::exp(hi);
+    double best = std::exp(hi), bestMiss = std::numeric_limits<double>::infinity();
     for (int i = 0; i < 24; ++i) {
         const double mid = 0.5 * (lo + hi);
         const std::size_t n = meshLod(fine, std::exp(mid), pool).triangleCount();
-        best = std::exp(mid);
-        if (std::abs(double(n) - double(triangles)) < 0.15 * double(triangles)) break;
+        const double miss = std::abs(double(n) - double(triangles));
+        if (miss < bestMiss) {
+            bestMiss = miss;
+            best = std::exp(mid);
+        }
+        if (miss < 0.15 * double(triangles)) break;
         if (n > triangles) lo = mid;
         else hi = mid;
     }

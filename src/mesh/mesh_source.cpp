@@ -12,7 +12,6 @@
 #include <vector>
 #include <cmath>
 #include <stdexcept>
-#include <tuple>
 #include <utility>
 
 namespace kizamu::mesh {
@@ -64,13 +63,11 @@ public:
             out[i] *= sign;
         }
     }
-    bool closed() const { return mClosed; }
-
 private:
     bool inside(const glm::dvec3& p) const { return mBvh.windingNumber(p) > 0.5; }
     TriangleBvh mBvh;
     bool mClosed;
-    double mSlack = 1e-12;
+    static constexpr double mSlack = 1e-12;  ///< m: rounding of distances and gaps
 };}  // namespace
 
 adf::SourcePtr makeMeshSource(const MeshBuffers& mesh) {

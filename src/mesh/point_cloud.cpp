@@ -28,11 +28,6 @@ struct SplitMix {
     float unit() { return float(next() >> 40) * (1.0f / 16777216.0f); }
 };
 
-void forEach(util::ThreadPool* pool, std::size_t n, const std::function<void(std::size_t)>& fn) {
-    if (pool && n > 1) pool->parallelFor(n, fn);
-    else
-        for (std::size_t i = 0; i < n; ++i) fn(i);
-}
 
 }  // namespace
 
@@ -43,7 +38,7 @@ PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t se
     adf.forEachTile([&](const adf::Tile& t) { tiles.push_back(&t); });
     std::vector<std::vector<BoundaryCell>> cells(tiles.size());
     const int maxLevel = adf.domain().maxLevel;
-    forEach(pool, tiles.size(), [&](std::size_t i) { appendBoundaryCells(*tiles[i], maxLevel, cells[i]); });
+    util::parallelFor(pool, tiles.size(), [&](std::size_t i) { appendBoundaryCells(*tiles[i], maxLevel, cells[i]); });
     std::vector<BoundaryCell> all;
     for (auto& c : cells) all.insert(all.end(), c.begin(), c.end());
     if (all.empty() || count == 0) return out;
@@ -68,7 +63,7 @@ PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t se
     const float h = adf.metresPerLattice();
     const std::size_t chunk = 4096;
     const std::size_t chunks = (all.size() + chunk - 1) / chunk;
-    forEach(pool, chunks, [&](std::size_t c) {
+    util::parallelFor(pool, chunks, [&](std::size_t c) {
         for (std::size_t i = c * chunk; i < std::min(all.size(), (c + 1) * chunk); ++i) {
             const BoundaryCell& cell = all[i];
             SplitMix rng{seed * 0x2545f4914f6cdd1dull + i};

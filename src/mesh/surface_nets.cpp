@@ -27,6 +27,9 @@ namespace {
 inline uint64_t packLattice(glm::uvec3 p) {
     return uint64_t(p.x) | (uint64_t(p.y) << 20) | (uint64_t(p.z) << 40);
 }
+inline glm::uvec3 unpackLattice(uint64_t k) {
+    return {uint32_t(k & 0xfffff), uint32_t((k >> 20) & 0xfffff), uint32_t((k >> 40) & 0xfffff)};
+}
 
 
 }  // namespace
@@ -229,7 +232,6 @@ using TileMesh = SurfaceMesher::TileMesh;
 struct Context {
     const Adf* adf;
     const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>* tiles;
-    uint32_t slotShift;
 };
 
 /// Distinct tile keys whose slots touch (closed) the slot box [lo, end).
@@ -343,8 +345,7 @@ void computeCrossings(const Adf& adf, const TileMesh& tm, std::vector<Crossing>&
 
 /// Lattice box of a ring cell.
 inline void ringBox(const Adf& adf, const Crossing& x, int q, glm::uvec3& lo, uint32_t& size) {
-    const uint64_t c = x.ringCell[q];
-    lo = glm::uvec3(uint32_t(c & 0xfffff), uint32_t((c >> 20) & 0xfffff), uint32_t((c >> 40) & 0xfffff));
+    lo = unpackLattice(x.ringCell[q]);
     size = 1u << uint32_t(adf.domain().maxLevel - x.ringLevel[q]);
 }
 
@@ -462,15 +463,15 @@ void gatherIncidences(const Context& ctx, const TileMesh& tm, const std::vector<
     // Group by cell, keeping the gathering order inside a cell (it is the same in every run:
     // neighbour tiles in key order, their crossings in leaf order). Cells of a stored tile have
     // 8-bit local coordinates: three counting passes instead of a comparison sort.
-    const uint32_t extent = tm.tile->level() >= 0 ? 1u << uint32_t(ctx.adf->domain().maxLevel - tm.tile->level()) : 0u;
+    const uint32_t extent = 1u << uint32_t(ctx.adf->domain().maxLevel - tm.tile->level());
     if (extent > 256) {
         std::stable_sort(out.begin(), out.end(), [](const Incidence& l, const Incidence& r) { return l.cell < r.cell; });
         return;
     }
     const glm::uvec3 o = tm.tile->latticeOrigin();
     auto local = [&](uint64_t c) {
-        return (uint32_t(c & 0xfffff) - o.x) | ((uint32_t((c >> 20) & 0xfffff) - o.y) << 8) |
-               ((uint32_t((c >> 40) & 0xfffff) - o.z) << 16);
+        const glm::uvec3 r = unpackLattice(c) - o;
+        return r.x | (r.y << 8) | (r.z << 16);
     };
     std::vector<Incidence> tmp(out.size());
     for (int pass = 0; pass < 3; ++pass) {
@@ -513,6 +514,10 @@ void computeVertices(const Context& ctx, TileMesh& tm, const std::vector<uint64_
             const int qa = (c.first + 3) % 4, qb = (c.last + 1) % 4;
             faces.push_back({c.x->ringCell[qa], qa, j});
             faces.push_back({c.x->ringCell[qb], qb, j});
+            // This cell owns the faces toward larger keys: their split vertices are decided
+            // again (splitFaces), so forget old ones (the crossing may be kept unchanged).
+            if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = {};
+            if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = {};
         }
         // Most faces carry exactly two crossings: pair those directly, sort only the rest.
         {
@@ -702,14 +707,6 @@ void relaxVertices(TileMesh& tm) {
     }
 }
 
-void runParallel(util::ThreadPool* pool, std::size_t n, const std::function<void(std::size_t)>& fn) {
-    if (pool && n > 1) {
-        pool->parallelFor(n, fn);
-    } else {
-        for (std::size_t i = 0; i < n; ++i) fn(i);
-    }
-}
-
 }  // namespace
 
 SurfaceMesher::SurfaceMesher(util::ThreadPool* pool) : mPool(pool) {}
@@ -749,8 +746,7 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
     SurfaceNetsStats st;
     const uint32_t shift = uint32_t(adf.domain().maxLevel - adf.domain().tileLevel());
     auto tileOfKey = [&](uint64_t key) -> const Tile* {
-        const glm::uvec3 o(uint32_t(key & 0xfffff), uint32_t((key >> 20) & 0xfffff), uint32_t((key >> 40) & 0xfffff));
-        const Tile* t = adf.tileAtSlot(o >> shift);
+        const Tile* t = adf.tileAtSlot(unpackLattice(key) >> shift);
         return packLattice(t->latticeOrigin()) == key ? t : nullptr;
     };
     auto neighbours = [&](uint64_t key, std::vector<uint64_t>& out) {
@@ -810,7 +806,7 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
     std::vector<uint8_t> changed(scanTiles.size(), 0);
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
     std::vector<std::vector<Crossing>> fresh(scanTiles.size());
-    runParallel(mPool, scanTiles.size(), [&](std::size_t i) {
+    util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
         if (!tm.leavesScanned) {
             scanLeaves(adf, tm);
@@ -869,9 +865,9 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
             if (tm) meshTiles.push_back(tm);
         }
     }
-    const Context ctx{&adf, &mTiles, shift};
+    const Context ctx{&adf, &mTiles};
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
-    runParallel(mPool, meshTiles.size(), [&](std::size_t i) {
+    util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
         std::vector<uint64_t> nbrs;
         neighbourKeys(adf, meshTiles[i]->slotMin, meshTiles[i]->slotEnd, nbrs);
         sortUnique(nbrs);  // a coarse tile covers several slots
@@ -900,7 +896,7 @@ void SurfaceMesher::rebuild(const std::vector<uint64_t>& dirtyIn, bool everythin
             if (it != mTiles.end() && !it->second->vertices.empty()) relaxTiles.push_back(it->second.get());
         }
     }
-    runParallel(mPool, relaxTiles.size(), [&](std::size_t i) {
+    util::parallelFor(mPool, relaxTiles.size(), [&](std::size_t i) {
         splitFaces(*relaxTiles[i]);
         relaxVertices(*relaxTiles[i]);
     });

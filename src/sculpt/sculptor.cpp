@@ -94,7 +94,7 @@ void Sculptor::apply(const Stroke& stroke) {
     mRedo.clear();
     mUndo.push_back({mCurrent, mLast.replacedBytes});
     mHistoryBytes += mLast.replacedBytes;
-    while (mHistoryBytes > mBudget && !mUndo.empty()) {
+    while (!mUndo.empty() && (mBudget == 0 || mHistoryBytes > mBudget)) {
         mHistoryBytes -= mUndo.front().bytes;
         mUndo.pop_front();
     }

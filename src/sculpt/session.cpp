@@ -4,6 +4,7 @@
 #include "sculpt/session.h"
 
 #include "adf/adf_file.h"
+#include "sculpt/swept_tool.h"
 #include "util/atomic_file.h"
 #include "util/file_error.h"
 
@@ -35,25 +36,20 @@ std::string checkpointName(std::size_t steps) {
 /// Step counts of the checkpoints in `dir`, newest first.
 std::vector<std::size_t> checkpoints(const std::string& dir) {
     std::vector<std::size_t> out;
-    for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
-        const std::string n = e.path().filename().string();
+    std::error_code ec;
+    for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+        const std::string n = it->path().filename().string();
         unsigned long long steps = 0;
         char tail[8] = {};
         if (n.size() == 23 && std::sscanf(n.c_str(), "checkpoint-%8llu%4s", &steps, tail) == 2 && std::string(tail) == ".kza")
             out.push_back(std::size_t(steps));
     }
+    if (ec) throw FileError(dir, "cannot list the session directory: " + ec.message());
     std::sort(out.rbegin(), out.rend());
     return out;
 }
 
-void fsyncDir(const std::string& dir) {
-    const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (fd >= 0) {
-        ::fsync(fd);  // best effort: some filesystems refuse directory fsync
-        ::close(fd);
-    }
-}
-
+/// Writes all of `text` at the end of the journal and fsyncs it. @throw FileError.
 void writeAll(int fd, const std::string& text, const std::string& path) {
     std::size_t done = 0;
     while (done < text.size()) {
@@ -111,9 +107,12 @@ void Session::openJournalForAppend() {
 
 std::unique_ptr<Session> Session::create(const std::string& dir, const Script& script, int level, util::ThreadPool* pool) {
     std::error_code ec;
-    fs::create_directories(dir, ec);
+    const bool made = fs::create_directories(dir, ec);
     if (ec) throw FileError(dir, "cannot create the session directory: " + ec.message());
-    if (fs::exists(journalPath(dir))) throw FileError(dir, "already holds a session (journal.jsonl); open it instead");
+    if (made) {
+        const std::string parent = fs::absolute(fs::path(dir), ec).parent_path().string();
+        util::fsyncDirectory(parent.empty() ? "." : parent);  // the new directory itself is durable
+    }
     std::unique_ptr<Session> s(new Session());
     s->mDir = dir;
     s->mPool = pool;
@@ -121,14 +120,20 @@ std::unique_ptr<Session> Session::create(const std::string& dir, const Script& s
     s->mJournal.steps.clear();
     if (level > 0) s->mJournal.domain.maxLevel = level;
     s->mSculptor = std::make_unique<Sculptor>(startAdf(s->mJournal, 0, pool), pool);
-    const std::string header = headerLine(s->mJournal) + "\n";
-    util::writeFileAtomically(journalPath(dir), std::as_bytes(std::span(header.data(), header.size())));
-    fsyncDir(dir);
-    s->openJournalForAppend();
+    // O_EXCL: never clobber another session, even one created at the same moment.
+    const std::string path = journalPath(dir);
+    s->mFd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
+    if (s->mFd < 0) {
+        if (errno == EEXIST) throw FileError(dir, "already holds a session (journal.jsonl); open it instead");
+        throw FileError(path, std::string("cannot create: ") + std::strerror(errno));
+    }
+    writeAll(s->mFd, headerLine(s->mJournal) + "\n", path);
+    util::fsyncDirectory(dir);
     return s;
 }
 
-std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool* pool, std::vector<std::string>* warnings) {
+std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool* pool, std::vector<std::string>* warnings,
+                                       bool readOnly) {
     const std::string path = journalPath(dir);
     if (!isSessionDir(dir)) throw FileError(dir, "not a Kizamu session (no journal.jsonl)");
     std::string text = util::readWholeFile(path);
@@ -140,7 +145,7 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
         if (warnings)
             warnings->push_back(path + ": the last record was cut short (" + std::to_string(text.size() - keep) +
                                 " bytes); the session continues from the steps before it");
-        if (::truncate(path.c_str(), off_t(keep)) != 0)
+        if (!readOnly && ::truncate(path.c_str(), off_t(keep)) != 0)
             throw FileError(path, std::string("cannot cut the unfinished record: ") + std::strerror(errno));
         text.resize(keep);
     }
@@ -170,21 +175,35 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
         s->mCheckpointSteps = 0;
     }
     s->mSculptor = std::make_unique<Sculptor>(base, pool);
+    s->mHistoryFromCheckpoint = s->mCheckpointSteps > 0;
     for (std::size_t i = s->mCheckpointSteps; i < total; ++i) s->mSculptor->replay(s->mJournal.steps[i]);
-    s->openJournalForAppend();
+    if (!readOnly) s->openJournalForAppend();
     return s;
 }
 
 void Session::record(const Step& step) {
+    if (mFd < 0) throw FileError(mDir, "the session is read-only or a journal write failed earlier");
+    if (step.kind == Step::Kind::Stroke) validateStroke(step.stroke.tool, step.stroke.samples);  // never journal a bad stroke
     // Opened from a checkpoint, the sculptor has no history before it: an undo reaching there
     // first rebuilds it from the journal, so the live session matches any later replay.
-    if (step.kind == Step::Kind::Undo && mSculptor->undoDepth() == 0 && mCheckpointSteps > 0) {
+    if (step.kind == Step::Kind::Undo && mSculptor->undoDepth() == 0 && mHistoryFromCheckpoint) {
         mSculptor = std::make_unique<Sculptor>(startAdf(mJournal, 0, mPool), mPool);
         for (const Step& s : mJournal.steps) mSculptor->replay(s);
-        mCheckpointSteps = 0;
+        mHistoryFromCheckpoint = false;
+    }
+    // Journal first: a step is applied only once it is durable. A failed write is cut back off
+    // the journal and the session stops taking steps (the clay on disk is whole).
+    const std::string path = journalPath(mDir);
+    const off_t before = ::lseek(mFd, 0, SEEK_END);
+    try {
+        writeAll(mFd, stepLine(step) + "\n", path);
+    } catch (...) {
+        if (before >= 0 && ::ftruncate(mFd, before) == 0) ::fsync(mFd);
+        ::close(mFd);
+        mFd = -1;
+        throw;
     }
     mSculptor->replay(step);
-    writeAll(mFd, stepLine(step) + "\n", journalPath(mDir));
     mJournal.steps.push_back(step);
 }
 

@@ -35,11 +35,14 @@ public:
     static std::unique_ptr<Session> create(const std::string& dir, const Script& script, int level,
                                            util::ThreadPool* pool = nullptr);
     /// Reopens `dir`. Problems that lose nothing (a cut-off last record, an unreadable newer
-    /// checkpoint) are appended to `warnings`.
+    /// checkpoint) are appended to `warnings`. `readOnly` changes nothing on disk and refuses
+    /// record() (what `kizamu info` and `convert` use).
     static std::unique_ptr<Session> open(const std::string& dir, util::ThreadPool* pool = nullptr,
-                                         std::vector<std::string>* warnings = nullptr);
+                                         std::vector<std::string>* warnings = nullptr, bool readOnly = false);
 
-    /// Applies a step and makes it durable (journal append + fsync) before returning.
+    /// Makes a step durable (journal append + fsync), then applies it. A stroke that fails
+    /// validation is not journaled. @throw FileError if the journal cannot be written (the
+    /// session then refuses further steps); std::invalid_argument for a bad stroke.
     void record(const Step& step);
     /// Writes a checkpoint of the current state (atomic, fsynced) and removes older ones.
     void checkpoint();
@@ -64,6 +67,7 @@ private:
     util::ThreadPool* mPool = nullptr;
     int mFd = -1;
     std::size_t mCheckpointSteps = 0;
+    bool mHistoryFromCheckpoint = false;  ///< opened from a checkpoint: no undo history before it
 };
 
 /// True when `path` is a directory holding a session journal.

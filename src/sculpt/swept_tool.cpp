@@ -52,16 +52,20 @@ double goldenMinimum(F&& f, double lo, double hi) {
 
 }  // namespace
 
-SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(tool) {
+void validateStroke(const Tool& tool, const std::vector<ToolSample>& samples) {
     tool.validate();
     if (samples.empty()) throw std::invalid_argument("a stroke needs at least one tool sample");
-    for (ToolSample& s : samples) {
+    for (const ToolSample& s : samples) {
         const glm::dvec3& p = s.position;
         const glm::dquat& q = s.orientation;
         if (!std::isfinite(p.x + p.y + p.z) || !std::isfinite(q.w + q.x + q.y + q.z) || glm::length(q) < 1e-9)
             throw std::invalid_argument("a tool sample has a non-finite position or orientation");
-        s.orientation = glm::normalize(q);
     }
+}
+
+SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(tool) {
+    validateStroke(tool, samples);
+    for (ToolSample& s : samples) s.orientation = glm::normalize(s.orientation);
     if (samples.size() == 1) samples.push_back(samples.front());  // a dab: a segment of length 0
     for (std::size_t i = 0; i + 1 < samples.size(); ++i) {
         Segment s{samples[i], samples[i + 1], glm::mat3_cast(glm::conjugate(samples[i].orientation)), glm::dvec3(0.0, 0.0, 1.0), 0.0, false, 1};

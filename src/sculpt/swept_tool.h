@@ -66,4 +66,8 @@ private:
 
 std::shared_ptr<const SweptTool> makeSweptTool(const Tool& tool, std::vector<ToolSample> samples);
 
+/// Throws std::invalid_argument (readable) unless `tool` is valid and `samples` is non-empty
+/// with finite positions and non-zero finite orientations: what SweptTool requires.
+void validateStroke(const Tool& tool, const std::vector<ToolSample>& samples);
+
 }  // namespace kizamu::sculpt

@@ -52,7 +52,10 @@ void writeFileAtomically(const std::string& path, std::span<const std::byte> byt
         fail(path, "cannot replace", error);
     }
     std::string dir = std::filesystem::path(path).parent_path().string();
-    if (dir.empty()) dir = ".";
+    fsyncDirectory(dir.empty() ? "." : dir);
+}
+
+void fsyncDirectory(const std::string& dir) {
     const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
     if (dfd >= 0) {
         ::fsync(dfd);  // best effort: some filesystems refuse directory fsync

@@ -14,6 +14,9 @@ namespace kizamu::util {
 /// Writes `bytes` to `path` atomically. @throw kizamu::FileError naming the failing step.
 void writeFileAtomically(const std::string& path, std::span<const std::byte> bytes);
 
+/// Makes a directory's entries (a created or renamed file) durable; best effort.
+void fsyncDirectory(const std::string& dir);
+
 /// Reads the whole file. @throw kizamu::FileError when it cannot be opened or read.
 std::string readWholeFile(const std::string& path);
 
