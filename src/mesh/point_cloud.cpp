@@ -69,7 +69,8 @@ PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t se
             SplitMix rng{seed * 0x2545f4914f6cdd1dull + i};
             const float size = float(cell.size);
             const float toMetres = 1.0f / (size * h);  // gradient per unit cell -> per metre
-            for (std::size_t k = firstPoint(i); k < firstPoint(i + 1); ++k) {
+            const std::size_t end = firstPoint(i + 1);
+            for (std::size_t k = firstPoint(i); k < end; ++k) {
                 glm::vec3 f(rng.unit(), rng.unit(), rng.unit());
                 adf::Sample s = adf::trilinear(cell.corners, f);
                 glm::vec3 g = s.gradient * toMetres;
