@@ -39,7 +39,8 @@ adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadP
     // keeps the fixed costs (tile table, tiles) in proportion to the output.
     adf::Domain d = fine->domain();
     while (d.maxLevel > 1 && d.finestCellSize() <= errorWorld) --d.maxLevel;  // finest cell in (E, 2E]
-    d.tileSpanLevels = std::min(d.tileSpanLevels, d.maxLevel);
+    // About 4^3 tiles or more: a small LOD still generates and meshes in parallel.
+    d.tileSpanLevels = std::clamp(d.maxLevel - 2, 1, d.tileSpanLevels);
     adf::GenerationSettings s = fine->settings();
     s.epsilonCells = errorWorld / d.finestCellSize();
     s.bandCells = 0.0;  // surface only: a mesh needs nothing else
