@@ -20,11 +20,13 @@ namespace kizamu::sculpt {
 namespace {
 
 /// old − tool (carve) or old ∪ tool (add), as min/max CSG, asking the swept tool only as far as
-/// it can change the answer.
+/// it can change the answer. `reflect` mirrors the tool across the domain's mid planes of the
+/// axes whose bit is set (symmetry): the query point is reflected instead.
 class StrokeEdit final : public adf::DistanceSource {
 public:
-    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool)
-        : mOld(std::move(old)), mTool(std::move(tool)), mCarve(mTool->tool().op == ToolOp::Carve) {
+    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre)
+        : mOld(std::move(old)), mTool(std::move(tool)), mCarve(mTool->tool().op == ToolOp::Carve), mReflect(reflect),
+          mCentre(centre) {
         mSmallestFeature = std::min(mOld->smallestFeature(), mTool->smallestFeature());
     }
     double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
@@ -33,17 +35,25 @@ public:
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(p[i], out[i]);
     }
     double featureSize(const glm::dvec3& c, double radius) const override {
-        return std::min(mOld->featureSize(c, radius), mTool->featureSize(c, radius));
+        return std::min(mOld->featureSize(c, radius), mTool->featureSize(mirrored(c), radius));
     }
 
 private:
+    glm::dvec3 mirrored(glm::dvec3 p) const {
+        for (int k = 0; k < 3; ++k)
+            if ((mReflect >> k) & 1) p[k] = 2.0 * mCentre[k] - p[k];
+        return p;
+    }
     double combine(const glm::dvec3& p, double old) const {
         // carve: max(old, -tool), decided by tool < -old; add: min(old, tool), by tool < old.
-        return mCarve ? std::max(old, -mTool->distanceBelow(p, -old)) : std::min(old, mTool->distanceBelow(p, old));
+        const glm::dvec3 q = mirrored(p);
+        return mCarve ? std::max(old, -mTool->distanceBelow(q, -old)) : std::min(old, mTool->distanceBelow(q, old));
     }
     adf::SourcePtr mOld;
     std::shared_ptr<const SweptTool> mTool;
     bool mCarve;
+    uint8_t mReflect;
+    glm::dvec3 mCentre;
 };
 
 /// Bytes of the tiles `before` has in `region` that `after` replaced.
@@ -82,14 +92,33 @@ adf::BoxWorld strokeRegion(const adf::Adf& adf, const adf::BoxWorld& swept) {
 void Sculptor::apply(const Stroke& stroke) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto swept = makeSweptTool(stroke.tool, stroke.samples);
-    const adf::BoxWorld region = strokeRegion(*mCurrent, swept->bounds());
-    const adf::SourcePtr old = adf::makeAdfSource(mCurrent);
-    const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept);
-    adf::GenerationStats gs;
-    adf::AdfPtr next = adf::regenerate(*mCurrent, *adf::makeRegionLimited(old, edited, region), region, mPool, &gs);
+    const adf::Domain& d = mCurrent->domain();
+    const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
+    // One regeneration per mirrored copy, each over its own region (a union box would rebuild
+    // every tile between the copies); together they are one stroke and one undo record.
+    adf::AdfPtr next = mCurrent;
+    std::size_t bytes = 0;
+    mLast.tilesRebuilt = 0;
+    for (uint8_t reflect = 0; reflect < 8; ++reflect) {
+        if ((reflect & ~stroke.mirror) != 0) continue;
+        adf::BoxWorld bounds = swept->bounds();
+        for (int k = 0; k < 3; ++k)
+            if ((reflect >> k) & 1) {
+                const double lo = 2.0 * centre[k] - bounds.max[k], hi = 2.0 * centre[k] - bounds.min[k];
+                bounds.min[k] = lo;
+                bounds.max[k] = hi;
+            }
+        const adf::BoxWorld region = strokeRegion(*next, bounds);
+        const adf::SourcePtr old = adf::makeAdfSource(next);
+        const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre);
+        adf::GenerationStats gs;
+        adf::AdfPtr after = adf::regenerate(*next, *adf::makeRegionLimited(old, edited, region), region, mPool, &gs);
+        mLast.tilesRebuilt += gs.tilesGenerated + gs.coarseTiles;
+        bytes += replacedBytes(*mCurrent, *after, region);
+        next = std::move(after);
+    }
     mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    mLast.tilesRebuilt = gs.tilesGenerated + gs.coarseTiles;
-    mLast.replacedBytes = replacedBytes(*mCurrent, *next, region);
+    mLast.replacedBytes = bytes;
 
     mRedo.clear();
     mUndo.push_back({mCurrent, mLast.replacedBytes});

@@ -89,6 +89,12 @@ Stroke parseStroke(const json& j) {
         throw std::invalid_argument("orientations must have one entry per path point");
     for (std::size_t i = 0; i < path.size(); ++i)
         s.samples.push_back({vec3Of(path[i], "path point"), each ? quatOf((*each)[i]) : fixed});
+    if (j.contains("mirror")) {
+        for (char c : j.at("mirror").get<std::string>()) {
+            if (c < 'x' || c > 'z') throw std::invalid_argument("mirror takes the axes x, y and/or z, like \"xz\"");
+            s.mirror = uint8_t(s.mirror | (1u << (c - 'x')));
+        }
+    }
     return s;
 }
 
@@ -178,6 +184,12 @@ std::string strokeLine(const Stroke& s) {
         sameOrientation = sameOrientation && t.orientation == s.samples.front().orientation;
     }
     j["path"] = path;
+    if (s.mirror) {
+        std::string axes;
+        for (int k = 0; k < 3; ++k)
+            if ((s.mirror >> k) & 1) axes += char('x' + k);
+        j["mirror"] = axes;
+    }
     if (sameOrientation) {
         if (s.samples.front().orientation != glm::dquat(1.0, 0.0, 0.0, 0.0)) j["orientation"] = quatJson(s.samples.front().orientation);
     } else {

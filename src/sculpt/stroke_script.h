@@ -34,6 +34,9 @@ struct StartShape {
 struct Stroke {
     Tool tool;
     std::vector<ToolSample> samples;  ///< at least one
+    /// Symmetry: also apply the stroke mirrored across the domain's mid planes normal to x (bit
+    /// 0), y (bit 1) and/or z (bit 2), and every combination of them.
+    uint8_t mirror = 0;
 };
 
 /// One record after the header: a stroke, or an undo or redo of the latest one.

@@ -142,6 +142,40 @@ TEST(Sculptor, TwoOrTwoHundredSamplesOfOnePathGiveTheSameClay) {
     }
 }
 
+TEST(Sculptor, MirroredStrokesCarveBothSidesAsOneUndoableStroke) {
+    util::ThreadPool pool;
+    const Script script = slabScript(7);  // symmetric about x = 0.5 and y = 0.5
+    const adf::AdfPtr start = startAdf(script, 0, &pool);
+    Stroke st;
+    st.tool.shape = ToolShape::Cube;  // not symmetric in its own frame once turned
+    st.tool.radius = 0.03;
+    const glm::dquat turn = glm::angleAxis(0.4, glm::normalize(glm::dvec3(0.2, 0.3, 1.0)));
+    st.samples = {{{0.2, 0.3, 0.5}, turn}, {{0.35, 0.4, 0.5}, turn}};
+    st.mirror = 0b011;  // x and y: four copies
+    Sculptor s(start, &pool);
+    s.apply(st);
+    EXPECT_EQ(s.undoDepth(), 1u);
+    const adf::Adf& a = *s.current();
+    const double eps = adf::GenerationSettings{}.errorBound(start->domain()).epsilon;
+    const mesh::MeshBuffers m = mesh::meshAdf(s.current(), &pool);
+    ASSERT_TRUE(test::closedOrientedManifold(m));
+    double worst = 0.0;
+    for (const glm::vec3& p : m.positions)
+        for (const glm::vec3 q : {glm::vec3(1.0f - p.x, p.y, p.z), glm::vec3(p.x, 1.0f - p.y, p.z), glm::vec3(1.0f - p.x, 1.0f - p.y, p.z)})
+            worst = std::max(worst, double(std::abs(a.distance(p) - a.distance(q))));
+    EXPECT_LE(worst, 2.0 * eps) << "the four copies are mirror images";
+    // Every copy carved: the middle of each mirrored path is outside the material now.
+    for (const glm::vec3 c : {glm::vec3(0.275f, 0.35f, 0.5f), glm::vec3(0.725f, 0.35f, 0.5f), glm::vec3(0.275f, 0.65f, 0.5f),
+                              glm::vec3(0.725f, 0.65f, 0.5f)})
+        EXPECT_GT(a.distance(c), 0.0f) << c.x << "," << c.y;
+    ASSERT_TRUE(s.undo());
+    EXPECT_EQ(s.current(), start);
+    // The script keeps the symmetry.
+    Script withMirror = script;
+    withMirror.add(st);
+    EXPECT_EQ(parseScript(formatScript(withMirror), "mem").steps[0].stroke.mirror, 0b011);
+}
+
 TEST(Sculptor, UndoAndRedoRestoreSnapshotsAndCostOnlyReplacedTiles) {
     Script script = slabScript(7);
     script.domain.tileSpanLevels = 3;  // 4096 tiles: a dab replaces a few
