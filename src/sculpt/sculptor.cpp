@@ -24,9 +24,9 @@ namespace {
 /// axes whose bit is set (symmetry): the query point is reflected instead.
 class StrokeEdit final : public adf::DistanceSource {
 public:
-    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre)
-        : mOld(std::move(old)), mTool(std::move(tool)), mCarve(mTool->tool().op == ToolOp::Carve), mReflect(reflect),
-          mCentre(centre) {
+    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre, double offset)
+        : mOld(std::move(old)), mTool(std::move(tool)), mOp(mTool->tool().op), mReflect(reflect), mCentre(centre),
+          mOffset(offset), mCore(mTool->tool().strength * mTool->tool().radius) {
         mSmallestFeature = std::min(mOld->smallestFeature(), mTool->smallestFeature());
     }
     double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
@@ -45,15 +45,29 @@ private:
         return p;
     }
     double combine(const glm::dvec3& p, double old) const {
-        // carve: max(old, -tool), decided by tool < -old; add: min(old, tool), by tool < old.
         const glm::dvec3 q = mirrored(p);
-        return mCarve ? std::max(old, -mTool->distanceBelow(q, -old)) : std::min(old, mTool->distanceBelow(q, old));
+        switch (mOp) {
+        case ToolOp::Carve: return std::max(old, -mTool->distanceBelow(q, -old));  // decided by tool < -old
+        case ToolOp::Add: return std::min(old, mTool->distanceBelow(q, old));      // decided by tool < old
+        case ToolOp::Build:
+        case ToolOp::HeatGun: {
+            // Offset by the amount times a smooth weight: 0 at the tool's boundary, 1 at depth
+            // `mCore` inside it (so the surface moves continuously as the tool arrives).
+            const double inside = -mTool->distanceBelow(q, 0.0);
+            if (!(inside > 0.0)) return old;
+            const double t = std::min(1.0, inside / mCore), w = t * t * (3.0 - 2.0 * t);
+            return mOp == ToolOp::Build ? old - mOffset * w : old + mOffset * w;
+        }
+        }
+        return old;
     }
     adf::SourcePtr mOld;
     std::shared_ptr<const SweptTool> mTool;
-    bool mCarve;
+    ToolOp mOp;
     uint8_t mReflect;
     glm::dvec3 mCentre;
+    double mOffset;  ///< m, build and heat gun
+    double mCore;    ///< m, depth inside the tool where the weight reaches 1
 };
 
 /// Bytes of the tiles `before` has in `region` that `after` replaced.
@@ -110,7 +124,8 @@ void Sculptor::apply(const Stroke& stroke) {
             }
         const adf::BoxWorld region = strokeRegion(*next, bounds);
         const adf::SourcePtr old = adf::makeAdfSource(next);
-        const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre);
+        const double offset = stroke.tool.op == ToolOp::HeatGun ? stroke.tool.rate * stroke.dwell : stroke.tool.amount;
+        const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre, offset);
         adf::GenerationStats gs;
         adf::AdfPtr after = adf::regenerate(*next, *adf::makeRegionLimited(old, edited, region), region, mPool, &gs);
         mLast.tilesRebuilt += gs.tilesGenerated + gs.coarseTiles;

@@ -79,6 +79,10 @@ Stroke parseStroke(const json& j) {
     s.tool.radius = j.at("radius").get<double>();
     s.tool.halfLength = 0.5 * number(j, "length", 2.0 * s.tool.radius);
     s.tool.strength = number(j, "strength", 1.0);
+    s.tool.amount = number(j, "amount", 0.0);
+    s.tool.rate = number(j, "rate", 0.0);
+    s.dwell = number(j, "dwell", 0.0);
+    if (!(s.dwell >= 0.0) || !std::isfinite(s.dwell)) throw std::invalid_argument("dwell must be a non-negative time in seconds");
     s.tool.validate();
     const json& path = j.at("path");
     if (!path.is_array() || path.empty()) throw std::invalid_argument("path must be a non-empty list of points");
@@ -177,6 +181,11 @@ std::string strokeLine(const Stroke& s) {
     json j = {{"op", opName(s.tool.op)}, {"shape", shapeName(s.tool.shape)}, {"radius", s.tool.radius}};
     if (s.tool.shape == ToolShape::Cylinder) j["length"] = 2.0 * s.tool.halfLength;
     if (s.tool.strength != 1.0) j["strength"] = s.tool.strength;
+    if (s.tool.op == ToolOp::Build) j["amount"] = s.tool.amount;
+    if (s.tool.op == ToolOp::HeatGun) {
+        j["rate"] = s.tool.rate;
+        j["dwell"] = s.dwell;
+    }
     json path = json::array();
     bool sameOrientation = true;
     for (const ToolSample& t : s.samples) {

@@ -37,6 +37,7 @@ struct Stroke {
     /// Symmetry: also apply the stroke mirrored across the domain's mid planes normal to x (bit
     /// 0), y (bit 1) and/or z (bit 2), and every combination of them.
     uint8_t mirror = 0;
+    double dwell = 0.0;  ///< s the tool dwelt along the path (heat gun: melts rate × dwell)
 };
 
 /// One record after the header: a stroke, or an undo or redo of the latest one.

@@ -32,6 +32,9 @@ void Tool::validate() const {
     if (shape == ToolShape::Cylinder && bad(halfLength))
         throw std::invalid_argument("cylinder tool length must be a positive length in metres");
     if (!(strength > 0.0 && strength <= 1.0)) throw std::invalid_argument("tool strength must be in (0, 1]");
+    if (op == ToolOp::Build && (bad(amount) || amount > radius))
+        throw std::invalid_argument("build needs an amount in metres, positive and at most the radius");
+    if (op == ToolOp::HeatGun && bad(rate)) throw std::invalid_argument("the heat gun needs a positive rate in metres per second");
 }
 
 double toolDistance(const Tool& tool, const glm::dvec3& q) {
@@ -60,7 +63,15 @@ const char* shapeName(ToolShape s) {
     return "?";
 }
 
-const char* opName(ToolOp o) { return o == ToolOp::Carve ? "carve" : "add"; }
+const char* opName(ToolOp o) {
+    switch (o) {
+    case ToolOp::Carve: return "carve";
+    case ToolOp::Add: return "add";
+    case ToolOp::Build: return "build";
+    case ToolOp::HeatGun: return "heat-gun";
+    }
+    return "?";
+}
 
 ToolShape parseShape(const std::string& s) {
     if (s == "sphere") return ToolShape::Sphere;
@@ -72,7 +83,9 @@ ToolShape parseShape(const std::string& s) {
 ToolOp parseOp(const std::string& s) {
     if (s == "carve") return ToolOp::Carve;
     if (s == "add") return ToolOp::Add;
-    throw std::invalid_argument("unknown tool operation '" + s + "' (carve, add)");
+    if (s == "build") return ToolOp::Build;
+    if (s == "heat-gun") return ToolOp::HeatGun;
+    throw std::invalid_argument("unknown tool operation '" + s + "' (carve, add, build, heat-gun)");
 }
 
 }  // namespace kizamu::sculpt

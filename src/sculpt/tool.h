@@ -16,7 +16,10 @@
 namespace kizamu::sculpt {
 
 enum class ToolShape : uint8_t { Sphere, Cube, Cylinder };
-enum class ToolOp : uint8_t { Carve, Add };
+/// Carve and add are CSG with the swept tool. Build and heat gun change the clay gradually:
+/// inside the tool the field is offset by an amount that falls smoothly from the tool's core to
+/// its boundary, raising (build) or melting (heat gun) the surface there.
+enum class ToolOp : uint8_t { Carve, Add, Build, HeatGun };
 
 struct Tool {
     ToolShape shape = ToolShape::Sphere;
@@ -24,6 +27,8 @@ struct Tool {
     double radius = 0.01;      ///< m: sphere radius, half edge of the cube, cylinder radius
     double halfLength = 0.01;  ///< m: half length of the cylinder along local z
     double strength = 1.0;     ///< (0, 1]: how much of the tool bites (it shrinks by (1 - s) * radius)
+    double amount = 0.0;       ///< m, build: how far one stroke raises the surface at the tool's core
+    double rate = 0.0;         ///< m/s, heat gun: how fast the surface melts at the core while it dwells
 
     /// Largest distance from the pose to a point of the tool, m.
     double boundingRadius() const;
@@ -50,7 +55,7 @@ const char* opName(ToolOp o);
 /// Parses "sphere" / "cube" / "cylinder" (also "chisel" for the cylinder). Throws
 /// std::invalid_argument naming the accepted words otherwise.
 ToolShape parseShape(const std::string& s);
-/// Parses "carve" / "add".
+/// Parses "carve" / "add" / "build" / "heat-gun".
 ToolOp parseOp(const std::string& s);
 
 }  // namespace kizamu::sculpt

@@ -176,6 +176,51 @@ TEST(Sculptor, MirroredStrokesCarveBothSidesAsOneUndoableStroke) {
     EXPECT_EQ(parseScript(formatScript(withMirror), "mem").steps[0].stroke.mirror, 0b011);
 }
 
+TEST(Sculptor, BuildRaisesAndTheHeatGunMeltsInProportionToDwell) {
+    util::ThreadPool pool;
+    const Script script = slabScript(7);  // top face at z = 0.5
+    const adf::AdfPtr start = startAdf(script, 0, &pool);
+    const double h = start->domain().finestCellSize();
+    const glm::dvec3 c(0.5, 0.5, 0.5), far(0.2, 0.2, 0.5);
+    auto at = [](const Sculptor& s, const glm::dvec3& p) { return double(s.current()->distance(glm::vec3(p))); };
+    Stroke build;
+    build.tool.op = ToolOp::Build;
+    build.tool.radius = 0.06;
+    build.tool.amount = 3.0 * h;
+    build.samples = {{c, kIdentity}};
+    Sculptor b(start, &pool);
+    b.apply(build);
+    EXPECT_NEAR(at(b, c), -3.0 * h, 0.3 * h) << "the core rises by the amount";
+    EXPECT_NEAR(at(b, c + glm::dvec3(0.03, 0, 0)), -1.5 * h, 0.3 * h) << "half-way out, half the amount";
+    EXPECT_NEAR(at(b, far), double(start->distance(glm::vec3(far))), 1e-6) << "nothing changes outside the tool";
+    b.apply(build);  // builds up gradually
+    EXPECT_NEAR(at(b, c), -6.0 * h, 0.4 * h);
+
+    Stroke heat;
+    heat.tool.op = ToolOp::HeatGun;
+    heat.tool.radius = 0.06;
+    heat.tool.rate = 0.01;  // m/s
+    for (double dwell : {0.0, 0.2, 0.4}) {
+        heat.dwell = dwell;
+        heat.samples = {{c, kIdentity}};
+        Sculptor g(start, &pool);
+        g.apply(heat);
+        EXPECT_NEAR(at(g, c), 0.01 * dwell, 0.3 * h) << "dwell " << dwell;
+    }
+    Script roundTrip = script;
+    roundTrip.add(build);
+    roundTrip.add(heat);
+    const Script r = parseScript(formatScript(roundTrip), "mem");
+    EXPECT_EQ(r.steps[0].stroke.tool.op, ToolOp::Build);
+    EXPECT_DOUBLE_EQ(r.steps[0].stroke.tool.amount, 3.0 * h);
+    EXPECT_EQ(r.steps[1].stroke.tool.op, ToolOp::HeatGun);
+    EXPECT_DOUBLE_EQ(r.steps[1].stroke.tool.rate, 0.01);
+    EXPECT_DOUBLE_EQ(r.steps[1].stroke.dwell, 0.4);
+    Stroke bad = build;
+    bad.tool.amount = 0.0;
+    EXPECT_THROW(b.apply(bad), std::invalid_argument);
+}
+
 TEST(Sculptor, UndoAndRedoRestoreSnapshotsAndCostOnlyReplacedTiles) {
     Script script = slabScript(7);
     script.domain.tileSpanLevels = 3;  // 4096 tiles: a dab replaces a few
