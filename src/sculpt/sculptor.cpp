@@ -27,6 +27,13 @@ public:
     StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre, double offset)
         : mOld(std::move(old)), mTool(std::move(tool)), mOp(mTool->tool().op), mReflect(reflect), mCentre(centre),
           mOffset(offset), mCore(mTool->tool().strength * mTool->tool().radius) {
+        // Flatten: the plane through the first pose, normal to its z axis (mirrored copies
+        // mirror the point, so the plane is taken in the reflected frame too).
+        const ToolSample& first = mTool->firstSample();
+        mPlanePoint = mirrored(first.position);
+        mPlaneNormal = first.orientation * glm::dvec3(0.0, 0.0, 1.0);
+        for (int k = 0; k < 3; ++k)
+            if ((mReflect >> k) & 1) mPlaneNormal[k] = -mPlaneNormal[k];
         mSmallestFeature = std::min(mOld->smallestFeature(), mTool->smallestFeature());
     }
     double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
@@ -49,17 +56,33 @@ private:
         switch (mOp) {
         case ToolOp::Carve: return std::max(old, -mTool->distanceBelow(q, -old));  // decided by tool < -old
         case ToolOp::Add: return std::min(old, mTool->distanceBelow(q, old));      // decided by tool < old
-        case ToolOp::Build:
-        case ToolOp::HeatGun: {
-            // Offset by the amount times a smooth weight: 0 at the tool's boundary, 1 at depth
-            // `mCore` inside it (so the surface moves continuously as the tool arrives).
-            const double inside = -mTool->distanceBelow(q, 0.0);
-            if (!(inside > 0.0)) return old;
-            const double t = std::min(1.0, inside / mCore), w = t * t * (3.0 - 2.0 * t);
-            return mOp == ToolOp::Build ? old - mOffset * w : old + mOffset * w;
+        default: break;
         }
+        // The gradual tools: a smooth weight, 0 at the tool's boundary and 1 at depth `mCore`
+        // inside it, so the surface moves continuously as the tool arrives.
+        const double inside = -mTool->distanceBelow(q, 0.0);
+        if (!(inside > 0.0)) return old;
+        const double t = std::min(1.0, inside / mCore), w = t * t * (3.0 - 2.0 * t);
+        switch (mOp) {
+        case ToolOp::Build: return old - mOffset * w;
+        case ToolOp::HeatGun: return old + mOffset * w;
+        case ToolOp::Smooth: {
+            // One Laplacian step: the mean of the field at six points a quarter of the tool's
+            // radius away. A plane's field is its own mean; a ridge's is higher (wears), a
+            // valley's lower (fills).
+            const double r = 0.25 * mTool->tool().radius;
+            double mean = 0.0;
+            for (int k = 0; k < 3; ++k)
+                for (double sign : {-1.0, 1.0}) {
+                    glm::dvec3 o(0.0);
+                    o[k] = sign * r;
+                    mean += mOld->distance(p + o);
+                }
+            return old + w * mTool->tool().strength * (mean / 6.0 - old);
         }
-        return old;
+        case ToolOp::Flatten: return old + w * (glm::dot(p - mPlanePoint, mPlaneNormal) - old);
+        default: return old;
+        }
     }
     adf::SourcePtr mOld;
     std::shared_ptr<const SweptTool> mTool;
@@ -68,6 +91,7 @@ private:
     glm::dvec3 mCentre;
     double mOffset;  ///< m, build and heat gun
     double mCore;    ///< m, depth inside the tool where the weight reaches 1
+    glm::dvec3 mPlanePoint{0.0}, mPlaneNormal{0.0, 0.0, 1.0};  ///< flatten
 };
 
 /// Bytes of the tiles `before` has in `region` that `after` replaced.

@@ -41,6 +41,8 @@ public:
     /// Box (m) containing every point of the swept tool.
     adf::BoxWorld bounds() const { return mBounds; }
     const Tool& tool() const { return mTool; }
+    /// The stroke's first pose (orientation unit).
+    const ToolSample& firstSample() const { return mSegments.front().a; }
 
 private:
     struct Segment {

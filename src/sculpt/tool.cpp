@@ -69,6 +69,8 @@ const char* opName(ToolOp o) {
     case ToolOp::Add: return "add";
     case ToolOp::Build: return "build";
     case ToolOp::HeatGun: return "heat-gun";
+    case ToolOp::Smooth: return "smooth";
+    case ToolOp::Flatten: return "flatten";
     }
     return "?";
 }
@@ -85,7 +87,9 @@ ToolOp parseOp(const std::string& s) {
     if (s == "add") return ToolOp::Add;
     if (s == "build") return ToolOp::Build;
     if (s == "heat-gun") return ToolOp::HeatGun;
-    throw std::invalid_argument("unknown tool operation '" + s + "' (carve, add, build, heat-gun)");
+    if (s == "smooth") return ToolOp::Smooth;
+    if (s == "flatten") return ToolOp::Flatten;
+    throw std::invalid_argument("unknown tool operation '" + s + "' (carve, add, build, heat-gun, smooth, flatten)");
 }
 
 }  // namespace kizamu::sculpt

@@ -16,10 +16,12 @@
 namespace kizamu::sculpt {
 
 enum class ToolShape : uint8_t { Sphere, Cube, Cylinder };
-/// Carve and add are CSG with the swept tool. Build and heat gun change the clay gradually:
-/// inside the tool the field is offset by an amount that falls smoothly from the tool's core to
-/// its boundary, raising (build) or melting (heat gun) the surface there.
-enum class ToolOp : uint8_t { Carve, Add, Build, HeatGun };
+/// Carve and add are CSG with the swept tool. The others change the clay gradually, by a weight
+/// that falls smoothly from the tool's core (1) to its boundary (0): build and heat gun offset
+/// the field (raise, melt); smooth moves it toward its local average (sandpaper: ridges wear,
+/// valleys fill); flatten moves it toward the plane through the stroke's first pose, normal to
+/// that pose's z axis.
+enum class ToolOp : uint8_t { Carve, Add, Build, HeatGun, Smooth, Flatten };
 
 struct Tool {
     ToolShape shape = ToolShape::Sphere;

@@ -63,7 +63,7 @@ cmp -s "$tmp/c1.kza" "$tmp/c2.kza" || fail "replaying a script twice gave differ
 "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --out "$tmp/c.stl" >/dev/null || fail "run to stl"
 admesh "$tmp/c.stl" | grep -q "Edges fixed *: *0" || fail "carved mesh is not closed"
 "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --session "$tmp/sess" --checkpoint-every 2 >/dev/null || fail "run --session"
-"$kizamu" info "$tmp/sess" | grep -q "strokes     7 " || fail "info on a session: $("$kizamu" info "$tmp/sess")"
+"$kizamu" info "$tmp/sess" | grep -q "strokes     9 " || fail "info on a session: $("$kizamu" info "$tmp/sess")"
 "$kizamu" convert "$tmp/sess" "$tmp/s.kza" >/dev/null || fail "convert a session"
 cmp -s "$tmp/c1.kza" "$tmp/s.kza" || fail "the session's clay differs from the plain replay"
 "$kizamu" run "$repo/examples/carve_basics.jsonl" --session "$tmp/sess" >/dev/null 2>"$tmp/err" && fail "a session must not be overwritten"

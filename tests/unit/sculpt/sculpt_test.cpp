@@ -221,6 +221,46 @@ TEST(Sculptor, BuildRaisesAndTheHeatGunMeltsInProportionToDwell) {
     EXPECT_THROW(b.apply(bad), std::invalid_argument);
 }
 
+TEST(Sculptor, SmoothWearsRidgesKeepsPlanesAndFlattenLevelsBumps) {
+    util::ThreadPool pool;
+    const Script script = slabScript(7);  // x in [0.15, 0.85], top face at z = 0.5
+    const adf::AdfPtr start = startAdf(script, 0, &pool);
+    const double h = start->domain().finestCellSize();
+    auto at = [](const adf::AdfPtr& a, const glm::dvec3& p) { return double(a->distance(glm::vec3(p))); };
+    Stroke smooth;
+    smooth.tool.op = ToolOp::Smooth;
+    smooth.tool.radius = 0.05;
+    // On the flat top the field is its own mean: nothing moves.
+    smooth.samples = {{{0.4, 0.5, 0.5}, kIdentity}};
+    Sculptor flat(start, &pool);
+    flat.apply(smooth);
+    EXPECT_NEAR(at(flat.current(), {0.4, 0.5, 0.5}), 0.0, 0.05 * h);
+    EXPECT_NEAR(at(flat.current(), {0.4, 0.5, 0.52}), 0.02, 0.05 * h);
+    // On the slab's top edge the ridge wears away.
+    smooth.samples = {{{0.15, 0.5, 0.5}, kIdentity}};
+    Sculptor ridge(start, &pool);
+    ridge.apply(smooth);
+    EXPECT_GT(at(ridge.current(), {0.15, 0.5, 0.5}), 0.2 * h);
+
+    // Flatten: a bump added on the top face is levelled back to the plane z = 0.5.
+    Stroke bump;
+    bump.tool.op = ToolOp::Add;
+    bump.tool.radius = 0.03;
+    bump.samples = {{{0.5, 0.5, 0.5}, kIdentity}};
+    Sculptor s(start, &pool);
+    s.apply(bump);
+    ASSERT_LT(at(s.current(), {0.5, 0.5, 0.515}), 0.0);
+    Stroke flatten;
+    flatten.tool.op = ToolOp::Flatten;
+    flatten.tool.radius = 0.08;
+    flatten.samples = {{{0.5, 0.5, 0.5}, kIdentity}};
+    s.apply(flatten);
+    EXPECT_GT(at(s.current(), {0.5, 0.5, 0.515}), 0.0);
+    EXPECT_NEAR(at(s.current(), {0.5, 0.5, 0.5}), 0.0, 0.25 * h);
+    EXPECT_EQ(parseOp("smooth"), ToolOp::Smooth);
+    EXPECT_EQ(parseOp("flatten"), ToolOp::Flatten);
+}
+
 TEST(Sculptor, UndoAndRedoRestoreSnapshotsAndCostOnlyReplacedTiles) {
     Script script = slabScript(7);
     script.domain.tileSpanLevels = 3;  // 4096 tiles: a dab replaces a few
