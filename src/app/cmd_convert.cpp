@@ -48,7 +48,6 @@ mesh::MeshBuffers meshOf(const adf::AdfPtr& a, const ConvertOptions& o, util::Th
     return m;
 }
 
-bool isAdf(const std::string& path) { return isAdfPath(path); }
 
 void runConvert(const ConvertOptions& o) {
     util::ThreadPool pool(o.threads);
@@ -57,7 +56,7 @@ void runConvert(const ConvertOptions& o) {
         const auto session = sculpt::Session::open(o.in, &pool, &warnings, /*readOnly=*/true);
         for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
         std::printf("opened session %s: %zu steps\n", o.in.c_str(), session->steps());
-        if (isAdf(o.out)) {
+        if (isAdfPath(o.out)) {
             adf::saveAdf(*session->sculptor().current(), o.out);
         } else {
             mesh::exportMesh(meshOf(session->sculptor().current(), o, pool), o.out);
@@ -65,8 +64,8 @@ void runConvert(const ConvertOptions& o) {
         std::printf("wrote %s\n", o.out.c_str());
         return;
     }
-    if (isAdf(o.in)) {
-        if (isAdf(o.out)) throw FileError(o.out, "the input is already an ADF; pick a mesh format for the output");
+    if (isAdfPath(o.in)) {
+        if (isAdfPath(o.out)) throw FileError(o.out, "the input is already an ADF; pick a mesh format for the output");
         const adf::AdfPtr a = adf::loadAdf(o.in);
         std::printf("read %s: level %d\n", o.in.c_str(), a->domain().maxLevel);
         mesh::exportMesh(meshOf(a, o, pool), o.out);
@@ -75,7 +74,7 @@ void runConvert(const ConvertOptions& o) {
     }
     const mesh::MeshBuffers m = mesh::importMesh(o.in);
     std::printf("read %s: %zu vertices, %zu triangles\n", o.in.c_str(), m.vertexCount(), m.triangleCount());
-    if (!isAdf(o.out) && !o.levelGiven && o.lod == 0.0) {
+    if (!isAdfPath(o.out) && !o.levelGiven && o.lod == 0.0) {
         mesh::exportMesh(m, o.out);
         std::printf("wrote %s\n", o.out.c_str());
         return;
@@ -88,7 +87,7 @@ void runConvert(const ConvertOptions& o) {
     const adf::Adf::Stats st = a->computeStats();
     std::printf("generated a level-%d ADF in %.1f ms: %zu cells, %.2f MB\n", o.level, msSince(t0), st.cells,
                 double(st.bytes()) / 1e6);
-    if (isAdf(o.out)) {
+    if (isAdfPath(o.out)) {
         adf::saveAdf(*a, o.out);
     } else {
         mesh::exportMesh(meshOf(a, o, pool), o.out);  // a watertight remesh of the input

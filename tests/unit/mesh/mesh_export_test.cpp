@@ -77,21 +77,37 @@ protected:
     std::filesystem::path mDir;
 };
 
-TEST_P(MeshExport, AssimpReadsBackTheSameMesh) {
+/// Exports `mesh` as `path` and checks what assimp reads back: the face count, the vertex count
+/// where the format keeps indexing (STL repeats vertices per facet and assimp de-indexes OBJ
+/// faces: only PLY and glTF keep them), and the x extent.
+void expectAssimpReadsBack(const MeshBuffers& mesh, const std::string& path, const std::string& format, double minX,
+                           double maxX) {
     ASSERT_EQ(std::system("command -v assimp >/dev/null 2>&1"), 0) << "assimp (assimp-utils) is required";
-    const MeshBuffers mesh = uvSphere(0.2f, 12, 16);
-    const std::string path = (mDir / (std::string("sphere.") + GetParam())).string();
     exportMesh(mesh, path);
     // -ptv etc. off: plain import, so counts are the file's own.
     const std::string info = run("assimp info '" + path + "' --raw");
     ASSERT_NE(info.find("Importing file ...                   OK"), std::string::npos) << info;
     EXPECT_EQ(field(info, R"(Faces:\s+(\d+))"), double(mesh.triangleCount())) << info;
-    // STL repeats vertices per facet and assimp de-indexes OBJ faces: only PLY and glTF keep them.
-    if (std::string(GetParam()) == "ply" || std::string(GetParam()) == "glb") {
+    if (format == "ply" || format == "glb") {
         EXPECT_EQ(field(info, R"(Vertices:\s+(\d+))"), double(mesh.vertexCount())) << info;
     }
-    EXPECT_NEAR(field(info, R"(Minimum point\s+\(([-0-9.e]+))"), 0.5 - 0.2, 1e-5) << info;
-    EXPECT_NEAR(field(info, R"(Maximum point\s+\(([-0-9.e]+))"), 0.5 + 0.2, 1e-5) << info;
+    EXPECT_NEAR(field(info, R"(Minimum point\s+\(([-0-9.e]+))"), minX, 1e-5) << info;
+    EXPECT_NEAR(field(info, R"(Maximum point\s+\(([-0-9.e]+))"), maxX, 1e-5) << info;
+}
+
+/// Exports `mesh` as STL and checks that admesh finds it closed and consistently oriented.
+void expectAdmeshFindsItClosed(const MeshBuffers& mesh, const std::string& path) {
+    ASSERT_EQ(std::system("command -v admesh >/dev/null 2>&1"), 0) << "admesh is required";
+    exportMesh(mesh, path);
+    const std::string report = run("admesh '" + path + "'");
+    EXPECT_EQ(field(report, R"(Number of facets\s*:\s*(\d+))"), double(mesh.triangleCount())) << report;
+    EXPECT_EQ(field(report, R"(Edges fixed\s*:\s*(\d+))"), 0.0) << report;
+    EXPECT_EQ(field(report, R"(Backwards edges\s*:\s*(\d+))"), 0.0) << report;
+}
+
+TEST_P(MeshExport, AssimpReadsBackTheSameMesh) {
+    expectAssimpReadsBack(uvSphere(0.2f, 12, 16), (mDir / (std::string("sphere.") + GetParam())).string(), GetParam(),
+                          0.5 - 0.2, 0.5 + 0.2);
 }
 
 /// The mesher's output for the test part: what users export.
@@ -101,7 +117,6 @@ MeshBuffers testPartMesh() {
 }
 
 TEST_P(MeshExport, AssimpReadsBackTheSurfaceNetsMesh) {
-    ASSERT_EQ(std::system("command -v assimp >/dev/null 2>&1"), 0) << "assimp (assimp-utils) is required";
     const MeshBuffers mesh = testPartMesh();
     ASSERT_GT(mesh.triangleCount(), 1000u);
     glm::vec3 lo(1e9f), hi(-1e9f);
@@ -109,42 +124,19 @@ TEST_P(MeshExport, AssimpReadsBackTheSurfaceNetsMesh) {
         lo = glm::min(lo, p);
         hi = glm::max(hi, p);
     }
-    const std::string path = (mDir / (std::string("part.") + GetParam())).string();
-    exportMesh(mesh, path);
-    const std::string info = run("assimp info '" + path + "' --raw");
-    ASSERT_NE(info.find("Importing file ...                   OK"), std::string::npos) << info;
-    EXPECT_EQ(field(info, R"(Faces:\s+(\d+))"), double(mesh.triangleCount())) << info;
-    if (std::string(GetParam()) == "ply" || std::string(GetParam()) == "glb") {
-        EXPECT_EQ(field(info, R"(Vertices:\s+(\d+))"), double(mesh.vertexCount())) << info;
-    }
-    EXPECT_NEAR(field(info, R"(Minimum point\s+\(([-0-9.e]+))"), lo.x, 1e-5) << info;
-    EXPECT_NEAR(field(info, R"(Maximum point\s+\(([-0-9.e]+))"), hi.x, 1e-5) << info;
+    expectAssimpReadsBack(mesh, (mDir / (std::string("part.") + GetParam())).string(), GetParam(), lo.x, hi.x);
 }
 
 TEST_F(MeshExport, AdmeshFindsTheSurfaceNetsStlClosed) {
-    ASSERT_EQ(std::system("command -v admesh >/dev/null 2>&1"), 0) << "admesh is required";
     const MeshBuffers mesh = testPartMesh();
     const std::string path = (mDir / "part.stl").string();
-    exportMesh(mesh, path);
-    const std::string report = run("admesh '" + path + "'");
-    EXPECT_EQ(field(report, R"(Number of facets\s*:\s*(\d+))"), double(mesh.triangleCount())) << report;
-    EXPECT_EQ(field(report, R"(Edges fixed\s*:\s*(\d+))"), 0.0) << report;
-    EXPECT_EQ(field(report, R"(Backwards edges\s*:\s*(\d+))"), 0.0) << report;
-    EXPECT_EQ(field(report, R"(Number of parts\s*:\s*(\d+))"), 1.0) << report;
+    expectAdmeshFindsItClosed(mesh, path);
+    EXPECT_EQ(field(run("admesh '" + path + "'"), R"(Number of parts\s*:\s*(\d+))"), 1.0);
 }
+
+TEST_F(MeshExport, AdmeshFindsAClosedStl) { expectAdmeshFindsItClosed(uvSphere(0.2f, 10, 12), (mDir / "sphere.stl").string()); }
 
 INSTANTIATE_TEST_SUITE_P(Formats, MeshExport, ::testing::Values("obj", "stl", "ply", "glb"));
-
-TEST_F(MeshExport, AdmeshFindsAClosedStl) {
-    ASSERT_EQ(std::system("command -v admesh >/dev/null 2>&1"), 0) << "admesh is required";
-    const MeshBuffers mesh = uvSphere(0.2f, 10, 12);
-    const std::string path = (mDir / "sphere.stl").string();
-    exportMesh(mesh, path);
-    const std::string report = run("admesh '" + path + "'");
-    EXPECT_EQ(field(report, R"(Number of facets\s*:\s*(\d+))"), double(mesh.triangleCount())) << report;
-    EXPECT_EQ(field(report, R"(Edges fixed\s*:\s*(\d+))"), 0.0) << report;
-    EXPECT_EQ(field(report, R"(Backwards edges\s*:\s*(\d+))"), 0.0) << report;
-}
 
 TEST_F(MeshExport, RejectsUnknownFormatsAndInvalidMeshes) {
     MeshBuffers mesh = uvSphere(0.2f, 6, 8);
