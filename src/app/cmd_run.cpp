@@ -41,7 +41,7 @@ void runScript(const RunOptions& o) {
     if (!o.session.empty()) {
         session = sculpt::Session::create(o.session, script, o.level, &pool);
     } else {
-        plain = std::make_unique<sculpt::Sculptor>(sculpt::startAdf(script, o.level, &pool), &pool);
+        plain = sculpt::makeSculptor(script, o.level, &pool);
     }
     // The session may replace its sculptor (an undo reaching before a checkpoint): ask each time.
     auto sculptor = [&]() -> const sculpt::Sculptor& { return session ? session->sculptor() : *plain; };

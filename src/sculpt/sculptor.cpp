@@ -5,6 +5,7 @@
 
 #include "adf/adf_source.h"
 #include "adf/generate.h"
+#include "sculpt/stroke_path.h"
 #include "sculpt/swept_tool.h"
 
 #include <glm/common.hpp>
@@ -17,6 +18,16 @@
 
 namespace kizamu::sculpt {
 
+/// Where a stroke may act (Kizamu 4.4), in world coordinates (not mirrored): outside every mask,
+/// and no deeper (carve) or higher (add, build) than a limit from the reference surface.
+struct ToolLimits {
+    std::vector<adf::SourcePtr> masks;
+    adf::SourcePtr reference;  ///< set when a depth or height limit is
+    double depth = -1.0;       ///< m, < 0: none
+    double height = -1.0;      ///< m, < 0: none
+    bool empty() const { return masks.empty() && !reference; }
+};
+
 namespace {
 
 /// old − tool (carve) or old ∪ tool (add), as min/max CSG, asking the swept tool only as far as
@@ -24,9 +35,10 @@ namespace {
 /// axes whose bit is set (symmetry): the query point is reflected instead.
 class StrokeEdit final : public adf::DistanceSource {
 public:
-    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre, double offset)
+    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre, double offset,
+               ToolLimits limits)
         : mOld(std::move(old)), mTool(std::move(tool)), mOp(mTool->tool().op), mReflect(reflect), mCentre(centre),
-          mOffset(offset), mCore(mTool->tool().strength * mTool->tool().radius) {
+          mOffset(offset), mCore(mTool->tool().strength * mTool->tool().radius), mLimits(std::move(limits)) {
         // Flatten: the plane through the first pose, normal to its z axis (mirrored copies
         // mirror the point, so the plane is taken in the reflected frame too).
         const ToolSample& first = mTool->firstSample();
@@ -35,6 +47,7 @@ public:
         for (int k = 0; k < 3; ++k)
             if ((mReflect >> k) & 1) mPlaneNormal[k] = -mPlaneNormal[k];
         mSmallestFeature = std::min(mOld->smallestFeature(), mTool->smallestFeature());
+        for (const adf::SourcePtr& m : mLimits.masks) mSmallestFeature = std::min(mSmallestFeature, m->smallestFeature());
     }
     double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
@@ -42,7 +55,9 @@ public:
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(p[i], out[i]);
     }
     double featureSize(const glm::dvec3& c, double radius) const override {
-        return std::min(mOld->featureSize(c, radius), mTool->featureSize(mirrored(c), radius));
+        double f = std::min(mOld->featureSize(c, radius), mTool->featureSize(mirrored(c), radius));
+        for (const adf::SourcePtr& m : mLimits.masks) f = std::min(f, m->featureSize(c, radius));
+        return f;
     }
 
 private:
@@ -51,16 +66,30 @@ private:
             if ((mReflect >> k) & 1) p[k] = 2.0 * mCentre[k] - p[k];
         return p;
     }
+    /// The swept tool's distance at p (q: p mirrored) where below `limit`, cut by the limits:
+    /// intersected with the outside of every mask and with the allowed side of the offset of
+    /// the reference surface.
+    double toolBelow(const glm::dvec3& p, const glm::dvec3& q, double limit) const {
+        double d = mTool->distanceBelow(q, limit);
+        if (d >= limit || mLimits.empty()) return d;
+        for (const adf::SourcePtr& m : mLimits.masks) d = std::max(d, -m->distance(p));
+        if (mLimits.reference) {
+            const double ref = mLimits.reference->distance(p);
+            if (mLimits.depth >= 0.0) d = std::max(d, -(ref + mLimits.depth));  // carve only above ref = -depth
+            if (mLimits.height >= 0.0) d = std::max(d, ref - mLimits.height);   // add only below ref = height
+        }
+        return d;
+    }
     double combine(const glm::dvec3& p, double old) const {
         const glm::dvec3 q = mirrored(p);
         switch (mOp) {
-        case ToolOp::Carve: return std::max(old, -mTool->distanceBelow(q, -old));  // decided by tool < -old
-        case ToolOp::Add: return std::min(old, mTool->distanceBelow(q, old));      // decided by tool < old
+        case ToolOp::Carve: return std::max(old, -toolBelow(p, q, -old));  // decided by tool < -old
+        case ToolOp::Add: return std::min(old, toolBelow(p, q, old));      // decided by tool < old
         default: break;
         }
         // The gradual tools: a smooth weight, 0 at the tool's boundary and 1 at depth `mCore`
         // inside it, so the surface moves continuously as the tool arrives.
-        const double inside = -mTool->distanceBelow(q, 0.0);
+        const double inside = -toolBelow(p, q, 0.0);
         if (!(inside > 0.0)) return old;
         const double t = std::min(1.0, inside / mCore), w = t * t * (3.0 - 2.0 * t);
         switch (mOp) {
@@ -92,6 +121,7 @@ private:
     double mOffset;  ///< m, build and heat gun
     double mCore;    ///< m, depth inside the tool where the weight reaches 1
     glm::dvec3 mPlanePoint{0.0}, mPlaneNormal{0.0, 0.0, 1.0};  ///< flatten
+    ToolLimits mLimits;
 };
 
 /// Bytes of the tiles `before` has in `region` that `after` replaced.
@@ -120,6 +150,8 @@ Sculptor::Sculptor(adf::AdfPtr start, util::ThreadPool* pool, std::size_t histor
     if (!mCurrent) throw std::invalid_argument("sculptor needs a start snapshot");
 }
 
+Sculptor::~Sculptor() = default;
+
 adf::BoxWorld strokeRegion(const adf::Adf& adf, const adf::BoxWorld& swept) {
     const adf::Domain& d = adf.domain();
     const double pad = adf.settings().bandWorld(d) + 2.0 * d.finestCellSize();
@@ -127,10 +159,28 @@ adf::BoxWorld strokeRegion(const adf::Adf& adf, const adf::BoxWorld& swept) {
     return {glm::clamp(swept.min - pad, lo, hi), glm::clamp(swept.max + pad, lo, hi)};
 }
 
+ToolLimits Sculptor::limitsFor(const Stroke& stroke) const {
+    const StrokeConstraints& c = stroke.constraints;
+    ToolLimits limits;
+    for (const Shape& m : c.masks) limits.masks.push_back(m.source(mCurrent->domain()));
+    if (c.depthLimit || c.heightLimit) {
+        if (!mReference) throw std::invalid_argument("depth and height limits need the original surface (Sculptor::setReference)");
+        limits.reference = mReference;
+        limits.depth = c.depthLimit.value_or(-1.0);
+        limits.height = c.heightLimit.value_or(-1.0);
+    }
+    return limits;
+}
+
 void Sculptor::apply(const Stroke& stroke) {
     const auto t0 = std::chrono::steady_clock::now();
-    const auto swept = makeSweptTool(stroke.tool, stroke.samples);
+    if (stroke.bezier && stroke.samples.size() != 4) throw std::invalid_argument("a bezier stroke has four control points");
+    validateStroke(stroke.tool, stroke.samples);
     const adf::Domain& d = mCurrent->domain();
+    // Curves and constrained paths are kept within a tenth of a finest cell: below what the
+    // field resolves (epsilon is a quarter cell).
+    const auto swept = makeSweptTool(stroke.tool, resolvePath(stroke, *mCurrent, 0.1 * d.finestCellSize()));
+    const ToolLimits limits = limitsFor(stroke);
     const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
     // One regeneration per mirrored copy, each over its own region (a union box would rebuild
     // every tile between the copies); together they are one stroke and one undo record.
@@ -149,7 +199,7 @@ void Sculptor::apply(const Stroke& stroke) {
         const adf::BoxWorld region = strokeRegion(*next, bounds);
         const adf::SourcePtr old = adf::makeAdfSource(next);
         const double offset = stroke.tool.op == ToolOp::HeatGun ? stroke.tool.rate * stroke.dwell : stroke.tool.amount;
-        const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre, offset);
+        const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre, offset, limits);
         adf::GenerationStats gs;
         adf::AdfPtr after = adf::regenerate(*next, *adf::makeRegionLimited(old, edited, region), region, mPool, &gs);
         mLast.tilesRebuilt += gs.tilesGenerated + gs.coarseTiles;
@@ -195,6 +245,12 @@ void Sculptor::replay(const Step& step) {
     case Step::Kind::Undo: undo(); break;
     case Step::Kind::Redo: redo(); break;
     }
+}
+
+std::unique_ptr<Sculptor> makeSculptor(const Script& script, int level, util::ThreadPool* pool, std::size_t historyBytes) {
+    auto s = std::make_unique<Sculptor>(startAdf(script, level, pool), pool, historyBytes);
+    s->setReference(script.start.source(s->current()->domain()));
+    return s;
 }
 
 adf::AdfPtr startAdf(const Script& script, int level, util::ThreadPool* pool) {

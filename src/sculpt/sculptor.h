@@ -19,12 +19,15 @@
 
 #include <cstddef>
 #include <deque>
+#include <memory>
 
 namespace kizamu::util {
 class ThreadPool;
 }
 
 namespace kizamu::sculpt {
+
+struct ToolLimits;
 
 struct EditStats {
     double ms = 0.0;                 ///< wall time of the last stroke's regeneration
@@ -36,6 +39,12 @@ class Sculptor {
 public:
     /// @param historyBytes  budget of replaced tiles kept for undo
     explicit Sculptor(adf::AdfPtr start, util::ThreadPool* pool = nullptr, std::size_t historyBytes = std::size_t(1) << 30);
+    ~Sculptor();
+
+    /// The original surface that depth and height limits (Kizamu 4.4) measure from; a stroke
+    /// with such a limit throws std::invalid_argument while none is set. Usually the script's
+    /// start shape: analytic, so the limit means the same at every level.
+    void setReference(adf::SourcePtr reference) { mReference = std::move(reference); }
 
     /// Applies one stroke; drops any redo records. @throw std::invalid_argument for a bad stroke.
     void apply(const Stroke& stroke);
@@ -53,17 +62,24 @@ public:
     std::size_t historyBytes() const { return mHistoryBytes; }
 
 private:
+    ToolLimits limitsFor(const Stroke& stroke) const;
     struct Record {
         adf::AdfPtr snapshot;
         std::size_t bytes;
     };
     util::ThreadPool* mPool;
     adf::AdfPtr mCurrent;
+    adf::SourcePtr mReference;
     std::deque<Record> mUndo;
     std::deque<Record> mRedo;
     std::size_t mBudget, mHistoryBytes = 0;
     EditStats mLast;
 };
+
+/// A Sculptor at the script's start shape (`level` 0: the script's own), its reference set to
+/// that shape.
+std::unique_ptr<Sculptor> makeSculptor(const Script& script, int level, util::ThreadPool* pool = nullptr,
+                                       std::size_t historyBytes = std::size_t(1) << 30);
 
 /// The snapshot a script starts from, at `level` (0: the script's own level).
 adf::AdfPtr startAdf(const Script& script, int level, util::ThreadPool* pool = nullptr);

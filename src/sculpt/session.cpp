@@ -119,7 +119,7 @@ std::unique_ptr<Session> Session::create(const std::string& dir, const Script& s
     s->mJournal = script;
     s->mJournal.steps.clear();
     if (level > 0) s->mJournal.domain.maxLevel = level;
-    s->mSculptor = std::make_unique<Sculptor>(startAdf(s->mJournal, 0, pool), pool);
+    s->mSculptor = makeSculptor(s->mJournal, 0, pool);
     // O_EXCL: never clobber another session, even one created at the same moment.
     const std::string path = journalPath(dir);
     s->mFd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);
@@ -175,6 +175,7 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
         s->mCheckpointSteps = 0;
     }
     s->mSculptor = std::make_unique<Sculptor>(base, pool);
+    s->mSculptor->setReference(s->mJournal.start.source(base->domain()));
     s->mHistoryFromCheckpoint = s->mCheckpointSteps > 0;
     for (std::size_t i = s->mCheckpointSteps; i < total; ++i) s->mSculptor->replay(s->mJournal.steps[i]);
     if (!readOnly) s->openJournalForAppend();
@@ -187,7 +188,7 @@ void Session::record(const Step& step) {
     // Opened from a checkpoint, the sculptor has no history before it: an undo reaching there
     // first rebuilds it from the journal, so the live session matches any later replay.
     if (step.kind == Step::Kind::Undo && mSculptor->undoDepth() == 0 && mHistoryFromCheckpoint) {
-        mSculptor = std::make_unique<Sculptor>(startAdf(mJournal, 0, mPool), mPool);
+        mSculptor = makeSculptor(mJournal, 0, mPool);
         for (const Step& s : mJournal.steps) mSculptor->replay(s);
         mHistoryFromCheckpoint = false;
     }

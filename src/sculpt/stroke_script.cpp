@@ -43,10 +43,78 @@ double number(const json& j, const char* key, double fallback) {
     return j.at(key).get<double>();
 }
 
+Shape shapeOf(const json& st) {
+    Shape s;
+    const std::string shape = st.at("shape").get<std::string>();
+    if (shape == "box") {
+        s.kind = Shape::Kind::Box;
+        s.halfSize = vec3Of(st.at("half"), "box half");
+        s.rounding = number(st, "rounding", 0.0);
+        if (!(glm::min(s.halfSize.x, glm::min(s.halfSize.y, s.halfSize.z)) > 0.0) || !(s.rounding >= 0.0))
+            throw std::invalid_argument("a box needs positive half sizes and a non-negative rounding");
+    } else if (shape == "sphere") {
+        s.kind = Shape::Kind::Sphere;
+        s.radius = st.at("radius").get<double>();
+        if (!(s.radius > 0.0) || !std::isfinite(s.radius)) throw std::invalid_argument("a sphere needs a positive radius");
+    } else if (shape == "test-part") {
+        s.kind = Shape::Kind::TestPart;
+    } else {
+        throw std::invalid_argument("unknown shape '" + shape + "' (box, sphere, test-part)");
+    }
+    if (st.contains("centre")) s.centre = vec3Of(st.at("centre"), "shape centre");
+    return s;
+}
+
+json shapeJson(const Shape& s) {
+    switch (s.kind) {
+    case Shape::Kind::Box: {
+        json j = {{"shape", "box"}, {"centre", vecJson(s.centre)}, {"half", vecJson(s.halfSize)}};
+        if (s.rounding > 0.0) j["rounding"] = s.rounding;
+        return j;
+    }
+    case Shape::Kind::Sphere: return {{"shape", "sphere"}, {"centre", vecJson(s.centre)}, {"radius", s.radius}};
+    case Shape::Kind::TestPart: return {{"shape", "test-part"}};
+    }
+    return {};
+}
+
+std::vector<Shape> shapesOf(const json& j, const char* what) {
+    if (!j.is_array()) throw std::invalid_argument(std::string(what) + " must be a list of shapes");
+    std::vector<Shape> out;
+    for (const json& e : j) out.push_back(shapeOf(e));
+    return out;
+}
+
+double lengthOf(const json& j, const char* key) {
+    const double v = j.at(key).get<double>();
+    if (!(v >= 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string(key) + " must be a non-negative length in metres");
+    return v;
+}
+
+void parseConstraints(const json& j, Stroke& s) {
+    StrokeConstraints& c = s.constraints;
+    if (j.contains("follow")) {
+        const double offset = j.at("follow").at("offset").get<double>();
+        if (!std::isfinite(offset)) throw std::invalid_argument("follow offset must be a finite length in metres");
+        c.followOffset = offset;
+    }
+    if (j.contains("depth")) {
+        if (s.tool.op != ToolOp::Carve) throw std::invalid_argument("depth limits carving; use height for add and build");
+        c.depthLimit = lengthOf(j, "depth");
+    }
+    if (j.contains("height")) {
+        if (s.tool.op != ToolOp::Add && s.tool.op != ToolOp::Build)
+            throw std::invalid_argument("height limits add and build; use depth for carving");
+        c.heightLimit = lengthOf(j, "height");
+    }
+    if (j.contains("masks")) c.masks = shapesOf(j.at("masks"), "masks");
+    if (j.contains("keep_out")) c.keepOut = shapesOf(j.at("keep_out"), "keep_out");
+}
+
 void parseHeader(const json& h, Script& s) {
     if (h.value("kizamu", "") != "stroke-script") throw std::invalid_argument("not a Kizamu stroke script (no header)");
     s.version = h.at("version").get<int>();
-    if (s.version != kScriptVersion)
+    if (s.version < 1 || s.version > kScriptVersion)
         throw std::invalid_argument("stroke script version " + std::to_string(s.version) + " is not supported (this build reads " +
                                     std::to_string(kScriptVersion) + ")");
     const json& d = h.at("domain");
@@ -55,21 +123,7 @@ void parseHeader(const json& h, Script& s) {
     s.domain.maxLevel = d.value("level", 10);
     s.domain.tileSpanLevels = d.value("tile_span", adf::Domain{}.tileSpanLevels);
     if (!s.domain.valid()) throw std::invalid_argument("invalid domain (size > 0, level 1..16)");
-    const json& st = h.at("start");
-    const std::string shape = st.at("shape").get<std::string>();
-    if (shape == "box") {
-        s.start.kind = StartShape::Kind::Box;
-        s.start.halfSize = vec3Of(st.at("half"), "start half");
-        s.start.rounding = number(st, "rounding", 0.0);
-    } else if (shape == "sphere") {
-        s.start.kind = StartShape::Kind::Sphere;
-        s.start.radius = st.at("radius").get<double>();
-    } else if (shape == "test-part") {
-        s.start.kind = StartShape::Kind::TestPart;
-    } else {
-        throw std::invalid_argument("unknown start shape '" + shape + "' (box, sphere, test-part)");
-    }
-    if (st.contains("centre")) s.start.centre = vec3Of(st.at("centre"), "start centre");
+    s.start = shapeOf(h.at("start"));
 }
 
 Stroke parseStroke(const json& j) {
@@ -84,13 +138,17 @@ Stroke parseStroke(const json& j) {
     s.dwell = number(j, "dwell", 0.0);
     if (!(s.dwell >= 0.0) || !std::isfinite(s.dwell)) throw std::invalid_argument("dwell must be a non-negative time in seconds");
     s.tool.validate();
-    const json& path = j.at("path");
+    s.bezier = j.contains("bezier");
+    if (s.bezier && j.contains("path")) throw std::invalid_argument("a stroke has a path or a bezier curve, not both");
+    const json& path = j.at(s.bezier ? "bezier" : "path");
+    if (s.bezier && (!path.is_array() || path.size() != 4))
+        throw std::invalid_argument("bezier must be four control points [p0, p1, p2, p3]");
     if (!path.is_array() || path.empty()) throw std::invalid_argument("path must be a non-empty list of points");
     glm::dquat fixed(1.0, 0.0, 0.0, 0.0);
     if (j.contains("orientation")) fixed = quatOf(j.at("orientation"));
     const json* each = j.contains("orientations") ? &j.at("orientations") : nullptr;
     if (each && (!each->is_array() || each->size() != path.size()))
-        throw std::invalid_argument("orientations must have one entry per path point");
+        throw std::invalid_argument("orientations must have one entry per path or control point");
     for (std::size_t i = 0; i < path.size(); ++i)
         s.samples.push_back({vec3Of(path[i], "path point"), each ? quatOf((*each)[i]) : fixed});
     if (j.contains("mirror")) {
@@ -99,6 +157,7 @@ Stroke parseStroke(const json& j) {
             s.mirror = uint8_t(s.mirror | (1u << (c - 'x')));
         }
     }
+    parseConstraints(j, s);
     return s;
 }
 
@@ -112,7 +171,7 @@ Step stepOf(const json& j) {
 
 Step parseStep(const std::string& line) { return stepOf(json::parse(line)); }
 
-adf::SourcePtr StartShape::source(const adf::Domain& domain) const {
+adf::SourcePtr Shape::source(const adf::Domain& domain) const {
     switch (kind) {
     case Kind::Box:
         return adf::makeTranslated(rounding > 0.0 ? adf::makeRoundedBox(halfSize, rounding) : adf::makeBox(halfSize), centre);
@@ -155,17 +214,7 @@ Script readScript(const std::string& path) {
 }
 
 std::string headerLine(const Script& s) {
-    json start;
-    switch (s.start.kind) {
-    case StartShape::Kind::Box:
-        start = {{"shape", "box"}, {"centre", vecJson(s.start.centre)}, {"half", vecJson(s.start.halfSize)}};
-        if (s.start.rounding > 0.0) start["rounding"] = s.start.rounding;
-        break;
-    case StartShape::Kind::Sphere:
-        start = {{"shape", "sphere"}, {"centre", vecJson(s.start.centre)}, {"radius", s.start.radius}};
-        break;
-    case StartShape::Kind::TestPart: start = {{"shape", "test-part"}}; break;
-    }
+    const json start = shapeJson(s.start);
     const json h = {{"kizamu", "stroke-script"},
                     {"version", s.version},
                     {"domain",
@@ -192,7 +241,7 @@ std::string strokeLine(const Stroke& s) {
         path.push_back(vecJson(t.position));
         sameOrientation = sameOrientation && t.orientation == s.samples.front().orientation;
     }
-    j["path"] = path;
+    j[s.bezier ? "bezier" : "path"] = path;
     if (s.mirror) {
         std::string axes;
         for (int k = 0; k < 3; ++k)
@@ -206,6 +255,17 @@ std::string strokeLine(const Stroke& s) {
         for (const ToolSample& t : s.samples) o.push_back(quatJson(t.orientation));
         j["orientations"] = o;
     }
+    const StrokeConstraints& c = s.constraints;
+    if (c.followOffset) j["follow"] = {{"offset", *c.followOffset}};
+    if (c.depthLimit) j["depth"] = *c.depthLimit;
+    if (c.heightLimit) j["height"] = *c.heightLimit;
+    auto shapes = [](const std::vector<Shape>& v) {
+        json a = json::array();
+        for (const Shape& sh : v) a.push_back(shapeJson(sh));
+        return a;
+    };
+    if (!c.masks.empty()) j["masks"] = shapes(c.masks);
+    if (!c.keepOut.empty()) j["keep_out"] = shapes(c.keepOut);
     return j.dump();
 }
 

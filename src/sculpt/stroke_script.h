@@ -13,15 +13,17 @@
 #include "sculpt/tool.h"
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 #include <vector>
 
 namespace kizamu::sculpt {
 
-inline constexpr int kScriptVersion = 1;
+/// Version 2 added Bezier paths and constraints; version 1 scripts read unchanged.
+inline constexpr int kScriptVersion = 2;
 
-/// What sculpting starts from.
-struct StartShape {
+/// A simple solid: what sculpting starts from, and the regions masks and force fields protect.
+struct Shape {
     enum class Kind { Box, Sphere, TestPart } kind = Kind::Box;
     glm::dvec3 centre{0.5};      ///< m
     glm::dvec3 halfSize{0.3};    ///< m (box)
@@ -31,9 +33,32 @@ struct StartShape {
     adf::SourcePtr source(const adf::Domain& domain) const;
 };
 
+/// Distance-based constraints on a stroke (Kizamu 4.4). Empty by default.
+struct StrokeConstraints {
+    /// Surface following (Kizamu 4.1): each pose is moved along the gradient onto the offset
+    /// surface `followOffset` (m, negative below the surface) of the clay before the stroke.
+    std::optional<double> followOffset;
+    /// Carve: remove nothing deeper than this below the original surface (m). Add and build:
+    /// raise nothing higher than this above it. The original surface is the Sculptor's reference
+    /// (the script's start shape).
+    std::optional<double> depthLimit;
+    std::optional<double> heightLimit;
+    /// Regions the stroke must not change (cut-out masks).
+    std::vector<Shape> masks;
+    /// Force fields: regions the tool is kept out of (its poses pushed out by its bounding radius).
+    std::vector<Shape> keepOut;
+    bool empty() const {
+        return !followOffset && !depthLimit && !heightLimit && masks.empty() && keepOut.empty();
+    }
+};
+
 struct Stroke {
     Tool tool;
-    std::vector<ToolSample> samples;  ///< at least one
+    /// The path: a polyline of poses (at least one), or with `bezier` exactly four control
+    /// points of a cubic Bezier curve (Kizamu 4.2), orientation interpolated between them.
+    std::vector<ToolSample> samples;
+    bool bezier = false;
+    StrokeConstraints constraints;
     /// Symmetry: also apply the stroke mirrored across the domain's mid planes normal to x (bit
     /// 0), y (bit 1) and/or z (bit 2), and every combination of them.
     uint8_t mirror = 0;
@@ -51,7 +76,7 @@ struct Step {
 struct Script {
     int version = kScriptVersion;
     adf::Domain domain;  ///< origin, size and default level
-    StartShape start;
+    Shape start;
     std::vector<Step> steps;
     void add(const Stroke& s) { steps.push_back({Step::Kind::Stroke, s}); }
 };

@@ -102,7 +102,7 @@ TEST(SweptTool, MatchesADenseSweepOfPosesForEveryShapeAndTurningStrokes) {
 Script slabScript(int level) {
     Script s;
     s.domain.maxLevel = level;
-    s.start.kind = StartShape::Kind::Box;
+    s.start.kind = Shape::Kind::Box;
     s.start.centre = {0.5, 0.5, 0.4};
     s.start.halfSize = {0.35, 0.35, 0.1};
     return s;

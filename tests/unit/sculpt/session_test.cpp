@@ -30,7 +30,7 @@ Script slab(int level, int strokes, uint64_t seed) {
     Script s;
     s.domain.maxLevel = level;
     s.domain.tileSpanLevels = 3;
-    s.start.kind = StartShape::Kind::Box;
+    s.start.kind = Shape::Kind::Box;
     s.start.centre = {0.5, 0.5, 0.4};
     s.start.halfSize = {0.35, 0.35, 0.1};
     std::mt19937_64 rng(seed);
