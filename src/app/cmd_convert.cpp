@@ -56,10 +56,13 @@ void runConvert(const ConvertOptions& o) {
         const auto session = sculpt::Session::open(o.in, &pool, &warnings, /*readOnly=*/true);
         for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
         std::printf("opened session %s: %zu steps\n", o.in.c_str(), session->steps());
+        // With pending remote-field corrections made (a session cut off before its checkpoint
+        // may have some), on a copy: the session on disk is not touched.
+        const adf::AdfPtr clay = session->sculptor().settled();
         if (isAdfPath(o.out)) {
-            adf::saveAdf(*session->sculptor().current(), o.out);
+            adf::saveAdf(*clay, o.out);
         } else {
-            mesh::exportMesh(meshOf(session->sculptor().current(), o, pool), o.out);
+            mesh::exportMesh(meshOf(clay, o, pool), o.out);
         }
         std::printf("wrote %s\n", o.out.c_str());
         return;

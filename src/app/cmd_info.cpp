@@ -21,17 +21,19 @@ void printSessionInfo(const std::string& dir) {
     std::vector<std::string> warnings;
     const auto session = sculpt::Session::open(dir, nullptr, &warnings, /*readOnly=*/true);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    std::size_t strokes = 0, undos = 0, redos = 0;
+    std::size_t strokes = 0, undos = 0, redos = 0, corrections = 0;
     for (const sculpt::Step& s : session->journal().steps) {
         strokes += s.kind == sculpt::Step::Kind::Stroke;
         undos += s.kind == sculpt::Step::Kind::Undo;
         redos += s.kind == sculpt::Step::Kind::Redo;
+        corrections += s.kind == sculpt::Step::Kind::Correct;
     }
     const adf::Adf& a = *session->sculptor().current();
     const adf::Adf::Stats st = a.computeStats();
     std::printf("%s: Kizamu session\n", dir.c_str());
     std::printf("  strokes     %zu (and %zu undo, %zu redo records); %zu steps in the checkpoint\n", strokes, undos, redos,
                 session->checkpointSteps());
+    std::printf("  corrections %zu recorded, %zu zones pending\n", corrections, session->sculptor().pendingCorrections().size());
     std::printf("  level       %d\n", a.domain().maxLevel);
     std::printf("  cells       %zu leaves, %.2f MB\n", st.cells, double(st.bytes()) / 1e6);
 }

@@ -59,7 +59,12 @@ void runScript(const RunOptions& o) {
         ms.push_back(sculptor().lastEdit().ms);
         tiles += sculptor().lastEdit().tilesRebuilt;
     }
-    if (session) session->checkpoint();
+    // The result is the field after every pending remote-field correction (Kizamu 5.4).
+    if (session) {
+        session->checkpoint();
+    } else {
+        plain->finishCorrections();
+    }
     const double total = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const adf::Adf& a = *sculptor().current();
     std::printf("replayed %zu steps at level %d in %.1f ms (start shape %.1f ms)\n", script.steps.size(),

@@ -9,12 +9,15 @@
 #include "sculpt/swept_tool.h"
 
 #include <glm/common.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <memory>
 #include <span>
+#include <limits>
 #include <unordered_set>
+#include <utility>
 
 namespace kizamu::sculpt {
 
@@ -177,6 +180,17 @@ void Sculptor::apply(const Stroke& stroke) {
     if (stroke.bezier && stroke.samples.size() != 4) throw std::invalid_argument("a bezier stroke has four control points");
     validateStroke(stroke.tool, stroke.samples);
     const adf::Domain& d = mCurrent->domain();
+    if (stroke.constraints.followOffset && mCorrecting) {
+        // Following reads the field away from the surface: make it true around the path first.
+        adf::BoxWorld near{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
+        for (const ToolSample& t : stroke.samples) {
+            near.min = glm::min(near.min, t.position);
+            near.max = glm::max(near.max, t.position);
+        }
+        const double reach = std::abs(*stroke.constraints.followOffset) + stroke.tool.boundingRadius() +
+                             mCorrection.radiusCells * d.finestCellSize();
+        correctNear({near.min - reach, near.max + reach});
+    }
     // Curves and constrained paths are kept within a tenth of a finest cell: below what the
     // field resolves (epsilon is a quarter cell).
     const auto swept = makeSweptTool(stroke.tool, resolvePath(stroke, *mCurrent, 0.1 * d.finestCellSize()));
@@ -185,6 +199,7 @@ void Sculptor::apply(const Stroke& stroke) {
     // One regeneration per mirrored copy, each over its own region (a union box would rebuild
     // every tile between the copies); together they are one stroke and one undo record.
     adf::AdfPtr next = mCurrent;
+    std::vector<adf::BoxWorld> zones = mPending;
     std::size_t bytes = 0;
     mLast.tilesRebuilt = 0;
     for (uint8_t reflect = 0; reflect < 8; ++reflect) {
@@ -205,12 +220,14 @@ void Sculptor::apply(const Stroke& stroke) {
         mLast.tilesRebuilt += gs.tilesGenerated + gs.coarseTiles;
         bytes += replacedBytes(*mCurrent, *after, region);
         next = std::move(after);
+        if (mCorrecting) zones.push_back(correctionZone(*next, region, mCorrection));
     }
     mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     mLast.replacedBytes = bytes;
 
     mRedo.clear();
-    mUndo.push_back({mCurrent, mLast.replacedBytes});
+    mUndo.push_back({mCurrent, mLast.replacedBytes, std::move(mPending)});
+    mPending = std::move(zones);
     mHistoryBytes += mLast.replacedBytes;
     while (!mUndo.empty() && (mBudget == 0 || mHistoryBytes > mBudget)) {
         mHistoryBytes -= mUndo.front().bytes;
@@ -224,8 +241,9 @@ bool Sculptor::undo() {
     Record r = std::move(mUndo.back());
     mUndo.pop_back();
     mHistoryBytes -= r.bytes;
-    mRedo.push_back({mCurrent, r.bytes});
+    mRedo.push_back({mCurrent, r.bytes, std::move(mPending)});
     mCurrent = std::move(r.snapshot);
+    mPending = std::move(r.pending);
     return true;
 }
 
@@ -233,17 +251,60 @@ bool Sculptor::redo() {
     if (mRedo.empty()) return false;
     Record r = std::move(mRedo.back());
     mRedo.pop_back();
-    mUndo.push_back({mCurrent, r.bytes});
+    mUndo.push_back({mCurrent, r.bytes, std::move(mPending)});
     mHistoryBytes += r.bytes;
     mCurrent = std::move(r.snapshot);
+    mPending = std::move(r.pending);
     return true;
 }
+
+void Sculptor::setCorrection(const CorrectionSettings& settings, bool enabled) {
+    if (!(settings.radiusCells > 0.0) || !(settings.keepCells > 0.0) || settings.keepCells * 2.0 > settings.radiusCells)
+        throw std::invalid_argument("correction needs 0 < 2 x keep <= radius (finest cells)");
+    mCorrection = settings;
+    mCorrecting = enabled;
+    if (!enabled) mPending.clear();
+}
+
+void Sculptor::correct(std::vector<adf::BoxWorld> zones) {
+    mCurrent = correctZones(mCurrent, std::move(zones), mPool, mCorrection);
+}
+
+adf::AdfPtr Sculptor::settled() const { return correctZones(mCurrent, mPending, mPool, mCorrection); }
+
+void Sculptor::correctNear(const adf::BoxWorld& box) {
+    std::vector<adf::BoxWorld> now, later;
+    for (const adf::BoxWorld& z : mPending) {
+        const bool overlaps = glm::all(glm::lessThanEqual(z.min, box.max)) && glm::all(glm::lessThanEqual(box.min, z.max));
+        (overlaps ? now : later).push_back(z);
+    }
+    mPending = std::move(later);
+    correct(std::move(now));
+}
+
+bool Sculptor::correctOne() {
+    if (mPending.empty()) return false;
+    const adf::BoxWorld z = mPending.front();
+    mPending.erase(mPending.begin());
+    correct({z});
+    return true;
+}
+
+void Sculptor::finishCorrections() { correct(std::exchange(mPending, {})); }
 
 void Sculptor::replay(const Step& step) {
     switch (step.kind) {
     case Step::Kind::Stroke: apply(step.stroke); break;
     case Step::Kind::Undo: undo(); break;
     case Step::Kind::Redo: redo(); break;
+    case Step::Kind::Correct:
+        if (step.zones == 0) {
+            finishCorrections();
+        } else {
+            for (std::size_t i = 0; i < step.zones && correctOne(); ++i) {
+            }
+        }
+        break;
     }
 }
 

@@ -15,6 +15,7 @@
 #pragma once
 
 #include "adf/adf.h"
+#include "sculpt/remote_field.h"
 #include "sculpt/stroke_script.h"
 
 #include <cstddef>
@@ -55,6 +56,24 @@ public:
     /// A script step: apply, undo or redo.
     void replay(const Step& step);
 
+    /// Remote-field correction (Kizamu 5.4, remote_field.h). A stroke leaves its zone pending;
+    /// a stroke that follows the surface first corrects the pending zones around its path (on
+    /// demand near the tool); the rest wait for idle time. Pending zones are part of the undo
+    /// state, so the field after every pending correction completes depends only on the steps.
+    void setCorrection(const CorrectionSettings& settings, bool enabled = true);
+    /// Corrects the pending zones that intersect `box` (m): what the haptic thread is near.
+    void correctNear(const adf::BoxWorld& box);
+    /// Idle time: corrects the oldest pending zone; false when none is pending.
+    bool correctOne();
+    /// Corrects every pending zone (merged where that is cheaper).
+    void finishCorrections();
+    /// The current field with every pending correction made, leaving this sculptor unchanged
+    /// (what a read-only export shows).
+    adf::AdfPtr settled() const;
+    const std::vector<adf::BoxWorld>& pendingCorrections() const { return mPending; }
+    /// Restores a pending list (a session's checkpoint carries one).
+    void setPendingCorrections(std::vector<adf::BoxWorld> zones) { mPending = std::move(zones); }
+
     const adf::AdfPtr& current() const { return mCurrent; }
     std::size_t undoDepth() const { return mUndo.size(); }
     std::size_t redoDepth() const { return mRedo.size(); }
@@ -66,10 +85,15 @@ private:
     struct Record {
         adf::AdfPtr snapshot;
         std::size_t bytes;
+        std::vector<adf::BoxWorld> pending;  ///< corrections still owed by that snapshot
     };
+    void correct(std::vector<adf::BoxWorld> zones);
     util::ThreadPool* mPool;
     adf::AdfPtr mCurrent;
     adf::SourcePtr mReference;
+    CorrectionSettings mCorrection;
+    bool mCorrecting = true;
+    std::vector<adf::BoxWorld> mPending;
     std::deque<Record> mUndo;
     std::deque<Record> mRedo;
     std::size_t mBudget, mHistoryBytes = 0;

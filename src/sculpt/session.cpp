@@ -83,6 +83,7 @@ bool undoReachesBefore(const Script& journal, std::size_t from) {
             --redo;
             ++undo;
             break;
+        case Step::Kind::Correct: break;  // not an edit: nothing to undo
         }
     }
     return false;
@@ -118,6 +119,7 @@ std::unique_ptr<Session> Session::create(const std::string& dir, const Script& s
     s->mPool = pool;
     s->mJournal = script;
     s->mJournal.steps.clear();
+    s->mJournal.version = kScriptVersion;  // the journal may hold records newer than the script's
     if (level > 0) s->mJournal.domain.maxLevel = level;
     s->mSculptor = makeSculptor(s->mJournal, 0, pool);
     // O_EXCL: never clobber another session, even one created at the same moment.
@@ -209,6 +211,9 @@ void Session::record(const Step& step) {
 }
 
 void Session::checkpoint() {
+    // A checkpoint holds no pending corrections: correct first, and journal that, so that a
+    // replay of the journal corrects at the same point and reaches the same bits.
+    if (!mSculptor->pendingCorrections().empty()) record(Step::correct());
     const std::size_t steps = mJournal.steps.size();
     const std::string path = (fs::path(mDir) / checkpointName(steps)).string();
     adf::saveAdf(*mSculptor->current(), path);  // temporary file, fsync, rename, directory fsync

@@ -44,7 +44,8 @@ public:
     /// validation is not journaled. @throw FileError if the journal cannot be written (the
     /// session then refuses further steps); std::invalid_argument for a bad stroke.
     void record(const Step& step);
-    /// Writes a checkpoint of the current state (atomic, fsynced) and removes older ones.
+    /// Writes a checkpoint of the current state (atomic, fsynced) and removes older ones. Pending
+    /// remote-field corrections are made (and journaled as a correct step) first.
     void checkpoint();
 
     const Sculptor& sculptor() const { return *mSculptor; }

@@ -164,7 +164,13 @@ Stroke parseStroke(const json& j) {
 Step stepOf(const json& j) {
     if (j.contains("undo")) return Step::undo();
     if (j.contains("redo")) return Step::redo();
-    return {Step::Kind::Stroke, parseStroke(j)};
+    if (j.contains("correct")) {
+        const json& c = j.at("correct");
+        if (c.is_string() && c.get<std::string>() == "all") return Step::correct();
+        if (c.is_number_unsigned() && c.get<std::size_t>() > 0) return Step::correct(c.get<std::size_t>());
+        throw std::invalid_argument("correct takes \"all\" or a positive number of zones");
+    }
+    return {Step::Kind::Stroke, parseStroke(j), 0};
 }
 
 }  // namespace
@@ -198,6 +204,8 @@ Script parseScript(const std::string& text, const std::string& name) {
                 header = true;
             } else {
                 s.steps.push_back(stepOf(j));
+                if (s.steps.back().kind == Step::Kind::Correct && s.version < 2)
+                    throw std::invalid_argument("correct records need script version 2");
             }
         } catch (const json::exception& e) {
             throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
@@ -273,6 +281,7 @@ std::string stepLine(const Step& step) {
     switch (step.kind) {
     case Step::Kind::Undo: return R"({"undo": 1})";
     case Step::Kind::Redo: return R"({"redo": 1})";
+    case Step::Kind::Correct: return step.zones == 0 ? R"({"correct": "all"})" : R"({"correct": )" + std::to_string(step.zones) + "}";
     case Step::Kind::Stroke: break;
     }
     return strokeLine(step.stroke);

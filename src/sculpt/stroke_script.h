@@ -65,12 +65,16 @@ struct Stroke {
     double dwell = 0.0;  ///< s the tool dwelt along the path (heat gun: melts rate × dwell)
 };
 
-/// One record after the header: a stroke, or an undo or redo of the latest one.
+/// One record after the header: a stroke, an undo or redo of the latest one, or a
+/// remote-field correction (Kizamu 5.4) of pending zones, which sessions record when they
+/// correct (before each checkpoint) so that replay corrects at the same points.
 struct Step {
-    enum class Kind : uint8_t { Stroke, Undo, Redo } kind = Kind::Stroke;
-    Stroke stroke;  ///< for Kind::Stroke
-    static Step undo() { return {Kind::Undo, {}}; }
-    static Step redo() { return {Kind::Redo, {}}; }
+    enum class Kind : uint8_t { Stroke, Undo, Redo, Correct } kind = Kind::Stroke;
+    Stroke stroke;           ///< for Kind::Stroke
+    std::size_t zones = 0;   ///< for Kind::Correct: the oldest pending zones to correct, 0 = all
+    static Step undo() { return {Kind::Undo, {}, 0}; }
+    static Step redo() { return {Kind::Redo, {}, 0}; }
+    static Step correct(std::size_t zones = 0) { return {Kind::Correct, {}, zones}; }
 };
 
 struct Script {

@@ -67,7 +67,11 @@ admesh "$tmp/cc.stl" | grep -q "Edges fixed *: *0" || fail "curves_and_constrain
 "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --session "$tmp/sess" --checkpoint-every 2 >/dev/null || fail "run --session"
 "$kizamu" info "$tmp/sess" | grep -q "strokes     9 " || fail "info on a session: $("$kizamu" info "$tmp/sess")"
 "$kizamu" convert "$tmp/sess" "$tmp/s.kza" >/dev/null || fail "convert a session"
-cmp -s "$tmp/c1.kza" "$tmp/s.kza" || fail "the session's clay differs from the plain replay"
+# A session corrects the remote field before each checkpoint and journals it, so its clay is
+# its own journal's replay, bit for bit.
+"$kizamu" run "$tmp/sess/journal.jsonl" --out "$tmp/j.kza" >/dev/null || fail "replay a session's journal"
+cmp -s "$tmp/j.kza" "$tmp/s.kza" || fail "the session's clay differs from a replay of its journal"
+grep -q '"correct": "all"' "$tmp/sess/journal.jsonl" || fail "the session journal records no corrections"
 "$kizamu" run "$repo/examples/carve_basics.jsonl" --session "$tmp/sess" >/dev/null 2>"$tmp/err" && fail "a session must not be overwritten"
 printf '%s\n{"op": "carve", "shape": "blob", "radius": 0.1, "path": [[0,0,0]]}\n' "$(head -1 "$repo/examples/carve_basics.jsonl")" >"$tmp/bad.jsonl"
 "$kizamu" run "$tmp/bad.jsonl" >/dev/null 2>"$tmp/err"; rc=$?

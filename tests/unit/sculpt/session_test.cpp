@@ -49,9 +49,22 @@ Script slab(int level, int strokes, uint64_t seed) {
 
 /// The ADF after the first `steps` steps, replayed in memory.
 adf::AdfPtr replay(const Script& s, std::size_t steps) {
-    Sculptor sc(startAdf(s, 0));
-    for (std::size_t i = 0; i < steps; ++i) sc.replay(s.steps[i]);
-    return sc.current();
+    auto sc = makeSculptor(s, 0);
+    for (std::size_t i = 0; i < steps; ++i) sc->replay(s.steps[i]);
+    return sc->current();
+}
+
+/// A session's journal without the remote-field corrections it recorded at checkpoints.
+std::vector<std::string> editLines(const Script& journal) {
+    std::vector<std::string> out;
+    for (const Step& st : journal.steps)
+        if (st.kind != Step::Kind::Correct) out.push_back(stepLine(st));
+    return out;
+}
+std::vector<std::string> editLines(const Script& script, std::size_t steps) {
+    Script head = script;
+    head.steps.resize(steps);
+    return editLines(head);
 }
 
 class SessionTest : public ::testing::Test {
@@ -79,9 +92,12 @@ TEST_F(SessionTest, ReopensToTheSameClayWithUndoAndCheckpoints) {
         std::vector<std::string> warnings;
         auto again = Session::open(mDir.string(), nullptr, &warnings);
         EXPECT_TRUE(warnings.empty());
-        EXPECT_EQ(again->steps(), s.steps.size());
+        // The journal holds the script's steps, plus a correction before each checkpoint; the
+        // clay is the journal's replay bit for bit.
+        EXPECT_EQ(editLines(again->journal()), editLines(s));
+        EXPECT_EQ(again->steps(), s.steps.size() + 2);
         EXPECT_TRUE(test::sameAdf(*again->sculptor().current(), *live->sculptor().current()));
-        EXPECT_TRUE(test::sameAdf(*again->sculptor().current(), *replay(s, s.steps.size())));
+        EXPECT_TRUE(test::sameAdf(*again->sculptor().current(), *replay(again->journal(), again->steps())));
     }
     // Only the newest checkpoint is kept.
     std::size_t cps = 0;
@@ -100,13 +116,15 @@ TEST_F(SessionTest, UndoAfterReopeningFromACheckpointReachesTheWholeHistory) {
     }
     {
         auto reopened = Session::open(mDir.string());
-        EXPECT_EQ(reopened->checkpointSteps(), 4u);
+        EXPECT_EQ(reopened->checkpointSteps(), 5u);  // 4 strokes and the correction before it
         reopened->record(Step::undo());  // reaches before the checkpoint
         reopened->record(Step::undo());
+        // Corrections are not edits: undo returns to the snapshot (and pending zones) before
+        // the stroke, as if the correction had not happened.
         EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(s, 2)));
     }
     auto third = Session::open(mDir.string());
-    EXPECT_EQ(third->steps(), 6u);
+    EXPECT_EQ(third->steps(), 7u);
     EXPECT_TRUE(test::sameAdf(*third->sculptor().current(), *replay(s, 2)));
 }
 
@@ -152,7 +170,8 @@ TEST_F(SessionTest, ADamagedCheckpointFallsBackWithAWarning) {
     auto reopened = Session::open(mDir.string(), nullptr, &warnings);
     ASSERT_EQ(warnings.size(), 1u);
     EXPECT_NE(warnings[0].find("truncated"), std::string::npos) << warnings[0];
-    EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(s, 4)));
+    EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(reopened->journal(), reopened->steps())));
+    EXPECT_EQ(editLines(reopened->journal()), editLines(s));
 }
 
 TEST_F(SessionTest, SigkillMidRunLosesNoFinishedStroke) {
@@ -183,11 +202,14 @@ TEST_F(SessionTest, SigkillMidRunLosesNoFinishedStroke) {
     ASSERT_TRUE(WIFSIGNALED(status)) << "the child finished before it could be killed";
     std::vector<std::string> warnings;
     auto reopened = Session::open(mDir.string(), nullptr, &warnings);
-    const std::size_t k = reopened->steps();
-    EXPECT_GE(k, 12u);
+    const std::vector<std::string> edits = editLines(reopened->journal());
+    const std::size_t k = edits.size();
+    EXPECT_GE(k, 11u);
     EXPECT_LT(k, s.steps.size());
-    // Every finished stroke is there, exactly as a replay of the script's first k strokes.
-    EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(s, k)));
+    // Every finished stroke is there: the script's first k, and the clay is the journal's
+    // replay (strokes and the corrections made at checkpoints) bit for bit.
+    EXPECT_EQ(edits, editLines(s, k));
+    EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(reopened->journal(), reopened->steps())));
 }
 
 }  // namespace

@@ -1,0 +1,188 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file remote_field.cpp
+/// @brief Remote-field correction: surface samples, a k-d tree, a regenerated zone.
+#include "sculpt/remote_field.h"
+
+#include "adf/adf_source.h"
+#include "adf/generate.h"
+#include "mesh/boundary_cells.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
+#include <nanoflann.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_set>
+
+namespace kizamu::sculpt {
+
+namespace {
+
+/// Trilinear value and derivative (per unit of cell coordinate) of a leaf at u in [0, 1]^3.
+double trilinear(const float* c, const glm::dvec3& u, glm::dvec3& g) {
+    const double x = u.x, y = u.y, z = u.z;
+    const double c00 = c[0] + x * (c[1] - c[0]), c10 = c[2] + x * (c[3] - c[2]);
+    const double c01 = c[4] + x * (c[5] - c[4]), c11 = c[6] + x * (c[7] - c[6]);
+    const double b0 = c00 + y * (c10 - c00), b1 = c01 + y * (c11 - c01);
+    const double dx0 = (c[1] - c[0]) + y * ((c[3] - c[2]) - (c[1] - c[0]));
+    const double dx1 = (c[5] - c[4]) + y * ((c[7] - c[6]) - (c[5] - c[4]));
+    g = {dx0 + z * (dx1 - dx0), (c10 - c00) + z * ((c11 - c01) - (c10 - c00)), b1 - b0};
+    return b0 + z * (b1 - b0);
+}
+
+/// The samples as nanoflann's dataset.
+struct Cloud {
+    const std::vector<glm::dvec3>* points;
+    std::size_t kdtree_get_point_count() const { return points->size(); }
+    double kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*points)[i][int(dim)]; }
+    template <class Box>
+    bool kdtree_get_bbox(Box&) const { return false; }
+};
+using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3, uint32_t>;
+
+/// The corrected field of the zone: old near the surface, distance to the samples beyond.
+class CorrectedField final : public adf::DistanceSource {
+public:
+    CorrectedField(adf::SourcePtr old, std::vector<glm::dvec3> samples, double keep, double radius)
+        : mOld(std::move(old)), mSamples(std::move(samples)), mCloud{&mSamples},
+          mTree(3, mCloud, nanoflann::KDTreeSingleIndexAdaptorParams(16)), mKeep(keep), mRadius(radius) {
+        mSmallestFeature = mOld->smallestFeature();
+    }
+    double distance(const glm::dvec3& p) const override { return correct(p, mOld->distance(p)); }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        mOld->distances(p, out);
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = correct(p[i], out[i]);
+    }
+
+private:
+    double correct(const glm::dvec3& p, double old) const {
+        const double a = std::abs(old);
+        if (!(a > mKeep)) return old;  // the surface's own band (and NaN) stay as they are
+        double d = std::max(mRadius, a);  // no surface within the radius: at least the radius
+        if (!mSamples.empty()) {
+            uint32_t index = 0;
+            double d2 = mRadius * mRadius;
+            nanoflann::KNNResultSet<double, uint32_t> result(1);
+            result.init(&index, &d2);
+            mTree.findNeighbors(result, &p.x, nanoflann::SearchParams());
+            if (result.size() > 0) d = std::sqrt(d2);
+        }
+        // Blend over [keep, 2 keep] so the field stays continuous where correction starts.
+        const double t = std::min(1.0, (a - mKeep) / mKeep), w = t * t * (3.0 - 2.0 * t);
+        return std::copysign((1.0 - w) * a + w * d, old);
+    }
+    adf::SourcePtr mOld;
+    std::vector<glm::dvec3> mSamples;
+    Cloud mCloud;
+    KdTree mTree;
+    double mKeep, mRadius;
+};
+
+}  // namespace
+
+std::vector<glm::dvec3> surfaceSamples(const adf::Adf& adf, const adf::BoxWorld& box) {
+    const adf::Domain& d = adf.domain();
+    const double h = d.finestCellSize();
+    const double slot = h * double(1u << d.tileSpan());
+    const uint32_t n = d.slotsPerAxis();
+    auto toSlot = [&](double w, double o) { return uint32_t(std::clamp((w - o) / slot, 0.0, double(n - 1))); };
+    std::unordered_set<const adf::Tile*> seen;
+    std::vector<mesh::BoundaryCell> cells;
+    for (uint32_t z = toSlot(box.min.z, d.originWorld.z); z <= toSlot(box.max.z, d.originWorld.z); ++z)
+        for (uint32_t y = toSlot(box.min.y, d.originWorld.y); y <= toSlot(box.max.y, d.originWorld.y); ++y)
+            for (uint32_t x = toSlot(box.min.x, d.originWorld.x); x <= toSlot(box.max.x, d.originWorld.x); ++x) {
+                const adf::Tile* t = adf.tileAtSlot({x, y, z});
+                if (t && seen.insert(t).second) mesh::appendBoundaryCells(*t, d.maxLevel, cells);
+            }
+    std::vector<glm::dvec3> out;
+    for (const mesh::BoundaryCell& c : cells) {
+        const glm::dvec3 origin = d.originWorld + glm::dvec3(c.origin) * h;
+        const double size = double(c.size) * h;
+        if (glm::any(glm::greaterThan(origin, box.max)) || glm::any(glm::lessThan(origin + size, box.min))) continue;
+        // A k x k grid across the two axes where the gradient is smallest, starting half-way
+        // along the third, each point moved onto the leaf's trilinear zero set by Newton steps:
+        // about k^2 points on the surface, half a finest cell apart in finest leaves and one
+        // apart in larger ones (flat there: the distance to a plane sampled that finely is off
+        // by spacing^2 / (8 d), under a tenth of a cell beyond the kept band).
+        glm::dvec3 g;
+        trilinear(c.corners, glm::dvec3(0.5), g);
+        const glm::dvec3 ag = glm::abs(g);
+        const int axis = ag.x >= ag.y && ag.x >= ag.z ? 0 : (ag.y >= ag.z ? 1 : 2);
+        const int k = c.size == 1 ? 2 : int(std::min<uint32_t>(c.size, 16));
+        for (int i = 0; i < k; ++i)
+            for (int j = 0; j < k; ++j) {
+                glm::dvec3 u;
+                u[axis] = 0.5;
+                u[(axis + 1) % 3] = (i + 0.5) / k;
+                u[(axis + 2) % 3] = (j + 0.5) / k;
+                double f = 0.0;
+                for (int step = 0; step < 4; ++step) {
+                    f = trilinear(c.corners, u, g);
+                    const double g2 = glm::dot(g, g);
+                    if (!(g2 > 0.0)) break;
+                    u -= f * g / g2;
+                }
+                f = trilinear(c.corners, u, g);
+                const bool inside = glm::all(glm::greaterThanEqual(u, glm::dvec3(-1e-6))) &&
+                                    glm::all(glm::lessThanEqual(u, glm::dvec3(1.0 + 1e-6)));
+                if (inside && std::abs(f) <= 1e-3 * h) out.push_back(origin + u * size);
+            }
+    }
+    return out;
+}
+
+adf::BoxWorld correctionZone(const adf::Adf& adf, const adf::BoxWorld& region, const CorrectionSettings& settings) {
+    const adf::Domain& d = adf.domain();
+    const double pad = settings.radiusCells * d.finestCellSize();
+    const glm::dvec3 lo = d.originWorld, hi = d.originWorld + glm::dvec3(d.sizeWorld);
+    return {glm::clamp(region.min - pad, lo, hi), glm::clamp(region.max + pad, lo, hi)};
+}
+
+adf::AdfPtr correctRemoteField(const adf::AdfPtr& adf, const adf::BoxWorld& zone, util::ThreadPool* pool,
+                               const CorrectionSettings& settings) {
+    const double h = adf->domain().finestCellSize();
+    const double radius = settings.radiusCells * h;
+    // Surface within the radius of any point of the zone.
+    const adf::BoxWorld searched{zone.min - radius, zone.max + radius};
+    const adf::SourcePtr old = adf::makeAdfSource(adf);
+    const auto corrected = std::make_shared<CorrectedField>(old, surfaceSamples(*adf, searched), settings.keepCells * h, radius);
+    return adf::regenerate(*adf, *adf::makeRegionLimited(old, corrected, zone), zone, pool);
+}
+
+adf::AdfPtr correctZones(adf::AdfPtr adf, std::vector<adf::BoxWorld> zones, util::ThreadPool* pool,
+                         const CorrectionSettings& settings) {
+    // Merged boxes stay within four tiles: one pass over a huge box would sample its whole
+    // surface at once.
+    const adf::Domain& d = adf->domain();
+    for (const adf::BoxWorld& z : mergeZones(std::move(zones), 4.0 * d.finestCellSize() * double(1u << d.tileSpan())))
+        adf = correctRemoteField(adf, z, pool, settings);
+    return adf;
+}
+
+std::vector<adf::BoxWorld> mergeZones(std::vector<adf::BoxWorld> zones, double maxExtent) {
+    auto volume = [](const adf::BoxWorld& b) {
+        const glm::dvec3 e = glm::max(b.max - b.min, glm::dvec3(0.0));
+        return e.x * e.y * e.z;
+    };
+    // Greedy passes until one merges nothing; a merged box is tried against the rest again.
+    for (bool merged = true; merged;) {
+        merged = false;
+        for (std::size_t i = 0; i < zones.size(); ++i)
+            for (std::size_t j = i + 1; j < zones.size();) {
+                const adf::BoxWorld u{glm::min(zones[i].min, zones[j].min), glm::max(zones[i].max, zones[j].max)};
+                const glm::dvec3 e = u.max - u.min;
+                if (std::max(e.x, std::max(e.y, e.z)) <= maxExtent && volume(u) <= volume(zones[i]) + volume(zones[j])) {
+                    zones[i] = u;
+                    zones.erase(zones.begin() + std::ptrdiff_t(j));
+                    merged = true;
+                } else {
+                    ++j;
+                }
+            }
+    }
+    return zones;
+}
+
+}  // namespace kizamu::sculpt
