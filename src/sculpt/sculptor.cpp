@@ -5,6 +5,7 @@
 
 #include "adf/adf_source.h"
 #include "adf/generate.h"
+#include "sculpt/paint.h"
 #include "sculpt/swept_tool.h"
 
 #include <glm/common.hpp>
@@ -62,7 +63,7 @@ private:
         // inside it, so the surface moves continuously as the tool arrives.
         const double inside = -mTool->distanceBelow(q, 0.0);
         if (!(inside > 0.0)) return old;
-        const double t = std::min(1.0, inside / mCore), w = t * t * (3.0 - 2.0 * t);
+        const double w = toolWeight(inside, mCore);
         switch (mOp) {
         case ToolOp::Build: return old - mOffset * w;
         case ToolOp::HeatGun: return old + mOffset * w;
@@ -129,6 +130,16 @@ adf::BoxWorld strokeRegion(const adf::Adf& adf, const adf::BoxWorld& swept) {
 
 void Sculptor::apply(const Stroke& stroke) {
     const auto t0 = std::chrono::steady_clock::now();
+    if (stroke.tool.op == ToolOp::Paint) {
+        // Paint changes only the colour layer: the new snapshot shares every distance tile.
+        PaintStats ps;
+        adf::AdfBuilder builder(*mCurrent);
+        builder.setColours(paintStroke(*mCurrent, stroke, mPool, &ps));
+        mLast.tilesRebuilt = 0;
+        mLast.colourTilesPainted = ps.slotsPainted;
+        finish(builder.build(mCurrent->version() + 1), ps.replacedBytes, t0);
+        return;
+    }
     const auto swept = makeSweptTool(stroke.tool, stroke.samples);
     const adf::Domain& d = mCurrent->domain();
     const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
@@ -156,8 +167,13 @@ void Sculptor::apply(const Stroke& stroke) {
         bytes += replacedBytes(*mCurrent, *after, region);
         next = std::move(after);
     }
+    mLast.colourTilesPainted = 0;
+    finish(std::move(next), bytes, t0);
+}
+
+void Sculptor::finish(adf::AdfPtr next, std::size_t replacedBytes, std::chrono::steady_clock::time_point t0) {
     mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    mLast.replacedBytes = bytes;
+    mLast.replacedBytes = replacedBytes;
 
     mRedo.clear();
     mUndo.push_back({mCurrent, mLast.replacedBytes});
