@@ -104,7 +104,8 @@ public:
         std::size_t paintedPoints = 0;  ///< lattice points of the colour layer
         std::size_t colourBytes = 0;    ///< bytes of the colour layer
         std::size_t bytes() const { return tileBytes + tableBytes + colourBytes; }
-        double bytesPerCell() const { return cells ? double(bytes()) / double(cells) : 0.0; }
+        /// Field bytes (tiles and table, not paint) per leaf cell.
+        double bytesPerCell() const { return cells ? double(tileBytes + tableBytes) / double(cells) : 0.0; }
     };
     /// Complexity: O(slots). Threading: any thread. Memory: one small set.
     Stats computeStats() const;
