@@ -3,6 +3,8 @@
 /// @brief Snapshot lookup, trilinear reconstruction, copy-on-write building and the accessor.
 #include "adf/adf.h"
 
+#include "adf/colour_layer.h"
+
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
@@ -151,6 +153,10 @@ Adf::Stats Adf::computeStats() const {
     std::unordered_set<const void*> chunks;
     for (const auto& c : mChunkOwners)
         if (c && chunks.insert(c.get()).second) s.tableBytes += sizeof(Chunk);
+    if (mColours) {
+        s.paintedPoints = mColours->pointCount();
+        s.colourBytes = mColours->bytes();
+    }
     if (s.boundaryCells > 0) {
         const double h = mDomain.finestCellSize();
         s.surfaceBounds = {mDomain.originWorld + glm::dvec3(lo) * h, mDomain.originWorld + glm::dvec3(hi) * h};
@@ -234,6 +240,11 @@ void AdfBuilder::setTile(TilePtr tile) {
                 chunk->tiles[i] = tile.get();
                 chunk->owners[i] = tile;
             }
+}
+
+void AdfBuilder::setColours(std::shared_ptr<const ColourLayer> colours) {
+    if (colours && !(colours->domain() == mAdf->mDomain)) throw std::invalid_argument("colour layer made for another domain");
+    mAdf->mColours = std::move(colours);
 }
 
 const Tile* AdfBuilder::tileAtSlot(glm::uvec3 slot) const {

@@ -7,7 +7,8 @@
 /// so that an edit copies only the chunks it touches. Snapshots and the tiles they point to
 /// are immutable: every thread may query one concurrently, and the haptic thread does so with
 /// an AdfAccessor. Reconstruction is trilinear in the leaf cell (Kizamu 2.1, Frisken et al.),
-/// and the gradient is the analytic derivative of that trilinear function.
+/// and the gradient is the analytic derivative of that trilinear function. A snapshot may also
+/// carry paint (colour_layer.h): an immutable colour layer, shared like the tiles.
 #pragma once
 
 #include "adf/domain.h"
@@ -51,6 +52,7 @@ struct Chunk {
 using ChunkPtr = std::shared_ptr<const Chunk>;
 
 class AdfBuilder;
+class ColourLayer;
 
 /// One immutable version of the field. Owned by std::shared_ptr on the writer side; readers
 /// reach it through SnapshotStore guards or plain references and never touch reference counts.
@@ -81,6 +83,10 @@ public:
     Sample sample(const glm::vec3& pWorld) const noexcept;
     float distance(const glm::vec3& pWorld) const noexcept { return sample(pWorld).distance; }
 
+    /// The paint, or null when this clay was never painted (meshes then carry no colours).
+    /// Complexity: O(1). Threading: any thread (the layer is immutable).
+    const std::shared_ptr<const ColourLayer>& colours() const { return mColours; }
+
     /// Calls `fn` once for every distinct tile (coarse tiles once, not once per slot), in slot order.
     void forEachTile(const std::function<void(const Tile&)>& fn) const;
 
@@ -95,8 +101,11 @@ public:
         std::size_t tableBytes = 0;   ///< root array and chunks
         std::size_t boundaryCells = 0;  ///< leaves whose corners change sign
         BoxWorld surfaceBounds;         ///< box around the boundary cells (zero box if none)
-        std::size_t bytes() const { return tileBytes + tableBytes; }
-        double bytesPerCell() const { return cells ? double(bytes()) / double(cells) : 0.0; }
+        std::size_t paintedPoints = 0;  ///< lattice points of the colour layer
+        std::size_t colourBytes = 0;    ///< bytes of the colour layer
+        std::size_t bytes() const { return tileBytes + tableBytes + colourBytes; }
+        /// Field bytes (tiles and table, not paint) per leaf cell.
+        double bytesPerCell() const { return cells ? double(tileBytes + tableBytes) / double(cells) : 0.0; }
     };
     /// Complexity: O(slots). Threading: any thread. Memory: one small set.
     Stats computeStats() const;
@@ -121,6 +130,7 @@ private:
     std::vector<uintptr_t> mRoot;  ///< Chunk* or (Tile* | 1) for a chunk covered by one tile
     std::vector<ChunkPtr> mChunkOwners;
     std::vector<TilePtr> mRootTileOwners;
+    std::shared_ptr<const ColourLayer> mColours;  ///< null: never painted
     glm::vec3 mOriginF{0.0f};
     float mLatticePerMetre = 1.0f;
     float mMetresPerLattice = 1.0f;
@@ -134,12 +144,16 @@ class AdfBuilder {
 public:
     /// Empty table for `domain` (every slot must be assigned before build()).
     AdfBuilder(const Domain& domain, const GenerationSettings& settings);
-    /// Starts from `base`: untouched chunks are shared with it.
+    /// Starts from `base`: untouched chunks are shared with it, and so is its colour layer
+    /// (so local regeneration keeps the paint: colour belongs to the material).
     explicit AdfBuilder(const Adf& base);
 
     /// Assigns `tile` to every slot it covers (its level and origin say which).
     /// Complexity: O(slots covered / 512 + touched chunk copies). Memory: copies touched chunks once.
     void setTile(TilePtr tile);
+    /// Replaces the colour layer (null: unpainted). @throw std::invalid_argument when the layer
+    /// was made for another domain. Complexity: O(1).
+    void setColours(std::shared_ptr<const ColourLayer> colours);
     /// Tile currently assigned at `slot` (null if none yet).
     const Tile* tileAtSlot(glm::uvec3 slot) const;
     /// Finishes with `version`. Throws std::logic_error if a slot is unassigned.

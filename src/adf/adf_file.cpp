@@ -3,6 +3,7 @@
 /// @brief .kza encoding and validating decoding.
 #include "adf/adf_file.h"
 
+#include "adf/colour_layer.h"
 #include "util/atomic_file.h"
 #include "util/byte_writer.h"
 #include "util/file_error.h"
@@ -10,6 +11,7 @@
 #include <glm/vector_relational.hpp>
 #include <zlib.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <string_view>
@@ -37,6 +39,8 @@ public:
         mPos += n;
     }
     std::size_t remaining() const { return mBytes.size() - mPos; }
+    std::size_t position() const { return mPos; }
+    void skip(std::size_t n) { mPos += std::min(n, remaining()); }
     [[noreturn]] void fail(const std::string& problem) const { throw FileError(mName, problem); }
 
 private:
@@ -90,6 +94,80 @@ bool validTree(const Tile& t, int maxDepth, std::string& why) {
     return true;
 }
 
+/// Section tags: four ASCII bytes, read as a little-endian u32.
+constexpr uint32_t sectionTag(const char (&t)[5]) {
+    return uint32_t(uint8_t(t[0])) | uint32_t(uint8_t(t[1])) << 8 | uint32_t(uint8_t(t[2])) << 16 | uint32_t(uint8_t(t[3])) << 24;
+}
+constexpr uint32_t kColourSection = sectionTag("COLR");
+
+std::string tagText(uint32_t tag) {
+    std::string s;
+    for (int k = 0; k < 4; ++k) {
+        const char c = char((tag >> (8 * k)) & 0xffu);
+        s += (c >= 0x20 && c < 0x7f) ? c : '?';
+    }
+    return s;
+}
+
+void encodeColours(const ColourLayer& layer, util::ByteWriter& w) {
+    util::ByteWriter p;
+    p.put(layer.baseColour());
+    p.put(uint8_t(0));  // reserved
+    p.put(uint32_t(layer.slotCount()));
+    for (std::size_t i = 0; i < layer.slotCount(); ++i) {
+        const ColourTile& t = *layer.tiles()[i];
+        p.put(layer.slotKeys()[i]);
+        p.put(uint32_t(t.size()));
+        p.putRaw(t.points().data(), t.size() * sizeof(uint32_t));
+        p.putRaw(t.colours().data(), t.size() * sizeof(Rgb8));
+    }
+    w.put(kColourSection);
+    w.put(uint64_t(p.size()));
+    w.putRaw(p.bytes().data(), p.size());
+}
+
+/// Reads and checks a colour section of `length` bytes (the checksum is already known good).
+ColourLayerPtr decodeColours(Reader& r, uint64_t length, const Domain& d) {
+    const std::size_t end = r.position() + std::size_t(length);
+    auto left = [&] { return end - r.position(); };
+    auto need = [&](uint64_t bytes, const std::string& what) {
+        if (bytes > left()) r.fail("colour section: " + what + " runs past the end of the section");
+    };
+    need(8, "the header");
+    Rgb8 base;
+    r.getBytes(&base, sizeof base, "colour section");
+    if (r.get<uint8_t>("colour section") != 0) r.fail("colour section: reserved byte is not zero");
+    const auto slots = r.get<uint32_t>("colour section");
+    const uint64_t totalSlots = uint64_t(d.slotsPerAxis()) * d.slotsPerAxis() * d.slotsPerAxis();
+    const uint32_t pointsPerSlot = 1u << (3 * d.tileSpan());
+    if (slots > totalSlots || uint64_t(slots) * 8 > left())
+        r.fail("colour section: " + std::to_string(slots) + " painted slots cannot fit");
+    std::vector<uint32_t> keys(slots);
+    std::vector<ColourTilePtr> tiles(slots);
+    for (uint32_t i = 0; i < slots; ++i) {
+        const std::string what = "painted slot " + std::to_string(i) + " of " + std::to_string(slots);
+        need(8, what);
+        keys[i] = r.get<uint32_t>("colour section");
+        const auto count = r.get<uint32_t>("colour section");
+        if (keys[i] >= totalSlots) r.fail("colour section: " + what + " lies outside the domain");
+        if (i > 0 && keys[i] <= keys[i - 1]) r.fail("colour section: slots are not strictly increasing");
+        if (count == 0 || count > pointsPerSlot) r.fail("colour section: " + what + " has an impossible point count");
+        need(uint64_t(count) * (sizeof(uint32_t) + sizeof(Rgb8)), what);
+        std::vector<uint32_t> points(count);
+        std::vector<Rgb8> colours(count);
+        r.getBytes(points.data(), points.size() * sizeof(uint32_t), what);
+        r.getBytes(colours.data(), colours.size() * sizeof(Rgb8), what);
+        for (uint32_t k = 0; k < count; ++k) {
+            if (points[k] >= pointsPerSlot) r.fail("colour section: " + what + " has a point index out of range");
+            if (k > 0 && points[k] <= points[k - 1]) r.fail("colour section: " + what + " has points not strictly increasing");
+            if (colours[k] == base) r.fail("colour section: " + what + " stores the base colour (unpainted points are not stored)");
+        }
+        tiles[i] = std::make_shared<const ColourTile>(std::move(points), std::move(colours));
+    }
+    if (left() != 0) r.fail("colour section: " + std::to_string(left()) + " bytes after the last painted slot");
+    return ColourLayer::create(d, base, std::move(keys), std::move(tiles));
+}
+
 }  // namespace
 
 std::vector<std::byte> encodeAdf(const Adf& adf) {
@@ -127,6 +205,7 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.putRaw(t.bricks(), std::size_t(t.brickCount()) * 54);
     });
     std::memcpy(w.bytes().data() + countAt, &tiles, sizeof tiles);
+    if (adf.colours()) encodeColours(*adf.colours(), w);
     const uLong crc = crc32_z(0L, reinterpret_cast<const Bytef*>(w.bytes().data()), w.bytes().size());
     w.put(uint32_t(crc));
     return std::move(w.bytes());
@@ -139,8 +218,8 @@ AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
         r.fail("not a Kizamu ADF file (.kza magic missing)");
     r.getBytes(magic, sizeof magic, "magic");
     const auto version = r.get<uint32_t>("format version");
-    if (version != kAdfFormatVersion)
-        r.fail("unsupported .kza format version " + std::to_string(version) + " (this build reads " +
+    if (version < 1 || version > kAdfFormatVersion)
+        r.fail("unsupported .kza format version " + std::to_string(version) + " (this build reads 1 to " +
                std::to_string(kAdfFormatVersion) + ")");
     if (bytes.size() < 4 + 8 + 4) r.fail("truncated: no room for the checksum");
     uint32_t stored;
@@ -205,11 +284,29 @@ AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
         coveredSlots += side * side * side;
         builder.setTile(std::move(tile));
     }
+    // Version 2: tagged sections until the checksum, each a u32 tag, a u64 length and its bytes.
+    bool haveColours = false;
+    while (version >= 2 && r.remaining() > 4) {
+        if (r.remaining() < 4 + 12) r.fail(crcOk ? "a section header is cut short" : "truncated: a section header is missing");
+        const auto tag = r.get<uint32_t>("section tag");
+        const auto length = r.get<uint64_t>("section length");
+        const std::string what = "section '" + tagText(tag) + "'";
+        if (length > r.remaining() - 4)
+            r.fail(crcOk ? what + " is longer than the file" : "truncated: " + what + " ends past the end of the file");
+        if (!crcOk) {
+            r.skip(std::size_t(length));
+            continue;
+        }
+        if (tag != kColourSection) r.fail("unknown " + what + " (written by a newer Kizamu?)");
+        if (haveColours) r.fail("two colour sections");
+        haveColours = true;
+        builder.setColours(decodeColours(r, length, d));
+    }
     if (!crcOk) {
         if (r.remaining() < 4) r.fail("truncated: the checksum is missing");
         r.fail("checksum mismatch: the file is corrupt");
     }
-    if (r.remaining() != 4) r.fail("unexpected data after the last tile");
+    if (r.remaining() != 4) r.fail(version >= 2 ? "unexpected data after the last section" : "unexpected data after the last tile");
     if (coveredSlots != totalSlots) r.fail("tiles overlap or leave holes in the domain");
     try {
         return builder.build(snapshotVersion);

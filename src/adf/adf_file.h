@@ -4,7 +4,9 @@
 ///
 /// Layout (little-endian, docs/FILE-FORMATS.md): a fixed header (magic, format version, domain,
 /// generation settings, snapshot version, tile count), one record per distinct tile (level,
-/// lattice origin, scale, node words, 16-bit corners), then a CRC-32 of everything before it.
+/// lattice origin, scale, node words, 16-bit corners), then (version 2) tagged sections, each
+/// with its own length: so far the optional colour layer ('COLR'); then a CRC-32 of everything
+/// before it. Version-1 files (no sections) still load.
 /// Loading validates every field and the tree structure, so a truncated, corrupt or foreign
 /// file gives a one-line FileError and never a crash. Cold path; any thread.
 #pragma once
@@ -17,7 +19,8 @@
 
 namespace kizamu::adf {
 
-inline constexpr uint32_t kAdfFormatVersion = 1;
+/// Written by this build; it reads versions 1 and 2.
+inline constexpr uint32_t kAdfFormatVersion = 2;
 
 /// Serialises `adf`. Complexity: O(size). Memory: the returned buffer.
 std::vector<std::byte> encodeAdf(const Adf& adf);

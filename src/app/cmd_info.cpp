@@ -3,12 +3,14 @@
 /// @brief `kizamu info FILE|DIR`: level, tiles, cells, memory and bounds of a .kza file, or
 /// what a session directory holds.
 #include "adf/adf_file.h"
+#include "adf/colour_layer.h"
 #include "app/commands.h"
 #include "sculpt/session.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <vector>
 #include <string>
@@ -48,7 +50,9 @@ void printInfo(const std::string& path) {
     const adf::GenerationSettings& s = a->settings();
     const adf::Adf::Stats st = a->computeStats();
     const double h = d.finestCellSize();
-    std::printf("%s: Kizamu ADF, format %u, snapshot version %llu\n", path.c_str(), adf::kAdfFormatVersion,
+    uint32_t format = 0;  // the file's own format version (the loader accepted it)
+    if (std::ifstream f{path, std::ios::binary}; f.seekg(8) && f.read(reinterpret_cast<char*>(&format), 4)) {}
+    std::printf("%s: Kizamu ADF, format %u, snapshot version %llu\n", path.c_str(), format,
                 static_cast<unsigned long long>(a->version()));
     std::printf("  domain      origin (%g, %g, %g) m, size %g m\n", d.originWorld.x, d.originWorld.y,
                 d.originWorld.z, d.sizeWorld);
@@ -58,9 +62,14 @@ void printInfo(const std::string& path) {
                 s.epsilonCells, s.boundK, s.boundC, s.bandCells);
     std::printf("  tiles       %zu (%zu coarse, above the tile level)\n", st.tiles, st.coarseTiles);
     std::printf("  cells       %zu leaves (%zu on the surface), %zu nodes\n", st.cells, st.boundaryCells, st.nodes);
-    std::printf("  memory      %.2f MB (%.1f bytes per cell; tiles %.2f MB, table %.2f MB)\n",
+    std::printf("  memory      %.2f MB (%.1f bytes per cell; tiles %.2f MB, table %.2f MB, paint %.2f MB)\n",
                 double(st.bytes()) / 1e6, st.bytesPerCell(), double(st.tileBytes) / 1e6,
-                double(st.tableBytes) / 1e6);
+                double(st.tableBytes) / 1e6, double(st.colourBytes) / 1e6);
+    if (const auto& paint = a->colours()) {
+        const adf::Rgb8 base = paint->baseColour();
+        std::printf("  paint       %zu points in %zu tile slots, %.2f MB; unpainted clay (%d, %d, %d)\n", st.paintedPoints,
+                    paint->slotCount(), double(st.colourBytes) / 1e6, base.r, base.g, base.b);
+    }
     if (st.boundaryCells > 0)
         std::printf("  bounds      (%.6g, %.6g, %.6g) .. (%.6g, %.6g, %.6g) m (surface cells)\n",
                     st.surfaceBounds.min.x, st.surfaceBounds.min.y, st.surfaceBounds.min.z,

@@ -4,6 +4,7 @@
 #include "mesh/lod.h"
 
 #include "adf/generate.h"
+#include "mesh/mesh_colours.h"
 
 #include <algorithm>
 #include <cmath>
@@ -48,7 +49,10 @@ adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadP
 }
 
 MeshBuffers meshLod(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool, SurfaceNetsStats* stats) {
-    return meshAdf(coarsenAdf(fine, errorWorld, pool), pool, stats);
+    MeshBuffers m = meshAdf(coarsenAdf(fine, errorWorld, pool), pool, stats);
+    // The coarse ADF carries no paint: the colours come from the fine snapshot's layer.
+    if (fine->colours()) colourPoints(*fine->colours(), m.positions, m.colours, pool);
+    return m;
 }
 
 double lodErrorForTriangles(const adf::AdfPtr& fine, std::size_t triangles, util::ThreadPool* pool) {

@@ -27,7 +27,8 @@ namespace kizamu::mesh {
 /// @throw std::invalid_argument if errorWorld is not positive and finite.
 adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool = nullptr);
 
-/// The LOD mesh of `fine` at error `errorWorld` (m).
+/// The LOD mesh of `fine` at error `errorWorld` (m), with vertex colours from `fine`'s paint
+/// when it has any (the coarse ADF itself carries none).
 MeshBuffers meshLod(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool = nullptr,
                     SurfaceNetsStats* stats = nullptr);
 

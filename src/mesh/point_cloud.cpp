@@ -4,6 +4,7 @@
 #include "mesh/point_cloud.h"
 
 #include "mesh/boundary_cells.h"
+#include "mesh/mesh_colours.h"
 #include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
@@ -84,6 +85,7 @@ PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t se
             }
         }
     });
+    if (adf.colours()) colourPoints(*adf.colours(), out.positions, out.colours, pool);
     return out;
 }
 

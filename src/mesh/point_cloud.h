@@ -6,12 +6,15 @@
 /// surface area (the cell's face area over the L1 norm of the unit gradient: the mean area of
 /// a plane crossing the cell), placed uniformly at random in the cell and projected onto the
 /// surface in one step along the trilinear gradient; the normal is the gradient there. Only the
-/// cell's own corners are read (no lookups). Deterministic for a given seed and thread count
+/// cell's own corners are read (no lookups); a painted snapshot's points get their colours
+/// from its colour layer (mesh_colours.h). Deterministic for a given seed and thread count
 /// independent. Complexity: O(boundary cells + points). Threading: parallel on the pool.
 /// Memory: the output and one float per boundary cell.
 #pragma once
 
 #include "adf/adf.h"
+
+#include <glm/gtc/type_precision.hpp>
 
 #include <cstddef>
 #include <cstdint>
@@ -26,6 +29,7 @@ namespace kizamu::mesh {
 struct PointCloud {
     std::vector<glm::vec3> positions;  ///< m, world
     std::vector<glm::vec3> normals;    ///< unit
+    std::vector<glm::u8vec3> colours;  ///< sRGB from the snapshot's paint, or empty when unpainted
 };
 
 /// `count` points on the surface of `adf`.

@@ -4,6 +4,7 @@
 #include "mesh/surface_nets.h"
 
 #include "mesh/boundary_cells.h"
+#include "mesh/mesh_colours.h"
 #include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
@@ -1000,6 +1001,9 @@ MeshBuffers SurfaceMesher::mesh() const {
                 emit(i0, i2, i3);
             }
         }
+    // Paint: one colour per vertex from its position, so an incremental mesh gets the same
+    // colours as a full one; nothing at all (not even a branch per vertex) when unpainted.
+    if (mAdf->colours()) colourPoints(*mAdf->colours(), m.positions, m.colours, mPool);
     return m;
 }
 

@@ -5,6 +5,7 @@
 
 #include "adf/adf_source.h"
 #include "adf/generate.h"
+#include "sculpt/paint.h"
 #include "sculpt/stroke_path.h"
 #include "sculpt/swept_tool.h"
 
@@ -94,7 +95,7 @@ private:
         // inside it, so the surface moves continuously as the tool arrives.
         const double inside = -toolBelow(p, q, 0.0);
         if (!(inside > 0.0)) return old;
-        const double t = std::min(1.0, inside / mCore), w = t * t * (3.0 - 2.0 * t);
+        const double w = toolWeight(inside, mCore);
         switch (mOp) {
         case ToolOp::Build: return old - mOffset * w;
         case ToolOp::HeatGun: return old + mOffset * w;
@@ -193,7 +194,22 @@ void Sculptor::apply(const Stroke& stroke) {
     }
     // Curves and constrained paths are kept within a tenth of a finest cell: below what the
     // field resolves (epsilon is a quarter cell).
-    const auto swept = makeSweptTool(stroke.tool, resolvePath(stroke, *mCurrent, 0.1 * d.finestCellSize()));
+    std::vector<ToolSample> path = resolvePath(stroke, *mCurrent, 0.1 * d.finestCellSize());
+    if (stroke.tool.op == ToolOp::Paint) {
+        // Paint changes only the colour layer: the new snapshot shares every distance tile, and
+        // no correction is owed.
+        Stroke resolved = stroke;
+        resolved.samples = std::move(path);
+        resolved.bezier = false;
+        PaintStats ps;
+        adf::AdfBuilder builder(*mCurrent);
+        builder.setColours(paintStroke(*mCurrent, resolved, mPool, &ps));
+        mLast.tilesRebuilt = 0;
+        mLast.colourTilesPainted = ps.slotsPainted;
+        finish(builder.build(mCurrent->version() + 1), ps.replacedBytes, mPending, t0);
+        return;
+    }
+    const auto swept = makeSweptTool(stroke.tool, std::move(path));
     const ToolLimits limits = limitsFor(stroke);
     const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
     // One regeneration per mirrored copy, each over its own region (a union box would rebuild
@@ -222,12 +238,18 @@ void Sculptor::apply(const Stroke& stroke) {
         next = std::move(after);
         if (mCorrecting) zones.push_back(correctionZone(*next, region, mCorrection));
     }
+    mLast.colourTilesPainted = 0;
+    finish(std::move(next), bytes, std::move(zones), t0);
+}
+
+void Sculptor::finish(adf::AdfPtr next, std::size_t replacedBytes, std::vector<adf::BoxWorld> pending,
+                      std::chrono::steady_clock::time_point t0) {
     mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    mLast.replacedBytes = bytes;
+    mLast.replacedBytes = replacedBytes;
 
     mRedo.clear();
     mUndo.push_back({mCurrent, mLast.replacedBytes, std::move(mPending)});
-    mPending = std::move(zones);
+    mPending = std::move(pending);
     mHistoryBytes += mLast.replacedBytes;
     while (!mUndo.empty() && (mBudget == 0 || mHistoryBytes > mBudget)) {
         mHistoryBytes -= mUndo.front().bytes;

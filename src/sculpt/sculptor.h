@@ -6,7 +6,9 @@
 /// (`makeAdfSource` of the current snapshot, min/max CSG), limited to the box around the swept
 /// volume plus the accurate band, and regenerated there (`regenerate`): only the tiles the
 /// stroke touches are rebuilt, everything else is shared. The surface moves continuously with
-/// the tool because the CSG of two continuous fields is continuous (no popping).
+/// the tool because the CSG of two continuous fields is continuous (no popping). A paint stroke
+/// (paint.h) changes only the colour layer: the new snapshot shares every distance tile, and
+/// later strokes keep the paint (regeneration carries the layer along).
 ///
 /// Undo history: the snapshot before each stroke. Snapshots share untouched tiles, so a record
 /// costs the tiles the stroke replaced, and undo/redo are a pointer swap. The history keeps at
@@ -18,6 +20,7 @@
 #include "sculpt/remote_field.h"
 #include "sculpt/stroke_script.h"
 
+#include <chrono>
 #include <cstddef>
 #include <deque>
 #include <memory>
@@ -33,7 +36,8 @@ struct ToolLimits;
 struct EditStats {
     double ms = 0.0;                 ///< wall time of the last stroke's regeneration
     std::size_t tilesRebuilt = 0;    ///< tiles that stroke rebuilt
-    std::size_t replacedBytes = 0;   ///< bytes of the tiles it replaced (its undo record)
+    std::size_t colourTilesPainted = 0;  ///< colour tiles a paint stroke rewrote
+    std::size_t replacedBytes = 0;   ///< bytes of the tiles (distance or colour) it replaced (its undo record)
 };
 
 class Sculptor {
@@ -82,6 +86,9 @@ public:
 
 private:
     ToolLimits limitsFor(const Stroke& stroke) const;
+    /// Makes `next` current, with `pending` corrections, and an undo record of `replacedBytes`.
+    void finish(adf::AdfPtr next, std::size_t replacedBytes, std::vector<adf::BoxWorld> pending,
+                std::chrono::steady_clock::time_point t0);
     struct Record {
         adf::AdfPtr snapshot;
         std::size_t bytes;

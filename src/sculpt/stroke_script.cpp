@@ -35,6 +35,20 @@ glm::dquat quatOf(const json& j) {
     return std::abs(glm::length(q) - 1.0) > 1e-9 ? glm::normalize(q) : q;
 }
 
+/// "color": [r, g, b], integers 0-255 (sRGB).
+glm::u8vec3 colourOf(const json& j) {
+    const char* expect = "color must be [r, g, b] with integers 0-255";
+    if (!j.is_array() || j.size() != 3) throw std::invalid_argument(expect);
+    glm::u8vec3 c(0, 0, 0);
+    for (int k = 0; k < 3; ++k) {
+        if (!j[std::size_t(k)].is_number_integer()) throw std::invalid_argument(expect);
+        const auto v = j[std::size_t(k)].get<int64_t>();
+        if (v < 0 || v > 255) throw std::invalid_argument(std::string(expect) + " (got " + std::to_string(v) + ")");
+        c[k] = uint8_t(v);
+    }
+    return c;
+}
+
 json vecJson(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
 json quatJson(const glm::dquat& q) { return json::array({q.w, q.x, q.y, q.z}); }
 
@@ -137,6 +151,10 @@ Stroke parseStroke(const json& j) {
     s.tool.rate = number(j, "rate", 0.0);
     s.dwell = number(j, "dwell", 0.0);
     if (!(s.dwell >= 0.0) || !std::isfinite(s.dwell)) throw std::invalid_argument("dwell must be a non-negative time in seconds");
+    if (s.tool.op == ToolOp::Paint) {
+        if (!j.contains("color")) throw std::invalid_argument("paint needs a \"color\": [r, g, b] with integers 0-255");
+        s.tool.colour = colourOf(j.at("color"));
+    }
     s.tool.validate();
     s.bezier = j.contains("bezier");
     if (s.bezier && j.contains("path")) throw std::invalid_argument("a stroke has a path or a bezier curve, not both");
@@ -239,6 +257,7 @@ std::string strokeLine(const Stroke& s) {
     if (s.tool.shape == ToolShape::Cylinder) j["length"] = 2.0 * s.tool.halfLength;
     if (s.tool.strength != 1.0) j["strength"] = s.tool.strength;
     if (s.tool.op == ToolOp::Build) j["amount"] = s.tool.amount;
+    if (s.tool.op == ToolOp::Paint) j["color"] = json::array({s.tool.colour.r, s.tool.colour.g, s.tool.colour.b});
     if (s.tool.op == ToolOp::HeatGun) {
         j["rate"] = s.tool.rate;
         j["dwell"] = s.dwell;

@@ -54,6 +54,12 @@ double toolDistance(const Tool& tool, const glm::dvec3& q) {
     return 0.0;
 }
 
+double toolWeight(double inside, double core) {
+    if (!(inside > 0.0)) return 0.0;
+    const double t = std::min(1.0, inside / core);
+    return t * t * (3.0 - 2.0 * t);
+}
+
 const char* shapeName(ToolShape s) {
     switch (s) {
     case ToolShape::Sphere: return "sphere";
@@ -71,6 +77,7 @@ const char* opName(ToolOp o) {
     case ToolOp::HeatGun: return "heat-gun";
     case ToolOp::Smooth: return "smooth";
     case ToolOp::Flatten: return "flatten";
+    case ToolOp::Paint: return "paint";
     }
     return "?";
 }
@@ -89,7 +96,8 @@ ToolOp parseOp(const std::string& s) {
     if (s == "heat-gun") return ToolOp::HeatGun;
     if (s == "smooth") return ToolOp::Smooth;
     if (s == "flatten") return ToolOp::Flatten;
-    throw std::invalid_argument("unknown tool operation '" + s + "' (carve, add, build, heat-gun, smooth, flatten)");
+    if (s == "paint") return ToolOp::Paint;
+    throw std::invalid_argument("unknown tool operation '" + s + "' (carve, add, build, heat-gun, smooth, flatten, paint)");
 }
 
 }  // namespace kizamu::sculpt

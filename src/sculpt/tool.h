@@ -8,6 +8,7 @@
 #pragma once
 
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_precision.hpp>
 #include <glm/vec3.hpp>
 
 #include <cstdint>
@@ -20,17 +21,19 @@ enum class ToolShape : uint8_t { Sphere, Cube, Cylinder };
 /// that falls smoothly from the tool's core (1) to its boundary (0): build and heat gun offset
 /// the field (raise, melt); smooth moves it toward its local average (sandpaper: ridges wear,
 /// valleys fill); flatten moves it toward the plane through the stroke's first pose, normal to
-/// that pose's z axis.
-enum class ToolOp : uint8_t { Carve, Add, Build, HeatGun, Smooth, Flatten };
+/// that pose's z axis. Paint leaves the field alone and colours the surface inside the tool
+/// (sculpt/paint.h), with the same kind of weight times the strength (its opacity).
+enum class ToolOp : uint8_t { Carve, Add, Build, HeatGun, Smooth, Flatten, Paint };
 
 struct Tool {
     ToolShape shape = ToolShape::Sphere;
     ToolOp op = ToolOp::Carve;
     double radius = 0.01;      ///< m: sphere radius, half edge of the cube, cylinder radius
     double halfLength = 0.01;  ///< m: half length of the cylinder along local z
-    double strength = 1.0;     ///< (0, 1]: how much of the tool bites (it shrinks by (1 - s) * radius)
+    double strength = 1.0;     ///< (0, 1]: how much of the tool bites (it shrinks by (1 - s) * radius); paint: opacity
     double amount = 0.0;       ///< m, build: how far one stroke raises the surface at the tool's core
     double rate = 0.0;         ///< m/s, heat gun: how fast the surface melts at the core while it dwells
+    glm::u8vec3 colour{255, 255, 255};  ///< paint: sRGB colour laid on the surface
 
     /// Largest distance from the pose to a point of the tool, m.
     double boundingRadius() const;
@@ -52,12 +55,17 @@ struct ToolSample {
 /// inside the cube (the usual box distance). Convex in `local` for every shape.
 double toolDistance(const Tool& tool, const glm::dvec3& local);
 
+/// The gradual tools' weight at depth `inside` (m, positive inside the tool): 0 at the tool's
+/// boundary (and outside), 1 at depth `core` (m) and deeper, a smoothstep between, so what a
+/// tool does grows continuously as it arrives.
+double toolWeight(double inside, double core);
+
 const char* shapeName(ToolShape s);
 const char* opName(ToolOp o);
 /// Parses "sphere" / "cube" / "cylinder" (also "chisel" for the cylinder). Throws
 /// std::invalid_argument naming the accepted words otherwise.
 ToolShape parseShape(const std::string& s);
-/// Parses "carve" / "add" / "build" / "heat-gun".
+/// Parses "carve" / "add" / "build" / "heat-gun" / "smooth" / "flatten" / "paint".
 ToolOp parseOp(const std::string& s);
 
 }  // namespace kizamu::sculpt

@@ -78,6 +78,40 @@ printf '%s\n{"op": "carve", "shape": "blob", "radius": 0.1, "path": [[0,0,0]]}\n
 [ "$rc" -eq 2 ] || fail "a bad script exited $rc, expected 2"
 grep -q "bad.jsonl: line 2: unknown tool shape" "$tmp/err" || fail "bad script error: $(cat "$tmp/err")"
 [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "bad script error is not one line"
+# paint: a painted example exported to PLY, GLB and OBJ (run) and via a .kza and a session
+# (convert) carries vertex colours that assimp (independent reader) finds: red where the
+# example paints red, clay grey elsewhere
+"$kizamu" run "$repo/examples/paint.jsonl" --level 7 --out "$tmp/painted.kza" >/dev/null || fail "run paint.jsonl"
+"$kizamu" info "$tmp/painted.kza" | grep -q "paint .* points" || fail "info does not report the paint"
+"$kizamu" run "$repo/examples/paint.jsonl" --level 7 --session "$tmp/psess" >/dev/null || fail "run paint.jsonl --session"
+"$kizamu" convert "$tmp/psess" "$tmp/psess.kza" >/dev/null || fail "convert a painted session"
+cmp -s "$tmp/painted.kza" "$tmp/psess.kza" || fail "the painted session's clay (or paint) differs from the plain replay"
+for out in painted.ply painted.glb painted.obj; do
+    "$kizamu" run "$repo/examples/paint.jsonl" --level 7 --out "$tmp/run_$out" >/dev/null || fail "run paint.jsonl --out $out"
+    "$kizamu" convert "$tmp/painted.kza" "$tmp/conv_$out" >/dev/null || fail "convert painted.kza $out"
+done
+"$kizamu" convert "$tmp/painted.kza" "$tmp/lod_painted.glb" --lod 2 >/dev/null || fail "convert painted.kza --lod"
+command -v assimp >/dev/null || fail "assimp (assimp-utils) is required to check exported colours"
+for f in run_painted.ply run_painted.glb run_painted.obj conv_painted.ply conv_painted.glb conv_painted.obj lod_painted.glb; do
+    assimp dump "$tmp/$f" "$tmp/$f.assxml" >/dev/null 2>&1 || fail "assimp cannot read $f"
+    minred=8; [ "$f" = lod_painted.glb ] && minred=1  # flat painted faces have few vertices; a coarse LOD fewer
+    python3 - "$tmp/$f.assxml" "$minred" <<'PY' || fail "colours in $f"
+import re, sys
+text = open(sys.argv[1]).read()
+m = re.search(r'<Colors num="(\d+)" set="0" num_components="(\d+)">([^<]*)<', text)
+assert m, "no vertex colours"
+k = int(m.group(2))
+v = [float(x) for x in m.group(3).split()]
+def srgb(c):  # glTF stores linear colours
+    return 12.92 * c if c <= 0.0031308 else 1.055 * c ** (1 / 2.4) - 0.055
+glb = sys.argv[1].endswith(".glb.assxml")
+cols = [tuple(round(255 * (srgb(c) if glb else c)) for c in v[i:i + 3]) for i in range(0, len(v), k)]
+assert len(cols) == int(m.group(1)), "colour count"
+red = sum(1 for c in cols if c == (200, 30, 30))
+clay = sum(1 for c in cols if c == (200, 192, 180))
+assert red >= int(sys.argv[2]) and clay > len(cols) // 2, f"red {red}, clay {clay} of {len(cols)}"
+PY
+done
 python3 "$repo/scripts/make_slab.py" | cmp -s - "$repo/examples/slab2000.jsonl" || fail "examples/slab2000.jsonl differs from scripts/make_slab.py"
 
 # bench contract: only JSON objects on stdout, every figure the contract names present

@@ -103,9 +103,9 @@ inline std::size_t componentCount(const mesh::MeshBuffers& m) {
     return n;
 }
 
-/// Triangles as sorted tuples of (position, normal) rotated to start at the smallest vertex:
-/// equal for two meshes that differ only in vertex and triangle order.
-using CanonicalVertex = std::array<float, 6>;
+/// Triangles as sorted tuples of (position, normal, colour) rotated to start at the smallest
+/// vertex: equal for two meshes that differ only in vertex and triangle order.
+using CanonicalVertex = std::array<float, 9>;
 using CanonicalMesh = std::vector<std::array<CanonicalVertex, 3>>;
 inline CanonicalMesh canonical(const mesh::MeshBuffers& m) {
     CanonicalMesh out;
@@ -114,7 +114,8 @@ inline CanonicalMesh canonical(const mesh::MeshBuffers& m) {
         for (int i = 0; i < 3; ++i) {
             const uint32_t v = m.indices[3 * t + i];
             const glm::vec3 n = m.normals.empty() ? glm::vec3(0.0f) : m.normals[v];
-            tri[i] = {m.positions[v].x, m.positions[v].y, m.positions[v].z, n.x, n.y, n.z};
+            const glm::vec3 c = m.colours.empty() ? glm::vec3(-1.0f) : glm::vec3(m.colours[v]);
+            tri[i] = {m.positions[v].x, m.positions[v].y, m.positions[v].z, n.x, n.y, n.z, c.x, c.y, c.z};
         }
         const int s = int(std::min_element(tri.begin(), tri.end()) - tri.begin());
         std::rotate(tri.begin(), tri.begin() + s, tri.end());

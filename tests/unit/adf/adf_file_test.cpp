@@ -3,6 +3,7 @@
 // structurally corrupt ones with a valid checksum. Every failure is a one-line FileError.
 #include "adf/adf_file.h"
 
+#include "adf/colour_layer.h"
 #include "adf/generate.h"
 #include "adf/test_part.h"
 #include "tests/util/adf_compare.h"
@@ -53,6 +54,36 @@ std::string errorOf(const std::string& bytes) {
 }
 
 constexpr std::size_t kHeaderBytes = 8 + 4 + 4 * 8 + 2 * 4 + 4 * 8 + 8 + 8;
+
+/// smallPart() with paint: a few slots of random points in random colours (none the base).
+AdfPtr paintedPart() {
+    static const AdfPtr adf = [] {
+        const AdfPtr plain = smallPart();
+        const ColourLayer empty(plain->domain());
+        std::mt19937_64 rng(5);
+        std::vector<std::pair<uint32_t, ColourTilePtr>> tiles;
+        const uint32_t points = 1u << (3 * plain->domain().tileSpan());
+        for (uint32_t key : {0u, 3u, 5u, 7u}) {
+            std::vector<uint32_t> idx;
+            for (uint32_t p = uint32_t(rng() % 7); p < points; p += 1 + uint32_t(rng() % 50)) idx.push_back(p);
+            std::vector<Rgb8> colours;
+            for (std::size_t i = 0; i < idx.size(); ++i) colours.push_back(Rgb8(uint8_t(rng() % 150), uint8_t(rng()), uint8_t(rng())));
+            tiles.emplace_back(key, std::make_shared<const ColourTile>(std::move(idx), std::move(colours)));
+        }
+        AdfBuilder b(*plain);
+        b.setColours(empty.withTiles(std::move(tiles)));
+        return b.build(plain->version() + 1);
+    }();
+    return adf;
+}
+
+std::string encodedPainted() {
+    const auto bytes = encodeAdf(*paintedPart());
+    return {reinterpret_cast<const char*>(bytes.data()), bytes.size()};
+}
+
+/// Where the colour section starts: right after the tiles, which an unpainted file ends with.
+std::size_t colourSectionAt() { return encoded().size() - 4; }
 
 TEST(AdfFile, RoundTripIsExact) {
     const AdfPtr a = smallPart();
@@ -134,6 +165,106 @@ TEST(AdfFile, StructuralDamageWithAValidChecksumIsCaught) {
             const std::size_t at = kHeaderBytes + rng() % (bad.size() - kHeaderBytes - 4);
             bad[at] = char(rng());
         }
+        fixChecksum(bad);
+        try {
+            decodeAdf(bad, "x.kza");
+        } catch (const FileError&) {
+            ++caught;
+        }
+    }
+    EXPECT_GT(caught, 0);
+}
+
+TEST(AdfFile, PaintRoundTripsBitForBit) {
+    const AdfPtr a = paintedPart();
+    const std::string bytes = encodedPainted();
+    const AdfPtr b = decodeAdf(bytes, "mem");
+    EXPECT_TRUE(test::sameAdf(*a, *b));
+    ASSERT_NE(b->colours(), nullptr);
+    const ColourLayer& la = *a->colours();
+    const ColourLayer& lb = *b->colours();
+    EXPECT_EQ(la.baseColour(), lb.baseColour());
+    ASSERT_EQ(la.slotCount(), lb.slotCount());
+    for (std::size_t i = 0; i < la.slotCount(); ++i) {
+        EXPECT_EQ(la.slotKeys()[i], lb.slotKeys()[i]);
+        const ColourTile &ta = *la.tiles()[i], &tb = *lb.tiles()[i];
+        ASSERT_EQ(ta.size(), tb.size());
+        EXPECT_TRUE(std::equal(ta.points().begin(), ta.points().end(), tb.points().begin()));
+        EXPECT_TRUE(std::equal(ta.colours().begin(), ta.colours().end(), tb.colours().begin()));
+    }
+    EXPECT_EQ(la.pointCount(), lb.pointCount());
+    EXPECT_GT(la.pointCount(), 100u);
+    EXPECT_EQ(encodeAdf(*b), encodeAdf(*a));
+    // Unpainted clay stays unpainted (no empty layer appears).
+    EXPECT_EQ(decodeAdf(encoded(), "mem")->colours(), nullptr);
+}
+
+TEST(AdfFile, VersionOneFilesStillLoad) {
+    // An unpainted version-2 file is a version-1 file with another number: no sections follow.
+    std::string v1 = encoded();
+    const uint32_t one = 1;
+    std::memcpy(v1.data() + 8, &one, 4);
+    fixChecksum(v1);
+    const AdfPtr a = decodeAdf(v1, "v1.kza");
+    EXPECT_TRUE(test::sameAdf(*a, *smallPart()));
+    // ...and version 1 has no sections.
+    std::string v1painted = encodedPainted();
+    std::memcpy(v1painted.data() + 8, &one, 4);
+    fixChecksum(v1painted);
+    EXPECT_NE(errorOf(v1painted).find("unexpected data after the last tile"), std::string::npos);
+}
+
+TEST(AdfFile, DamagedColourSectionsAreFileErrors) {
+    const std::string full = encodedPainted();
+    const std::size_t at = colourSectionAt();  // tag, length, then the payload
+    const std::size_t payload = at + 12;
+    auto damaged = [&](std::size_t offset, const void* value, std::size_t n) {
+        std::string bad = full;
+        std::memcpy(bad.data() + offset, value, n);
+        fixChecksum(bad);
+        return errorOf(bad);
+    };
+    ASSERT_EQ(full.substr(at, 4), "COLR");
+    const uint32_t huge = 0x7fffffffu, zero = 0;
+    const uint64_t longer = full.size();
+    EXPECT_NE(damaged(at, "XTRA", 4).find("unknown section 'XTRA'"), std::string::npos);
+    EXPECT_NE(damaged(at + 4, &longer, 8).find("section 'COLR' is longer than the file"), std::string::npos);
+    EXPECT_NE(damaged(payload + 3, "\x01", 1).find("reserved byte"), std::string::npos);
+    EXPECT_NE(damaged(payload + 4, &huge, 4).find("painted slots cannot fit"), std::string::npos);
+    const std::size_t slot0 = payload + 8;  // key, count, points, colours
+    EXPECT_NE(damaged(slot0, &huge, 4).find("outside the domain"), std::string::npos);
+    EXPECT_NE(damaged(slot0 + 4, &zero, 4).find("impossible point count"), std::string::npos);
+    EXPECT_NE(damaged(slot0 + 4, &huge, 4).find("impossible point count"), std::string::npos);
+    const uint32_t count = [&] {
+        uint32_t c;
+        std::memcpy(&c, full.data() + slot0 + 4, 4);
+        return c;
+    }();
+    const uint32_t more = count + 100000;
+    EXPECT_NE(damaged(slot0 + 4, &more, 4).find("runs past the end of the section"), std::string::npos);
+    const uint32_t bigger = count + 10;
+    EXPECT_NE(damaged(slot0 + 4, &bigger, 4).find("colour section"), std::string::npos);
+    EXPECT_NE(damaged(slot0 + 8, &huge, 4).find("point index out of range"), std::string::npos);
+    uint32_t second;
+    std::memcpy(&second, full.data() + slot0 + 12, 4);
+    EXPECT_NE(damaged(slot0 + 8, &second, 4).find("points not strictly increasing"), std::string::npos);
+    const Rgb8 base = kClayColour;
+    EXPECT_NE(damaged(slot0 + 8 + 4 * std::size_t(count), &base, 3).find("stores the base colour"), std::string::npos);
+    // The second slot's key not above the first's.
+    const std::size_t slot1 = slot0 + 8 + 7 * std::size_t(count);
+    EXPECT_NE(damaged(slot1, &zero, 4).find("not strictly increasing"), std::string::npos);
+    // Every truncation inside the section is reported, and so is any random damage behind a
+    // valid checksum (an error or a clean load, never a crash).
+    for (std::size_t len = at; len < full.size(); len += (len < payload + 32 ? 1 : (full.size() - at) / 200 + 1)) {
+        const std::string msg = errorOf(full.substr(0, len));
+        EXPECT_TRUE(msg.find("truncated") != std::string::npos || msg.find("checksum") != std::string::npos) << len << ": " << msg;
+    }
+    std::mt19937_64 rng(8);
+    int caught = 0;
+    for (int i = 0; i < 300; ++i) {
+        std::string bad = full;
+        const std::size_t pos = at + rng() % (bad.size() - at - 4);
+        bad[pos] = char(rng());
         fixChecksum(bad);
         try {
             decodeAdf(bad, "x.kza");

@@ -5,6 +5,7 @@
 #include "adf/generate.h"
 #include "adf/test_part.h"
 #include "tests/util/mesh_check.h"
+#include "tests/util/painted.h"
 #include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
@@ -81,6 +82,45 @@ TEST(PointCloud, PointsLieOnTheSurfaceWithNormalsAndFollowTheArea) {
     const mesh::PointCloud serial = mesh::surfacePointCloud(*a, n, 7, nullptr);
     EXPECT_EQ(serial.positions, pc.positions);
     EXPECT_EQ(serial.normals, pc.normals);
+}
+
+TEST(Paint, MeshesLodsAndPointsCarryTheLayersColoursAndUnpaintedClayNone) {
+    util::ThreadPool pool(3);
+    Domain d;
+    d.maxLevel = 6;
+    d.tileSpanLevels = 3;
+    const AdfPtr plain = generate(*makeTranslated(makeSphere(0.3), glm::dvec3(0.5)), d, GenerationSettings{}, &pool);
+    const Rgb8 red(220, 20, 20);
+    const AdfPtr painted = test::paintedAbove(plain, red, 0.5);
+    const float h = float(d.finestCellSize());
+    // Above z = 0.5 + a cell every blended corner is painted; below 0.5 - a cell none is.
+    auto check = [&](const std::vector<glm::vec3>& positions, const std::vector<glm::u8vec3>& colours, const char* what) {
+        ASSERT_EQ(colours.size(), positions.size()) << what;
+        std::size_t above = 0, below = 0;
+        for (std::size_t i = 0; i < positions.size(); ++i) {
+            if (positions[i].z > 0.5f + h) {
+                EXPECT_EQ(colours[i], red) << what << " vertex " << i;
+                ++above;
+            } else if (positions[i].z < 0.5f - h) {
+                EXPECT_EQ(colours[i], kClayColour) << what << " vertex " << i;
+                ++below;
+            }
+        }
+        EXPECT_GT(above, 10u) << what;
+        EXPECT_GT(below, 10u) << what;
+    };
+    const mesh::MeshBuffers full = mesh::meshAdf(painted, &pool);
+    check(full.positions, full.colours, "mesh");
+    EXPECT_TRUE(test::canonical(full) == test::canonical(mesh::meshAdf(painted, nullptr))) << "threads change nothing";
+    const mesh::MeshBuffers lod = mesh::meshLod(painted, 3.0 * h, &pool);
+    EXPECT_LT(lod.vertexCount(), full.vertexCount());
+    check(lod.positions, lod.colours, "lod");
+    const mesh::PointCloud points = mesh::surfacePointCloud(*painted, 5000, 1, &pool);
+    check(points.positions, points.colours, "points");
+    // Unpainted clay: no colours at all, as before paint existed.
+    EXPECT_TRUE(mesh::meshAdf(plain, &pool).colours.empty());
+    EXPECT_TRUE(mesh::meshLod(plain, 3.0 * h, &pool).colours.empty());
+    EXPECT_TRUE(mesh::surfacePointCloud(*plain, 100, 1, &pool).colours.empty());
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "adf/test_part.h"
 #include "mesh/surface_nets.h"
 
+#include "tests/util/painted.h"
 #include "util/file_error.h"
 
 #include <glm/geometric.hpp>
@@ -135,6 +136,50 @@ TEST_F(MeshExport, AdmeshFindsTheSurfaceNetsStlClosed) {
 }
 
 TEST_F(MeshExport, AdmeshFindsAClosedStl) { expectAdmeshFindsItClosed(uvSphere(0.2f, 10, 12), (mDir / "sphere.stl").string()); }
+
+/// A painted mesh's colours, re-read by assimp: present, and each vertex's the colour we wrote
+/// (GLB stores linear floats: converted back to sRGB bytes; OBJ repeats vertices per face, so
+/// each read vertex is matched to the nearest written one).
+TEST_F(MeshExport, AssimpReadsBackPaintedVertexColours) {
+    adf::Domain d;
+    d.maxLevel = 5;
+    d.tileSpanLevels = 3;
+    const adf::Rgb8 paint(30, 60, 220);
+    const adf::AdfPtr a = test::paintedAbove(
+        adf::generate(*adf::makeTranslated(adf::makeSphere(0.3), glm::dvec3(0.5)), d, adf::GenerationSettings{}), paint, 0.5);
+    const MeshBuffers mesh = meshAdf(a);
+    ASSERT_EQ(mesh.colours.size(), mesh.vertexCount());
+    for (const std::string format : {"ply", "glb", "obj"}) {  // binary STL has no vertex colours
+        SCOPED_TRACE(format);
+        const std::string path = (mDir / ("painted." + format)).string();
+        exportMesh(mesh, path);
+        const test::AssimpColours read = test::assimpColours(path);
+        ASSERT_EQ(read.colours.size(), read.positions.size());
+        ASSERT_GE(read.positions.size(), mesh.vertexCount());
+        const bool linear = format == "glb";
+        std::size_t painted = 0, base = 0;
+        for (std::size_t i = 0; i < read.positions.size(); ++i) {
+            std::size_t best = 0;
+            float bestD = 1e9f;
+            for (std::size_t j = 0; j < mesh.vertexCount(); ++j) {
+                const float dist = glm::distance(read.positions[i], mesh.positions[j]);
+                if (dist < bestD) {
+                    bestD = dist;
+                    best = j;
+                }
+            }
+            ASSERT_LT(bestD, 1e-5f) << "read vertex " << i << " matches no written vertex";
+            glm::vec3 c = read.colours[i];
+            c = linear ? glm::vec3(test::srgbByteOfLinear(c.x), test::srgbByteOfLinear(c.y), test::srgbByteOfLinear(c.z)) : c * 255.0f;
+            const glm::vec3 want(mesh.colours[best]);
+            EXPECT_LE(glm::length(c - want), 1.0f) << "vertex " << i << " of " << path;
+            painted += mesh.colours[best] == paint;
+            base += mesh.colours[best] == adf::kClayColour;
+        }
+        EXPECT_GT(painted, 20u) << "painted vertices carry the paint colour";
+        EXPECT_GT(base, 20u) << "unpainted vertices carry the clay colour";
+    }
+}
 
 INSTANTIATE_TEST_SUITE_P(Formats, MeshExport, ::testing::Values("obj", "stl", "ply", "glb"));
 

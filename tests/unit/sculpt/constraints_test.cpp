@@ -7,6 +7,7 @@
 #include "sculpt/stroke_path.h"
 #include "sculpt/stroke_script.h"
 
+#include "adf/colour_layer.h"
 #include "adf/generate.h"
 #include "mesh/surface_nets.h"
 #include "util/thread_pool.h"
@@ -182,6 +183,31 @@ TEST(Constraints, MasksProtectTheirRegion) {
         EXPECT_GT(s->current()->distance(glm::vec3(float(x), 0.5f, float(0.5 + 2 * cell))), 0.0f) << x;
     }
     for (double x : {0.25, 0.35, 0.65, 0.75}) EXPECT_GT(s->current()->distance(glm::vec3(float(x), 0.5f, 0.49f)), 0.0f) << x;
+}
+
+TEST(Constraints, PaintFollowsABezierPathAndMasksKeepTheirColour) {
+    util::ThreadPool pool;
+    auto s = makeSculptor(boxScript(7), 0, &pool);
+    Stroke st;
+    st.tool.op = ToolOp::Paint;
+    st.tool.radius = 0.03;
+    st.tool.colour = {200, 20, 20};
+    st.bezier = true;
+    st.samples = {{{0.2, 0.5, 0.5}, kIdentity}, {{0.4, 0.7, 0.5}, kIdentity}, {{0.6, 0.3, 0.5}, kIdentity}, {{0.8, 0.5, 0.5}, kIdentity}};
+    Shape mask;
+    mask.kind = Shape::Kind::Box;
+    mask.centre = {0.5, 0.5, 0.5};
+    mask.halfSize = {0.05, 0.2, 0.2};
+    st.constraints.masks = {mask};
+    const adf::AdfPtr before = s->current();
+    s->apply(st);
+    ASSERT_TRUE(s->current()->colours());
+    const adf::ColourLayer& paint = *s->current()->colours();
+    const BezierControls c{st.samples[0].position, st.samples[1].position, st.samples[2].position, st.samples[3].position};
+    for (double t : {0.1, 0.3, 0.75, 0.9}) EXPECT_EQ(paint.colourAt(glm::vec3(bezierPoint(c, t))).g, 20) << t;  // on the curve
+    EXPECT_EQ(paint.colourAt(glm::vec3(bezierPoint(c, 0.5))), adf::kClayColour);  // the curve's middle is masked
+    EXPECT_EQ(paint.colourAt(glm::vec3(0.35f, 0.5f, 0.5f)), adf::kClayColour);  // on the chord, not the curve
+    EXPECT_EQ(s->current()->tileAtSlot({0, 0, 0}), before->tileAtSlot({0, 0, 0}));  // the shape is untouched
 }
 
 TEST(ForceField, PushesTheToolOutAndRendersASpringForce) {
