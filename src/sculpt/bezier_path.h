@@ -19,6 +19,9 @@ namespace kizamu::sculpt {
 
 using BezierControls = std::array<glm::dvec3, 4>;
 
+/// Distance from `p` to the segment a-b (m); what flattening and path thinning measure.
+double distanceToSegment(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b);
+
 /// The curve's point at parameter t in [0, 1].
 glm::dvec3 bezierPoint(const BezierControls& c, double t);
 
@@ -28,7 +31,7 @@ std::vector<double> flattenBezier(const BezierControls& c, double tolerance);
 
 /// Tool poses along the curve whose control points are the positions of `controls` (four
 /// samples). The orientation at t is slerped between the controls' orientations at t = 0, 1/3,
-/// 2/3 and 1 (all equal: a fixed tool).
+/// 2/3 and 1, which are then poses of their own (all equal: a fixed tool, exactly).
 std::vector<ToolSample> bezierSamples(const std::vector<ToolSample>& controls, double tolerance);
 
 }  // namespace kizamu::sculpt

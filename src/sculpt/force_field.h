@@ -29,7 +29,6 @@ public:
     glm::dvec3 force(const glm::dvec3& p, double clearance) const;
     /// `p` moved out of every region until the tool clears each by `clearance` (m).
     glm::dvec3 constrain(glm::dvec3 p, double clearance) const;
-    bool empty() const { return mRegions.empty(); }
 
 private:
     std::vector<adf::SourcePtr> mRegions;

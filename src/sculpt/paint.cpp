@@ -4,6 +4,7 @@
 #include "sculpt/paint.h"
 
 #include "sculpt/swept_tool.h"
+#include "sculpt/symmetry.h"
 #include "util/thread_pool.h"
 
 #include <glm/common.hpp>
@@ -79,13 +80,7 @@ adf::ColourLayerPtr paintStroke(const adf::Adf& adf, const Stroke& stroke, util:
     for (uint8_t reflect = 0; reflect < 8; ++reflect) {
         if ((reflect & ~stroke.mirror) != 0) continue;
         // The copy's box (the tool mirrored) in lattice points, clipped to the domain.
-        adf::BoxWorld bounds = swept->bounds();
-        for (int k = 0; k < 3; ++k)
-            if ((reflect >> k) & 1) {
-                const double lo = 2.0 * centre[k] - bounds.max[k], hi = 2.0 * centre[k] - bounds.min[k];
-                bounds.min[k] = lo;
-                bounds.max[k] = hi;
-            }
+        const adf::BoxWorld bounds = mirroredBox(swept->bounds(), reflect, centre);
         const glm::dvec3 lo = glm::ceil((bounds.min - d.originWorld) / h), hi = glm::floor((bounds.max - d.originWorld) / h);
         if (glm::any(glm::greaterThan(lo, hi)) || glm::any(glm::lessThan(hi, glm::dvec3(0.0))) ||
             glm::any(glm::greaterThan(lo, glm::dvec3(last))))
@@ -127,11 +122,10 @@ adf::ColourLayerPtr paintStroke(const adf::Adf& adf, const Stroke& stroke, util:
                         for (uint32_t x = la.x; x < lb.x; ++x) {
                             const glm::vec3 f = (glm::vec3(float(x), float(y), float(z)) - glm::vec3(leaf.latticeOrigin)) * inv;
                             if (!(std::abs(adf::trilinear(leaf.corners, f).distance) <= band)) continue;
-                            glm::dvec3 q = d.latticeToWorld(x, y, z);  // mirrored copies reflect the point, not the tool
-                            if (std::any_of(masks.begin(), masks.end(), [&](const adf::SourcePtr& m) { return m->distance(q) < 0.0; }))
+                            const glm::dvec3 p = d.latticeToWorld(x, y, z);
+                            if (std::any_of(masks.begin(), masks.end(), [&](const adf::SourcePtr& m) { return m->distance(p) < 0.0; }))
                                 continue;
-                            for (int k = 0; k < 3; ++k)
-                                if ((reflect >> k) & 1) q[k] = 2.0 * centre[k] - q[k];
+                            const glm::dvec3 q = mirroredPoint(p, reflect, centre);  // the point, not the tool
                             const double w = toolWeight(-swept->distanceBelow(q, 0.0), core);
                             if (w <= 0.0) continue;
                             const uint32_t local = ((z - s0.z) << (2 * span)) | ((y - s0.y) << span) | (x - s0.x);
@@ -161,7 +155,9 @@ adf::ColourLayerPtr paintStroke(const adf::Adf& adf, const Stroke& stroke, util:
         layer = layer->withTiles(std::move(replaced));
     }
     if (stats) *stats = total;
-    return total.slotsPainted ? layer : adf.colours();
+    if (!total.slotsPainted) return adf.colours();
+    // Painting clay colour over all the paint there was leaves none: an unpainted snapshot.
+    return layer->slotCount() ? layer : nullptr;
 }
 
 }  // namespace kizamu::sculpt

@@ -20,18 +20,6 @@ namespace kizamu::sculpt {
 
 namespace {
 
-/// Trilinear value and derivative (per unit of cell coordinate) of a leaf at u in [0, 1]^3.
-double trilinear(const float* c, const glm::dvec3& u, glm::dvec3& g) {
-    const double x = u.x, y = u.y, z = u.z;
-    const double c00 = c[0] + x * (c[1] - c[0]), c10 = c[2] + x * (c[3] - c[2]);
-    const double c01 = c[4] + x * (c[5] - c[4]), c11 = c[6] + x * (c[7] - c[6]);
-    const double b0 = c00 + y * (c10 - c00), b1 = c01 + y * (c11 - c01);
-    const double dx0 = (c[1] - c[0]) + y * ((c[3] - c[2]) - (c[1] - c[0]));
-    const double dx1 = (c[5] - c[4]) + y * ((c[7] - c[6]) - (c[5] - c[4]));
-    g = {dx0 + z * (dx1 - dx0), (c10 - c00) + z * ((c11 - c01) - (c10 - c00)), b1 - b0};
-    return b0 + z * (b1 - b0);
-}
-
 /// The samples as nanoflann's dataset.
 struct Cloud {
     const std::vector<glm::dvec3>* points;
@@ -41,6 +29,19 @@ struct Cloud {
     bool kdtree_get_bbox(Box&) const { return false; }
 };
 using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<double, Cloud>, Cloud, 3, uint32_t>;
+
+/// nanoflann result set: the nearest sample within a radius (squared distances). The search
+/// prunes every branch farther than the best so far, which starts at the radius.
+struct NearestWithin {
+    double best2;
+    bool found = false;
+    bool full() const { return found; }
+    double worstDist() const { return best2; }
+    bool addPoint(double d2, uint32_t) {
+        if (d2 < best2) best2 = d2, found = true;
+        return true;
+    }
+};
 
 /// The corrected field of the zone: old near the surface, distance to the samples beyond.
 class CorrectedField final : public adf::DistanceSource {
@@ -61,14 +62,9 @@ private:
         const double a = std::abs(old);
         if (!(a > mKeep)) return old;  // the surface's own band (and NaN) stay as they are
         double d = std::max(mRadius, a);  // no surface within the radius: at least the radius
-        if (!mSamples.empty()) {
-            uint32_t index = 0;
-            double d2 = mRadius * mRadius;
-            nanoflann::KNNResultSet<double, uint32_t> result(1);
-            result.init(&index, &d2);
-            mTree.findNeighbors(result, &p.x, nanoflann::SearchParams());
-            if (result.size() > 0) d = std::sqrt(d2);
-        }
+        NearestWithin nearest{mRadius * mRadius};
+        if (!mSamples.empty()) mTree.findNeighbors(nearest, &p.x, nanoflann::SearchParams());
+        if (nearest.found) d = std::sqrt(nearest.best2);
         // Blend over [keep, 2 keep] so the field stays continuous where correction starts.
         const double t = std::min(1.0, (a - mKeep) / mKeep), w = t * t * (3.0 - 2.0 * t);
         return std::copysign((1.0 - w) * a + w * d, old);
@@ -106,28 +102,25 @@ std::vector<glm::dvec3> surfaceSamples(const adf::Adf& adf, const adf::BoxWorld&
         // about k^2 points on the surface, half a finest cell apart in finest leaves and one
         // apart in larger ones (flat there: the distance to a plane sampled that finely is off
         // by spacing^2 / (8 d), under a tenth of a cell beyond the kept band).
-        glm::dvec3 g;
-        trilinear(c.corners, glm::dvec3(0.5), g);
-        const glm::dvec3 ag = glm::abs(g);
+        const glm::vec3 ag = glm::abs(adf::trilinear(c.corners, glm::vec3(0.5f)).gradient);
         const int axis = ag.x >= ag.y && ag.x >= ag.z ? 0 : (ag.y >= ag.z ? 1 : 2);
-        const int k = c.size == 1 ? 2 : int(std::min<uint32_t>(c.size, 16));
+        const int k = c.size == 1 ? 2 : int(std::min<uint32_t>(c.size, 64));
         for (int i = 0; i < k; ++i)
             for (int j = 0; j < k; ++j) {
-                glm::dvec3 u;
-                u[axis] = 0.5;
-                u[(axis + 1) % 3] = (i + 0.5) / k;
-                u[(axis + 2) % 3] = (j + 0.5) / k;
-                double f = 0.0;
+                glm::vec3 u;
+                u[axis] = 0.5f;
+                u[(axis + 1) % 3] = (float(i) + 0.5f) / float(k);
+                u[(axis + 2) % 3] = (float(j) + 0.5f) / float(k);
+                adf::Sample f = adf::trilinear(c.corners, u);  // gradient per unit of cell coordinate
                 for (int step = 0; step < 4; ++step) {
-                    f = trilinear(c.corners, u, g);
-                    const double g2 = glm::dot(g, g);
-                    if (!(g2 > 0.0)) break;
-                    u -= f * g / g2;
+                    const float g2 = glm::dot(f.gradient, f.gradient);
+                    if (!(g2 > 0.0f)) break;
+                    u -= f.distance * f.gradient / g2;
+                    f = adf::trilinear(c.corners, u);
                 }
-                f = trilinear(c.corners, u, g);
-                const bool inside = glm::all(glm::greaterThanEqual(u, glm::dvec3(-1e-6))) &&
-                                    glm::all(glm::lessThanEqual(u, glm::dvec3(1.0 + 1e-6)));
-                if (inside && std::abs(f) <= 1e-3 * h) out.push_back(origin + u * size);
+                const bool inside = glm::all(glm::greaterThanEqual(u, glm::vec3(-1e-5f))) &&
+                                    glm::all(glm::lessThanEqual(u, glm::vec3(1.0f + 1e-5f)));
+                if (inside && std::abs(double(f.distance)) <= 1e-3 * h) out.push_back(origin + glm::dvec3(u) * size);
             }
     }
     return out;

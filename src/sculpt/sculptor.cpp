@@ -8,6 +8,7 @@
 #include "sculpt/paint.h"
 #include "sculpt/stroke_path.h"
 #include "sculpt/swept_tool.h"
+#include "sculpt/symmetry.h"
 
 #include <glm/common.hpp>
 #include <glm/vector_relational.hpp>
@@ -65,11 +66,7 @@ public:
     }
 
 private:
-    glm::dvec3 mirrored(glm::dvec3 p) const {
-        for (int k = 0; k < 3; ++k)
-            if ((mReflect >> k) & 1) p[k] = 2.0 * mCentre[k] - p[k];
-        return p;
-    }
+    glm::dvec3 mirrored(const glm::dvec3& p) const { return mirroredPoint(p, mReflect, mCentre); }
     /// The swept tool's distance at p (q: p mirrored) where below `limit`, cut by the limits:
     /// intersected with the outside of every mask and with the allowed side of the offset of
     /// the reference surface.
@@ -178,8 +175,8 @@ ToolLimits Sculptor::limitsFor(const Stroke& stroke) const {
 
 void Sculptor::apply(const Stroke& stroke) {
     const auto t0 = std::chrono::steady_clock::now();
-    if (stroke.bezier && stroke.samples.size() != 4) throw std::invalid_argument("a bezier stroke has four control points");
-    validateStroke(stroke.tool, stroke.samples);
+    validate(stroke);  // before anything changes: a rejected stroke leaves no trace
+    const ToolLimits limits = limitsFor(stroke);
     const adf::Domain& d = mCurrent->domain();
     if (stroke.constraints.followOffset && mCorrecting) {
         // Following reads the field away from the surface: make it true around the path first.
@@ -210,24 +207,16 @@ void Sculptor::apply(const Stroke& stroke) {
         return;
     }
     const auto swept = makeSweptTool(stroke.tool, std::move(path));
-    const ToolLimits limits = limitsFor(stroke);
     const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
     // One regeneration per mirrored copy, each over its own region (a union box would rebuild
     // every tile between the copies); together they are one stroke and one undo record.
     adf::AdfPtr next = mCurrent;
-    std::vector<adf::BoxWorld> zones = mPending;
+    PendingList pending = mPending;
     std::size_t bytes = 0;
     mLast.tilesRebuilt = 0;
     for (uint8_t reflect = 0; reflect < 8; ++reflect) {
         if ((reflect & ~stroke.mirror) != 0) continue;
-        adf::BoxWorld bounds = swept->bounds();
-        for (int k = 0; k < 3; ++k)
-            if ((reflect >> k) & 1) {
-                const double lo = 2.0 * centre[k] - bounds.max[k], hi = 2.0 * centre[k] - bounds.min[k];
-                bounds.min[k] = lo;
-                bounds.max[k] = hi;
-            }
-        const adf::BoxWorld region = strokeRegion(*next, bounds);
+        const adf::BoxWorld region = strokeRegion(*next, mirroredBox(swept->bounds(), reflect, centre));
         const adf::SourcePtr old = adf::makeAdfSource(next);
         const double offset = stroke.tool.op == ToolOp::HeatGun ? stroke.tool.rate * stroke.dwell : stroke.tool.amount;
         const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre, offset, limits);
@@ -236,14 +225,14 @@ void Sculptor::apply(const Stroke& stroke) {
         mLast.tilesRebuilt += gs.tilesGenerated + gs.coarseTiles;
         bytes += replacedBytes(*mCurrent, *after, region);
         next = std::move(after);
-        if (mCorrecting) zones.push_back(correctionZone(*next, region, mCorrection));
+        if (mCorrecting)
+            pending = std::make_shared<const PendingZone>(PendingZone{correctionZone(*next, region, mCorrection), pending});
     }
     mLast.colourTilesPainted = 0;
-    finish(std::move(next), bytes, std::move(zones), t0);
+    finish(std::move(next), bytes, std::move(pending), t0);
 }
 
-void Sculptor::finish(adf::AdfPtr next, std::size_t replacedBytes, std::vector<adf::BoxWorld> pending,
-                      std::chrono::steady_clock::time_point t0) {
+void Sculptor::finish(adf::AdfPtr next, std::size_t replacedBytes, PendingList pending, std::chrono::steady_clock::time_point t0) {
     mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     mLast.replacedBytes = replacedBytes;
 
@@ -265,7 +254,7 @@ bool Sculptor::undo() {
     mHistoryBytes -= r.bytes;
     mRedo.push_back({mCurrent, r.bytes, std::move(mPending)});
     mCurrent = std::move(r.snapshot);
-    mPending = std::move(r.pending);
+    mPending = mCorrecting ? std::move(r.pending) : nullptr;
     return true;
 }
 
@@ -276,7 +265,7 @@ bool Sculptor::redo() {
     mUndo.push_back({mCurrent, r.bytes, std::move(mPending)});
     mHistoryBytes += r.bytes;
     mCurrent = std::move(r.snapshot);
-    mPending = std::move(r.pending);
+    mPending = mCorrecting ? std::move(r.pending) : nullptr;
     return true;
 }
 
@@ -285,34 +274,50 @@ void Sculptor::setCorrection(const CorrectionSettings& settings, bool enabled) {
         throw std::invalid_argument("correction needs 0 < 2 x keep <= radius (finest cells)");
     mCorrection = settings;
     mCorrecting = enabled;
-    if (!enabled) mPending.clear();
+    if (!enabled) mPending = nullptr;  // undo and redo drop the lists their records hold, too
 }
 
-void Sculptor::correct(std::vector<adf::BoxWorld> zones) {
-    mCurrent = correctZones(mCurrent, std::move(zones), mPool, mCorrection);
+std::vector<adf::BoxWorld> Sculptor::oldestFirst(const PendingList& list) {
+    std::vector<adf::BoxWorld> out;
+    for (const PendingZone* z = list.get(); z; z = z->older.get()) out.push_back(z->zone);
+    std::reverse(out.begin(), out.end());
+    return out;
 }
 
-adf::AdfPtr Sculptor::settled() const { return correctZones(mCurrent, mPending, mPool, mCorrection); }
+Sculptor::PendingList Sculptor::listOf(const std::vector<adf::BoxWorld>& oldestFirst) {
+    PendingList list;
+    for (const adf::BoxWorld& z : oldestFirst) list = std::make_shared<const PendingZone>(PendingZone{z, list});
+    return list;
+}
+
+std::vector<adf::BoxWorld> Sculptor::pendingCorrections() const { return oldestFirst(mPending); }
+
+void Sculptor::correct(std::vector<adf::BoxWorld> zones, std::vector<adf::BoxWorld> remaining) {
+    if (!zones.empty()) mCurrent = correctZones(mCurrent, std::move(zones), mPool, mCorrection);
+    mPending = listOf(remaining);
+}
+
+adf::AdfPtr Sculptor::settled() const { return correctZones(mCurrent, oldestFirst(mPending), mPool, mCorrection); }
 
 void Sculptor::correctNear(const adf::BoxWorld& box) {
     std::vector<adf::BoxWorld> now, later;
-    for (const adf::BoxWorld& z : mPending) {
+    for (const adf::BoxWorld& z : oldestFirst(mPending)) {
         const bool overlaps = glm::all(glm::lessThanEqual(z.min, box.max)) && glm::all(glm::lessThanEqual(box.min, z.max));
         (overlaps ? now : later).push_back(z);
     }
-    mPending = std::move(later);
-    correct(std::move(now));
+    if (!now.empty()) correct(std::move(now), std::move(later));
 }
 
 bool Sculptor::correctOne() {
-    if (mPending.empty()) return false;
-    const adf::BoxWorld z = mPending.front();
-    mPending.erase(mPending.begin());
-    correct({z});
+    std::vector<adf::BoxWorld> all = oldestFirst(mPending);
+    if (all.empty()) return false;
+    const adf::BoxWorld z = all.front();
+    all.erase(all.begin());
+    correct({z}, std::move(all));
     return true;
 }
 
-void Sculptor::finishCorrections() { correct(std::exchange(mPending, {})); }
+void Sculptor::finishCorrections() { correct(oldestFirst(mPending), {}); }
 
 void Sculptor::replay(const Step& step) {
     switch (step.kind) {

@@ -57,7 +57,7 @@ public:
     bool undo();
     /// Re-applies the last undone stroke; false when there is none. Complexity: O(1).
     bool redo();
-    /// A script step: apply, undo or redo.
+    /// A script step: apply, undo, redo or correct.
     void replay(const Step& step);
 
     /// Remote-field correction (Kizamu 5.4, remote_field.h). A stroke leaves its zone pending;
@@ -74,9 +74,8 @@ public:
     /// The current field with every pending correction made, leaving this sculptor unchanged
     /// (what a read-only export shows).
     adf::AdfPtr settled() const;
-    const std::vector<adf::BoxWorld>& pendingCorrections() const { return mPending; }
-    /// Restores a pending list (a session's checkpoint carries one).
-    void setPendingCorrections(std::vector<adf::BoxWorld> zones) { mPending = std::move(zones); }
+    /// The pending zones, oldest first. Complexity: O(zones).
+    std::vector<adf::BoxWorld> pendingCorrections() const;
 
     const adf::AdfPtr& current() const { return mCurrent; }
     std::size_t undoDepth() const { return mUndo.size(); }
@@ -85,22 +84,33 @@ public:
     std::size_t historyBytes() const { return mHistoryBytes; }
 
 private:
+    /// Pending zones as an immutable list, newest first: a stroke adds one node and shares the
+    /// rest, so undo records holding the list cost O(1) each, not O(zones).
+    struct PendingZone {
+        adf::BoxWorld zone;
+        std::shared_ptr<const PendingZone> older;
+    };
+    using PendingList = std::shared_ptr<const PendingZone>;
+    static std::vector<adf::BoxWorld> oldestFirst(const PendingList& list);
+    static PendingList listOf(const std::vector<adf::BoxWorld>& oldestFirst);
+
     ToolLimits limitsFor(const Stroke& stroke) const;
     /// Makes `next` current, with `pending` corrections, and an undo record of `replacedBytes`.
-    void finish(adf::AdfPtr next, std::size_t replacedBytes, std::vector<adf::BoxWorld> pending,
-                std::chrono::steady_clock::time_point t0);
+    void finish(adf::AdfPtr next, std::size_t replacedBytes, PendingList pending, std::chrono::steady_clock::time_point t0);
+
     struct Record {
         adf::AdfPtr snapshot;
         std::size_t bytes;
-        std::vector<adf::BoxWorld> pending;  ///< corrections still owed by that snapshot
+        PendingList pending;  ///< corrections still owed by that snapshot
     };
-    void correct(std::vector<adf::BoxWorld> zones);
+    /// Corrects `zones`, then makes `remaining` the pending list (nothing changes on a throw).
+    void correct(std::vector<adf::BoxWorld> zones, std::vector<adf::BoxWorld> remaining);
     util::ThreadPool* mPool;
     adf::AdfPtr mCurrent;
     adf::SourcePtr mReference;
     CorrectionSettings mCorrection;
     bool mCorrecting = true;
-    std::vector<adf::BoxWorld> mPending;
+    PendingList mPending;
     std::deque<Record> mUndo;
     std::deque<Record> mRedo;
     std::size_t mBudget, mHistoryBytes = 0;

@@ -4,7 +4,6 @@
 #include "sculpt/session.h"
 
 #include "adf/adf_file.h"
-#include "sculpt/swept_tool.h"
 #include "util/atomic_file.h"
 #include "util/file_error.h"
 
@@ -186,7 +185,7 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
 
 void Session::record(const Step& step) {
     if (mFd < 0) throw FileError(mDir, "the session is read-only or a journal write failed earlier");
-    if (step.kind == Step::Kind::Stroke) validateStroke(step.stroke.tool, step.stroke.samples);  // never journal a bad stroke
+    if (step.kind == Step::Kind::Stroke) validate(step.stroke);  // never journal a stroke that cannot replay
     // Opened from a checkpoint, the sculptor has no history before it: an undo reaching there
     // first rebuilds it from the journal, so the live session matches any later replay.
     if (step.kind == Step::Kind::Undo && mSculptor->undoDepth() == 0 && mHistoryFromCheckpoint) {

@@ -23,7 +23,11 @@ std::vector<ToolSample> densify(const std::vector<ToolSample>& samples, double s
         const int pieces = int(std::min(1e5, std::ceil(len / spacing)));
         for (int k = 1; k < pieces; ++k) {
             const double t = double(k) / pieces;
-            out.push_back({a.position + t * (b.position - a.position), glm::normalize(glm::slerp(a.orientation, b.orientation, t))});
+            // A fixed orientation stays bit-exact (slerp of equal quaternions is not), so the
+            // path can be thinned again later.
+            const glm::dquat q = a.orientation == b.orientation ? a.orientation
+                                                                 : glm::normalize(glm::slerp(a.orientation, b.orientation, t));
+            out.push_back({a.position + t * (b.position - a.position), q});
         }
         out.push_back(b);
     }
@@ -45,13 +49,6 @@ glm::dvec3 projectOntoOffsetSurface(const adf::Adf& clay, glm::dvec3 p, double o
 }
 
 namespace {
-
-double distanceToSegment(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b) {
-    const glm::dvec3 ab = b - a;
-    const double len2 = glm::dot(ab, ab);
-    const double t = len2 > 0.0 ? glm::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-    return glm::length(p - (a + t * ab));
-}
 
 /// Douglas-Peucker: marks the poses of [first, last] that must stay for the chords to be within
 /// `tolerance` of the poses dropped.

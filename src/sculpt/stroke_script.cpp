@@ -4,6 +4,7 @@
 #include "sculpt/stroke_script.h"
 
 #include "adf/test_part.h"
+#include "sculpt/swept_tool.h"
 #include "util/atomic_file.h"
 #include "util/file_error.h"
 
@@ -64,18 +65,16 @@ Shape shapeOf(const json& st) {
         s.kind = Shape::Kind::Box;
         s.halfSize = vec3Of(st.at("half"), "box half");
         s.rounding = number(st, "rounding", 0.0);
-        if (!(glm::min(s.halfSize.x, glm::min(s.halfSize.y, s.halfSize.z)) > 0.0) || !(s.rounding >= 0.0))
-            throw std::invalid_argument("a box needs positive half sizes and a non-negative rounding");
     } else if (shape == "sphere") {
         s.kind = Shape::Kind::Sphere;
         s.radius = st.at("radius").get<double>();
-        if (!(s.radius > 0.0) || !std::isfinite(s.radius)) throw std::invalid_argument("a sphere needs a positive radius");
     } else if (shape == "test-part") {
         s.kind = Shape::Kind::TestPart;
     } else {
         throw std::invalid_argument("unknown shape '" + shape + "' (box, sphere, test-part)");
     }
     if (st.contains("centre")) s.centre = vec3Of(st.at("centre"), "shape centre");
+    s.validate();
     return s;
 }
 
@@ -99,28 +98,11 @@ std::vector<Shape> shapesOf(const json& j, const char* what) {
     return out;
 }
 
-double lengthOf(const json& j, const char* key) {
-    const double v = j.at(key).get<double>();
-    if (!(v >= 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string(key) + " must be a non-negative length in metres");
-    return v;
-}
-
 void parseConstraints(const json& j, Stroke& s) {
     StrokeConstraints& c = s.constraints;
-    if (j.contains("follow")) {
-        const double offset = j.at("follow").at("offset").get<double>();
-        if (!std::isfinite(offset)) throw std::invalid_argument("follow offset must be a finite length in metres");
-        c.followOffset = offset;
-    }
-    if (j.contains("depth")) {
-        if (s.tool.op != ToolOp::Carve) throw std::invalid_argument("depth limits carving; use height for add and build");
-        c.depthLimit = lengthOf(j, "depth");
-    }
-    if (j.contains("height")) {
-        if (s.tool.op != ToolOp::Add && s.tool.op != ToolOp::Build)
-            throw std::invalid_argument("height limits add and build; use depth for carving");
-        c.heightLimit = lengthOf(j, "height");
-    }
+    if (j.contains("follow")) c.followOffset = j.at("follow").at("offset").get<double>();
+    if (j.contains("depth")) c.depthLimit = j.at("depth").get<double>();
+    if (j.contains("height")) c.heightLimit = j.at("height").get<double>();
     if (j.contains("masks")) c.masks = shapesOf(j.at("masks"), "masks");
     if (j.contains("keep_out")) c.keepOut = shapesOf(j.at("keep_out"), "keep_out");
 }
@@ -176,6 +158,7 @@ Stroke parseStroke(const json& j) {
         }
     }
     parseConstraints(j, s);
+    validate(s);
     return s;
 }
 
@@ -194,6 +177,36 @@ Step stepOf(const json& j) {
 }  // namespace
 
 Step parseStep(const std::string& line) { return stepOf(json::parse(line)); }
+
+void Shape::validate() const {
+    if (!std::isfinite(centre.x + centre.y + centre.z)) throw std::invalid_argument("a shape's centre must be finite");
+    if (kind == Kind::Box && (!(glm::min(halfSize.x, glm::min(halfSize.y, halfSize.z)) > 0.0) || !(rounding >= 0.0) ||
+                              !std::isfinite(halfSize.x + halfSize.y + halfSize.z + rounding)))
+        throw std::invalid_argument("a box needs positive half sizes and a non-negative rounding");
+    if (kind == Kind::Sphere && (!(radius > 0.0) || !std::isfinite(radius))) throw std::invalid_argument("a sphere needs a positive radius");
+}
+
+void validate(const Stroke& s) {
+    s.tool.validate();
+    validateStroke(s.tool, s.samples);
+    if (s.bezier && s.samples.size() != 4) throw std::invalid_argument("bezier must be four control points [p0, p1, p2, p3]");
+    const StrokeConstraints& c = s.constraints;
+    auto length = [](double v, const char* what) {
+        if (!(v >= 0.0) || !std::isfinite(v)) throw std::invalid_argument(std::string(what) + " must be a non-negative length in metres");
+    };
+    if (c.followOffset && !std::isfinite(*c.followOffset)) throw std::invalid_argument("follow offset must be a finite length in metres");
+    if (c.depthLimit) {
+        if (s.tool.op != ToolOp::Carve) throw std::invalid_argument("depth limits carving; use height for add and build");
+        length(*c.depthLimit, "depth");
+    }
+    if (c.heightLimit) {
+        if (s.tool.op != ToolOp::Add && s.tool.op != ToolOp::Build)
+            throw std::invalid_argument("height limits add and build; use depth for carving");
+        length(*c.heightLimit, "height");
+    }
+    for (const Shape& m : c.masks) m.validate();
+    for (const Shape& k : c.keepOut) k.validate();
+}
 
 adf::SourcePtr Shape::source(const adf::Domain& domain) const {
     switch (kind) {
@@ -222,8 +235,6 @@ Script parseScript(const std::string& text, const std::string& name) {
                 header = true;
             } else {
                 s.steps.push_back(stepOf(j));
-                if (s.steps.back().kind == Step::Kind::Correct && s.version < 2)
-                    throw std::invalid_argument("correct records need script version 2");
             }
         } catch (const json::exception& e) {
             throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());

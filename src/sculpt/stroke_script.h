@@ -31,6 +31,8 @@ struct Shape {
     double rounding = 0.0;       ///< m (box edges)
     /// The start shape's distance source for `domain` (the test part scales with it).
     adf::SourcePtr source(const adf::Domain& domain) const;
+    /// Throws std::invalid_argument unless the sizes are positive and everything is finite.
+    void validate() const;
 };
 
 /// Distance-based constraints on a stroke (Kizamu 4.4). Empty by default.
@@ -47,9 +49,6 @@ struct StrokeConstraints {
     std::vector<Shape> masks;
     /// Force fields: regions the tool is kept out of (its poses pushed out by its bounding radius).
     std::vector<Shape> keepOut;
-    bool empty() const {
-        return !followOffset && !depthLimit && !heightLimit && masks.empty() && keepOut.empty();
-    }
 };
 
 struct Stroke {
@@ -64,6 +63,12 @@ struct Stroke {
     uint8_t mirror = 0;
     double dwell = 0.0;  ///< s the tool dwelt along the path (heat gun: melts rate × dwell)
 };
+
+/// Throws std::invalid_argument (readable) unless `stroke` can be applied and written back as
+/// it is: the tool, the path, a Bezier's four controls, the constraints (depth for carving,
+/// height for add and build, finite offsets, valid shapes). Parsing, journaling and applying
+/// all check with this one function.
+void validate(const Stroke& stroke);
 
 /// One record after the header: a stroke, an undo or redo of the latest one, or a
 /// remote-field correction (Kizamu 5.4) of pending zones, which sessions record when they

@@ -4,10 +4,12 @@
 #pragma once
 
 #include "adf/adf.h"
+#include "adf/colour_layer.h"
 #include "adf/distance_source.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <mutex>
 #include <set>
@@ -15,9 +17,29 @@
 
 namespace kizamu::test {
 
-/// Every slot maps to tiles with identical level, origin, scale, nodes and corners.
+/// Both unpainted, or the same painted slots with the same points and colours.
+inline ::testing::AssertionResult sameColours(const adf::Adf& a, const adf::Adf& b) {
+    const adf::ColourLayer* ca = a.colours().get();
+    const adf::ColourLayer* cb = b.colours().get();
+    if (!ca || !cb) return ca == cb ? ::testing::AssertionSuccess() : ::testing::AssertionFailure() << "only one is painted";
+    if (ca->baseColour() != cb->baseColour()) return ::testing::AssertionFailure() << "base colours differ";
+    if (!std::equal(ca->slotKeys().begin(), ca->slotKeys().end(), cb->slotKeys().begin(), cb->slotKeys().end()))
+        return ::testing::AssertionFailure() << "painted slots differ";
+    for (std::size_t i = 0; i < ca->slotCount(); ++i) {
+        const adf::ColourTile& ta = *ca->tiles()[i];
+        const adf::ColourTile& tb = *cb->tiles()[i];
+        if (!std::equal(ta.points().begin(), ta.points().end(), tb.points().begin(), tb.points().end()) ||
+            !std::equal(ta.colours().begin(), ta.colours().end(), tb.colours().begin(), tb.colours().end()))
+            return ::testing::AssertionFailure() << "paint differs in slot " << ca->slotKeys()[i];
+    }
+    return ::testing::AssertionSuccess();
+}
+
+/// Every slot maps to tiles with identical level, origin, scale, nodes and corners, and the
+/// paint is the same.
 inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b) {
     if (!(a.domain() == b.domain())) return ::testing::AssertionFailure() << "domains differ";
+    if (auto paint = sameColours(a, b); !paint) return paint;
     const uint32_t n = a.domain().slotsPerAxis();
     for (uint32_t z = 0; z < n; ++z)
         for (uint32_t y = 0; y < n; ++y)

@@ -51,6 +51,15 @@ TEST(BezierPath, FlattensWithinTheToleranceAndKeepsStraightPathsShort) {
     const BezierControls straight{glm::dvec3(0), glm::dvec3(0.2, 0, 0), glm::dvec3(0.5, 0, 0), glm::dvec3(1, 0, 0)};
     EXPECT_EQ(flattenBezier(straight, 1e-6).size(), 2u);
     EXPECT_THROW(flattenBezier(straight, 0.0), std::invalid_argument);
+    // A straight curve whose tool turns keeps the turn: the controls' orientations are poses.
+    const glm::dquat quarter = glm::angleAxis(1.5707963267948966, glm::dvec3(0, 0, 1));
+    const std::vector<ToolSample> turning = {{straight[0], kIdentity}, {straight[1], quarter}, {straight[2], kIdentity}, {straight[3], quarter}};
+    const std::vector<ToolSample> poses = bezierSamples(turning, 1e-6);
+    ASSERT_EQ(poses.size(), 4u);
+    EXPECT_EQ(poses[0].orientation, kIdentity);
+    EXPECT_GT(std::abs(glm::dot(poses[1].orientation, quarter)), 1.0 - 1e-12);
+    EXPECT_GT(std::abs(glm::dot(poses[2].orientation, kIdentity)), 1.0 - 1e-12);
+    EXPECT_EQ(poses[3].orientation, quarter);
 }
 
 Script boxScript(int level) {

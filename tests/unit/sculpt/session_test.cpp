@@ -174,6 +174,48 @@ TEST_F(SessionTest, ADamagedCheckpointFallsBackWithAWarning) {
     EXPECT_EQ(editLines(reopened->journal()), editLines(s));
 }
 
+TEST_F(SessionTest, AnOlderJournalReopensChecksPointsAndReopensAgain) {
+    // A journal written by a build before correct records existed (script version 1).
+    Script s = slab(6, 3, 7);
+    s.version = 1;
+    fs::create_directories(mDir);
+    {
+        std::ofstream j(mDir / "journal.jsonl");
+        j << formatScript(s);
+    }
+    {
+        auto reopened = Session::open(mDir.string());
+        EXPECT_EQ(reopened->steps(), 3u);
+        reopened->record(s.steps.front());
+        reopened->checkpoint();  // journals a correct record in the version-1 journal
+    }
+    std::vector<std::string> warnings;
+    auto again = Session::open(mDir.string(), nullptr, &warnings);
+    EXPECT_TRUE(warnings.empty());
+    EXPECT_EQ(again->steps(), 5u);
+    EXPECT_TRUE(test::sameAdf(*again->sculptor().current(), *replay(again->journal(), again->steps())));
+}
+
+TEST_F(SessionTest, StrokesThatCannotReplayAreNeitherJournaledNorApplied) {
+    const Script s = slab(6, 1, 8);
+    auto live = Session::create(mDir.string(), s, 0);
+    live->record(s.steps.front());
+    const adf::AdfPtr before = live->sculptor().current();
+    const auto size = fs::file_size(mDir / "journal.jsonl");
+    Stroke bezier = s.steps.front().stroke;
+    bezier.bezier = true;  // two points, not four
+    Stroke depthOnAdd = s.steps.front().stroke;
+    depthOnAdd.tool.op = ToolOp::Add;
+    depthOnAdd.constraints.depthLimit = 0.01;
+    Stroke badMask = s.steps.front().stroke;
+    badMask.constraints.masks.push_back(Shape{Shape::Kind::Sphere, glm::dvec3(0.5), glm::dvec3(0.1), -1.0, 0.0});
+    for (const Stroke& bad : {bezier, depthOnAdd, badMask}) {
+        EXPECT_THROW(live->record({Step::Kind::Stroke, bad, 0}), std::invalid_argument);
+        EXPECT_EQ(fs::file_size(mDir / "journal.jsonl"), size);
+        EXPECT_EQ(live->sculptor().current(), before);
+    }
+}
+
 TEST_F(SessionTest, SigkillMidRunLosesNoFinishedStroke) {
     const Script s = slab(7, 400, 4);
     const pid_t child = ::fork();
