@@ -16,60 +16,108 @@ namespace kizamu::adf {
 
 namespace {
 
+/// A leaf found by descending a tile, without decoding its corners (most lookups only need to
+/// know whether a point is one of them).
+struct LeafCell {
+    const Tile* tile = nullptr;
+    uint32_t word = 0;     ///< the lone leaf's or the brick's node word
+    int brickChild = -1;   ///< which child of the brick, or -1 for a lone leaf
+    glm::uvec3 origin{0};  ///< lattice
+    uint32_t size = 0;     ///< lattice units
+    bool contains(glm::uvec3 p) const {
+        const glm::uvec3 rel = p - origin;  // wraps around below the origin
+        return rel.x < size && rel.y < size && rel.z < size;
+    }
+    float corner(int c) const {
+        const int16_t q = brickChild < 0 ? tile->corners()[8 * node::leafIndex(word) + uint32_t(c)]
+                                         : tile->bricks()[27 * node::brickIndex(word) + uint32_t(brickPoint(brickChild, c))];
+        return float(q) * tile->scale();
+    }
+};
+
 /// The field of a snapshot. At a lattice point that is a corner of some leaf it answers that
 /// corner's stored value rather than whichever leaf the half-open lookup lands in: a larger
 /// neighbour's interpolation there can differ, even in sign, and a regenerated tile must agree
 /// with the untouched tiles around it on every corner they share (the mesher relies on it).
+/// Elsewhere it interpolates in the leaf holding the point (half-open), as Adf::sample does.
 class AdfSource final : public DistanceSource {
 public:
     explicit AdfSource(AdfPtr adf)
-        : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld),
-          mInvCell(1.0 / mAdf->domain().finestCellSize()), mTop(mAdf->domain().latticeSize()) {}
+        : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld), mInvCell(1.0 / mAdf->domain().finestCellSize()),
+          mTop(mAdf->domain().latticeSize()), mMaxLevel(mAdf->domain().maxLevel),
+          mTileShift(uint32_t(mAdf->domain().tileSpan())) {}
     double distance(const glm::dvec3& p) const override {
-        double corner;
-        if (cornerValue(p, corner)) return corner;
-        return mAdf->sample(glm::vec3(p)).distance;
+        Cache cache;
+        return value(p, cache);
     }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
-        AdfAccessor acc(*mAdf);  // batches are coherent (one cell's points): cache the leaf
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            double corner;
-            out[i] = cornerValue(p[i], corner) ? corner : acc.sample(glm::vec3(p[i])).distance;
-        }
+        Cache cache;  // batches are coherent (one cell's points): keep the last leaves found
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = value(p[i], cache);
     }
 
 private:
-    /// Stored value at `p` if it is a lattice point and a corner of one of the (up to 8) leaves
-    /// around it; the first in octant order wins (their values differ only by quantisation).
-    /// Only octants across faces of the first leaf that `p` lies on can hold such a corner.
-    bool cornerValue(const glm::dvec3& p, double& value) const {
+    /// The last few leaves found. A leaf answers for the points of its half-open box, exactly
+    /// as a fresh descent would, so the cache changes no result.
+    struct Cache {
+        static constexpr int kSize = 4;
+        LeafCell cells[kSize];
+        int count = 0, next = 0;
+    };
+
+    LeafCell locate(glm::uvec3 p, Cache& cache) const {
+        for (int i = 0; i < cache.count; ++i)
+            if (cache.cells[i].contains(p)) return cache.cells[i];
+        LeafCell c;
+        c.tile = mAdf->tileAtSlot(p >> mTileShift);
+        const uint32_t* nodes = c.tile->nodes();
+        int level = c.tile->level();
+        auto childAt = [&](int l) {
+            const uint32_t shift = uint32_t(mMaxLevel - l - 1);
+            return ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
+        };
+        uint32_t w = nodes[0];
+        while (node::isInternal(w)) w = nodes[w + childAt(level++)];
+        if (node::isBrick(w)) c.brickChild = int(childAt(level++));
+        c.word = w;
+        const uint32_t shift = uint32_t(mMaxLevel - level);
+        c.origin = (p >> shift) << shift;
+        c.size = 1u << shift;
+        cache.cells[cache.next] = c;
+        cache.next = (cache.next + 1) % Cache::kSize;
+        cache.count = std::min(cache.count + 1, Cache::kSize);
+        return c;
+    }
+
+    /// Corner index of lattice point `pt` in `leaf`, or -1.
+    static int cornerIndex(const LeafCell& leaf, glm::uvec3 pt) {
+        const glm::uvec3 rel = pt - leaf.origin;
+        int c = 0;
+        for (int k = 0; k < 3; ++k) {
+            if (rel[k] == leaf.size) c |= 1 << k;
+            else if (rel[k] != 0) return -1;
+        }
+        return c;
+    }
+
+    double value(const glm::dvec3& p, Cache& cache) const {
         const glm::dvec3 u = (p - mOrigin) * mInvCell;
         const glm::dvec3 r = glm::round(u);
-        if (!(glm::all(glm::lessThan(glm::abs(u - r), glm::dvec3(1e-4)))) || glm::any(glm::lessThan(r, glm::dvec3(0.0))) ||
-            glm::any(glm::greaterThan(r, glm::dvec3(mTop))))
-            return false;
+        const bool lattice = glm::all(glm::lessThan(glm::abs(u - r), glm::dvec3(1e-4))) &&
+                             glm::all(glm::greaterThanEqual(r, glm::dvec3(0.0))) && glm::all(glm::lessThanEqual(r, glm::dvec3(mTop)));
+        if (!lattice) return mAdf->sample(glm::vec3(p)).distance;
         const glm::uvec3 pt(r);
-        auto cornerOf = [&](const LeafRef& leaf) {
-            const glm::uvec3 rel = pt - leaf.latticeOrigin;
-            int c = 0;
-            for (int k = 0; k < 3; ++k) {
-                if (rel[k] == leaf.latticeSize) c |= 1 << k;
-                else if (rel[k] != 0) return -1;
-            }
-            return c;
-        };
-        // Octant 0 (the unit cube above p), when inside the domain.
-        uint32_t onFace = 7;  // axes where p lies on the first leaf's lower face
+        // Octant 0 (the unit cube above p) when inside the domain; then only octants across
+        // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
+        // octant order wins (their values differ only by quantisation).
+        uint32_t onFace = 7;
+        LeafCell first;
         if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
-            const LeafRef first = mAdf->findLeaf(pt);
-            const int c = cornerOf(first);
-            if (c >= 0) {
-                value = first.corners[c];
-                return true;
-            }
+            first = locate(pt, cache);
+            const int c = cornerIndex(first, pt);
+            if (c >= 0) return first.corner(c);
             onFace = 0;
             for (int k = 0; k < 3; ++k)
-                if (pt[k] == first.latticeOrigin[k]) onFace |= 1u << k;
+                if (pt[k] == first.origin[k]) onFace |= 1u << k;
         }
         for (uint32_t o = 1; o < 8; ++o) {
             if ((o & onFace) != o) continue;  // that cube lies in the first leaf too
@@ -77,20 +125,23 @@ private:
             if (glm::any(glm::lessThan(pt, off))) continue;
             const glm::uvec3 cube = pt - off;
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
-            const LeafRef leaf = mAdf->findLeaf(cube);
-            const int c = cornerOf(leaf);
-            if (c >= 0) {
-                value = leaf.corners[c];
-                return true;
-            }
+            const LeafCell leaf = locate(cube, cache);
+            const int c = cornerIndex(leaf, pt);
+            if (c >= 0) return leaf.corner(c);
         }
-        return false;
+        if (!first.tile) return mAdf->sample(glm::vec3(p)).distance;  // on the domain's upper faces
+        // Inside the first leaf (or on its faces, corner of no leaf): interpolate there.
+        float corners[8];
+        for (int c = 0; c < 8; ++c) corners[c] = first.corner(c);
+        return trilinear(corners, (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
     }
 
     AdfPtr mAdf;
     glm::dvec3 mOrigin;
     double mInvCell;
     uint32_t mTop;
+    int mMaxLevel;
+    uint32_t mTileShift;
 };
 
 class RegionLimited final : public DistanceSource {
@@ -101,6 +152,20 @@ public:
     }
     double distance(const glm::dvec3& p) const override {
         return mRegion.contains(p) ? mInside->distance(p) : mOutside->distance(p);
+    }
+    /// Each side in batches (the old field's batch caches its leaf lookups), then merged.
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        glm::dvec3 in[kSourceBatch], outside[kSourceBatch];
+        double inValues[kSourceBatch], outValues[kSourceBatch];
+        for (std::size_t start = 0; start < p.size(); start += kSourceBatch) {
+            const std::size_t n = std::min(kSourceBatch, p.size() - start);
+            std::size_t ni = 0, no = 0;
+            for (std::size_t i = 0; i < n; ++i) (mRegion.contains(p[start + i]) ? in[ni++] : outside[no++]) = p[start + i];
+            if (ni) mInside->distances({in, ni}, {inValues, ni});
+            if (no) mOutside->distances({outside, no}, {outValues, no});
+            ni = no = 0;
+            for (std::size_t i = 0; i < n; ++i) out[start + i] = mRegion.contains(p[start + i]) ? inValues[ni++] : outValues[no++];
+        }
     }
     /// A cell touching the region takes the new field's features only. Asking both sides would
     /// make a chain of edits (each `inside` built on the previous source) exponential, and the

@@ -232,6 +232,7 @@ constexpr glm::uvec3 unpackLocal(uint32_t k) { return {k & 2047u, (k >> 11) & 20
 struct TileJob {
     glm::uvec3 slot;
     std::array<float, 8> corners;
+    const Tile* old = nullptr;  ///< the base snapshot's tile at this slot (regeneration), if it has one
 };
 
 /// Working memory of one tile generation: the (2^span+1)^3 sample volume with validity
@@ -281,8 +282,11 @@ private:
 /// Generates one tile; lives for one tile, borrowing a scratch volume from the pool.
 class TileGenerator {
 public:
-    TileGenerator(const Domain& d, const GenerationSettings& s, const DistanceSource& src)
-        : mDomain(d), mRule(d, s, src), mSource(src),
+    /// `regionMin`/`regionMax`: the lattice box being regenerated; cells of a job's old tile that
+    /// lie outside it are copied rather than generated.
+    TileGenerator(const Domain& d, const GenerationSettings& s, const DistanceSource& src, glm::uvec3 regionMin,
+                  glm::uvec3 regionMax)
+        : mDomain(d), mRule(d, s, src), mSource(src), mRegionMin(regionMin), mRegionMax(regionMax),
           mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
           mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
           mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
@@ -299,6 +303,7 @@ public:
             mCurrent = 1;
         }
         mBase = job.slot * mSpan;
+        mOld = job.old && job.old->level() == mDomain.tileLevel() && job.old->latticeOrigin() == mBase ? job.old : nullptr;
         for (int c = 0; c < 8; ++c) set(index(childOffset(c) * mSpan), job.corners[c]);
         for (int i = 0; i < kNeighbours; ++i)
             if (neighbours[i]) importFrom(*neighbours[i], kNeighbourOffsets[i]);
@@ -410,7 +415,63 @@ private:
         mNodes[nodeIndex] = node::makeLeaf(leaf, cellTypeOf(std::span<const float, 8>(corners, 8)));
     }
 
+    bool outsideRegion(glm::uvec3 o, uint32_t s) const {
+        const glm::uvec3 a = mBase + o;
+        return a.x > mRegionMax.x || a.y > mRegionMax.y || a.z > mRegionMax.z || a.x + s < mRegionMin.x ||
+               a.y + s < mRegionMin.y || a.z + s < mRegionMin.z;
+    }
+
+    /// Child index of the cell at local `o` inside its parent at `level`.
+    int childAt(glm::uvec3 o, int level) const {
+        const uint32_t shift = uint32_t(mDomain.maxLevel - level - 1);
+        return int(((o.x >> shift) & 1u) | (((o.y >> shift) & 1u) << 1) | (((o.z >> shift) & 1u) << 2));
+    }
+
+    /// Sub-tile regeneration: a cell outside the region keeps the old tile's cells there, when
+    /// the old tile has this cell (or it is one of an old brick's children). The source equals
+    /// the old field outside the region, so generating would only re-derive them, at the cost
+    /// of every sample; copying also keeps their structure exactly. False: generate it.
+    bool copyOld(uint32_t nodeIndex, glm::uvec3 o, int level) {
+        const uint32_t* nodes = mOld->nodes();
+        uint32_t w = nodes[0];
+        for (int l = mDomain.tileLevel(); l < level; ++l) {
+            if (node::isInternal(w)) {
+                w = nodes[w + uint32_t(childAt(o, l))];
+                continue;
+            }
+            if (!node::isBrick(w) || l + 1 != level) return false;  // the old leaf is coarser
+            const int16_t* q = mOld->bricks() + 27 * node::brickIndex(w);
+            const int child = childAt(o, l);
+            float corners[8];
+            for (int c = 0; c < 8; ++c) corners[c] = float(q[brickPoint(child, c)]) * mOld->scale();
+            makeLeaf(nodeIndex, corners);
+            return true;
+        }
+        copySubtree(nodeIndex, w);
+        return true;
+    }
+
+    void copySubtree(uint32_t nodeIndex, uint32_t w) {
+        const float scale = mOld->scale();
+        if (node::isLeaf(w)) {
+            const int16_t* q = mOld->corners() + 8 * node::leafIndex(w);
+            float corners[8];
+            for (int c = 0; c < 8; ++c) corners[c] = float(q[c]) * scale;
+            makeLeaf(nodeIndex, corners);
+        } else if (node::isBrick(w)) {
+            const int16_t* q = mOld->bricks() + 27 * node::brickIndex(w);
+            mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
+            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(q[g]) * scale);
+        } else {
+            const auto first = uint32_t(mNodes.size());
+            mNodes.resize(first + 8);
+            for (int c = 0; c < 8; ++c) copySubtree(first + uint32_t(c), mOld->nodes()[w + uint32_t(c)]);
+            mNodes[nodeIndex] = first;
+        }
+    }
+
     void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level) {
+        if (mOld && outsideRegion(o, s) && copyOld(nodeIndex, o, level)) return;
         float v[27];
         const uint32_t base = index(o);
         const uint32_t step[3] = {s, mDim * s, mDim * mDim * s};
@@ -473,6 +534,8 @@ private:
     const Domain& mDomain;
     CellRule mRule;
     const DistanceSource& mSource;
+    glm::uvec3 mRegionMin, mRegionMax;
+    const Tile* mOld = nullptr;
     uint32_t mSpan, mDim;
     std::unique_ptr<TileScratch> mScratch;
     std::vector<float>& mValues;
@@ -542,7 +605,8 @@ private:
         std::array<float, 8> corners;
         for (int c = 0; c < 8; ++c) corners[c] = sample(o + childOffset(c) * s);
         if (level == mDomain.tileLevel()) {
-            mJobs.push_back({o / mDomain.cellLattice(mDomain.tileLevel()), corners});
+            const glm::uvec3 slot = o / mDomain.cellLattice(mDomain.tileLevel());
+            mJobs.push_back({slot, corners, mBase ? mBase->tileAtSlot(slot) : nullptr});
             return;
         }
         const uint32_t half = s / 2;
@@ -590,7 +654,7 @@ private:
                     const uint32_t* job = jobOfSlot.find(latticeKey(glm::uvec3(n)));
                     if (job && colour[*job] < c) neighbours[i] = &borders[*job];
                 }
-                TileGenerator g(mDomain, mSettings, mSource);
+                TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
                 tiles[j] = g.build(mJobs[j], neighbours, borders[j], mVersion);
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
             });
