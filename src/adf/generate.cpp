@@ -368,12 +368,19 @@ private:
         const uint32_t q = childSize / 2;
         glm::uvec3 pts[8 * 18];
         int n = 0;
-        for (int c = 0; c < 8; ++c) pts[n++] = o + childOffset(c) * childSize + gridOffset(kCentre) * q;
+        // Children that will be copied from the old tile need no samples (if the copy turns out
+        // impossible, subdivide evaluates them itself: only the batching differs).
+        bool copied[8];
+        for (int c = 0; c < 8; ++c) {
+            const glm::uvec3 co = o + childOffset(c) * childSize;
+            copied[c] = mOld && outsideRegion(co, childSize);
+            if (!copied[c]) pts[n++] = co + gridOffset(kCentre) * q;
+        }
         evaluate(pts, n);
         n = 0;
         for (int c = 0; c < 8; ++c) {
             const glm::uvec3 co = o + childOffset(c) * childSize;
-            if (mRule.firstLook(mValues[index(co + gridOffset(kCentre) * q)], childLevel).leaf) continue;
+            if (copied[c] || mRule.firstLook(mValues[index(co + gridOffset(kCentre) * q)], childLevel).leaf) continue;
             for (int g : kFaceEdgePoints) pts[n++] = co + gridOffset(g) * q;
         }
         evaluate(pts, n);

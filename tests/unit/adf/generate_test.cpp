@@ -13,6 +13,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -298,6 +300,34 @@ TEST(Generate, RegeneratesFromTheOldFieldCombinedWithATool) {
     // Far away nothing changed, down to the tile pointers.
     EXPECT_EQ(edited->tileAtSlot({0, 0, 0}), base->tileAtSlot({0, 0, 0}));
     EXPECT_EQ(edited->distance({0.5f, 0.8f, 0.5f}), base->distance({0.5f, 0.8f, 0.5f}));
+}
+
+TEST(Generate, SubTileRegenerationSamplesOnlyTheRegion) {
+    // A rebuilt tile copies its cells outside the region from the old tile: a small dab samples
+    // a fraction of what regenerating the same tile over its whole box does, and agrees with it.
+    const Domain d = testPartDomain(8);
+    const AdfPtr base = generate(*makeTestPart(d), d, testPartSettings());
+    const glm::dvec3 c(0.35, 0.2, 0.65);
+    const double r = 0.012, pad = r + 3 * d.finestCellSize();
+    const SourcePtr old = makeAdfSource(base);
+    const SourcePtr dab = makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c));
+    const BoxWorld region{c - pad, c + pad};
+    const double tileSize = d.finestCellSize() * double(1u << d.tileSpan());
+    const glm::dvec3 tileMin = d.originWorld + glm::floor((c - d.originWorld) / tileSize) * tileSize;
+    const double inset = 1.5 * d.finestCellSize();  // clear of the neighbours (regions are closed, in whole cells)
+    const BoxWorld wholeTile{tileMin + inset, tileMin + tileSize - inset};
+    GenerationStats small, whole;
+    const AdfPtr a = regenerate(*base, *makeRegionLimited(old, dab, region), region, nullptr, &small);
+    const AdfPtr b = regenerate(*base, *makeRegionLimited(old, dab, wholeTile), wholeTile, nullptr, &whole);
+    ASSERT_EQ(small.tilesGenerated, 1u);
+    ASSERT_EQ(whole.tilesGenerated, 1u);
+    EXPECT_LT(double(small.samples), 0.3 * double(whole.samples)) << small.samples << " vs " << whole.samples;
+    std::printf("sub-tile regeneration: %llu samples against %llu for the whole tile\n", (unsigned long long)small.samples,
+                (unsigned long long)whole.samples);
+    // Both carved the dab, and agree away from it (copied cells against re-derived ones).
+    EXPECT_GT(a->distance(glm::vec3(c + glm::dvec3(0, 0.005, 0))), 0.0f);
+    for (const glm::vec3 p : {glm::vec3(0.3f, 0.2f, 0.6f), glm::vec3(0.4f, 0.21f, 0.7f), glm::vec3(0.33f, 0.19f, 0.62f)})
+        EXPECT_NEAR(a->distance(p), b->distance(p), 0.25 * d.finestCellSize());
 }
 
 TEST(Generate, SmallFeaturesOnFlatSurfacesAreNotMissed) {
