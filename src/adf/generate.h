@@ -46,10 +46,14 @@ AdfPtr generate(const DistanceSource& source, const Domain& domain,
                 GenerationStats* stats = nullptr);
 
 /// Regenerates every tile of `base` that overlaps `regionWorld` from `source`, and the cells
-/// above them, sharing everything else with `base`. The result equals (bit for bit) a full
+/// above them, sharing everything else with `base`. Inside a rebuilt tile, cells wholly outside
+/// the region are copied from `base`'s tile where it has them (sub-tile regeneration): `source`
+/// must equal `base`'s field outside the region. The result equals (bit for bit) a full
 /// generation of `source` provided `source` equals the field `base` was generated from outside
-/// the region. The new snapshot's version is base.version() + 1.
-/// Complexity: O(cells in the touched tiles) evaluations plus O(root + touched chunks) copying.
+/// the region and the tiles' quantisation scales do not change (tested with a tool edit).
+/// The new snapshot's version is base.version() + 1.
+/// Complexity: O(cells overlapping the region) evaluations, O(cells of the touched tiles)
+/// copying, plus O(root + touched chunks).
 /// Threading: as generate(). Memory: the new tiles and copied chunks.
 AdfPtr regenerate(const Adf& base, const DistanceSource& source, const BoxWorld& regionWorld,
                   util::ThreadPool* pool = nullptr, GenerationStats* stats = nullptr);
