@@ -120,7 +120,7 @@ private:
                 if (pt[k] == first.origin[k]) onFace |= 1u << k;
         }
         for (uint32_t o = 1; o < 8; ++o) {
-            if ((o & onFace) != o) continue;  // that cube lies in the first leaf too
+            if ((o & onFace) == 0) continue;  // moves only along axes where p is inside the first leaf
             const glm::uvec3 off(o & 1, (o >> 1) & 1, o >> 2);
             if (glm::any(glm::lessThan(pt, off))) continue;
             const glm::uvec3 cube = pt - off;

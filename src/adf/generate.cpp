@@ -422,10 +422,15 @@ private:
         mNodes[nodeIndex] = node::makeLeaf(leaf, cellTypeOf(std::span<const float, 8>(corners, 8)));
     }
 
+    /// True when the cell is clear of the region by half its size: then its circumscribed ball
+    /// (radius 0.87 s about its centre: what featureSize is asked about, and it holds every
+    /// sub-cell's ball) misses the region, so a full generation would decide for it as the base
+    /// did, and copying it changes nothing.
     bool outsideRegion(glm::uvec3 o, uint32_t s) const {
-        const glm::uvec3 a = mBase + o;
-        return a.x > mRegionMax.x || a.y > mRegionMax.y || a.z > mRegionMax.z || a.x + s < mRegionMin.x ||
-               a.y + s < mRegionMin.y || a.z + s < mRegionMin.z;
+        const glm::ivec3 a(mBase + o);
+        const int margin = int((s + 1) / 2);
+        const glm::ivec3 lo = glm::ivec3(mRegionMin) - margin, hi = glm::ivec3(mRegionMax) + margin;
+        return a.x > hi.x || a.y > hi.y || a.z > hi.z || a.x + int(s) < lo.x || a.y + int(s) < lo.y || a.z + int(s) < lo.z;
     }
 
     /// Child index of the cell at local `o` inside its parent at `level`.
