@@ -36,6 +36,26 @@ std::string encoded() {
 }
 
 /// Recomputes the trailing CRC so that a deliberate corruption reaches the structural checks.
+void fixChecksum(std::string& s);
+
+/// Loads 300 copies of `full` with `flips` random bytes changed at or after `from` (checksum
+/// fixed): each must load or throw FileError, never crash. Returns how many threw.
+int rejectedDamages(const std::string& full, std::size_t from, int flips, uint64_t seed) {
+    std::mt19937_64 rng(seed);
+    int caught = 0;
+    for (int i = 0; i < 300; ++i) {
+        std::string bad = full;
+        for (int k = 0; k < flips; ++k) bad[from + rng() % (bad.size() - from - 4)] = char(rng());
+        fixChecksum(bad);
+        try {
+            decodeAdf(bad, "x.kza");
+        } catch (const FileError&) {
+            ++caught;
+        }
+    }
+    return caught;
+}
+
 void fixChecksum(std::string& s) {
     const uint32_t crc = uint32_t(crc32(0L, reinterpret_cast<const Bytef*>(s.data()), uInt(s.size() - 4)));
     std::memcpy(s.data() + s.size() - 4, &crc, 4);
@@ -157,22 +177,7 @@ TEST(AdfFile, StructuralDamageWithAValidChecksumIsCaught) {
         EXPECT_NE(errorOf(bad).find("invalid domain"), std::string::npos);
     }
     // Random corruption of tile records behind a valid checksum: an error, never a crash.
-    std::mt19937_64 rng(3);
-    int caught = 0;
-    for (int i = 0; i < 300; ++i) {
-        std::string bad = full;
-        for (int k = 0; k < 3; ++k) {
-            const std::size_t at = kHeaderBytes + rng() % (bad.size() - kHeaderBytes - 4);
-            bad[at] = char(rng());
-        }
-        fixChecksum(bad);
-        try {
-            decodeAdf(bad, "x.kza");
-        } catch (const FileError&) {
-            ++caught;
-        }
-    }
-    EXPECT_GT(caught, 0);
+    EXPECT_GT(rejectedDamages(full, kHeaderBytes, 3, 3), 0);
 }
 
 TEST(AdfFile, PaintRoundTripsBitForBit) {
@@ -259,20 +264,7 @@ TEST(AdfFile, DamagedColourSectionsAreFileErrors) {
         const std::string msg = errorOf(full.substr(0, len));
         EXPECT_TRUE(msg.find("truncated") != std::string::npos || msg.find("checksum") != std::string::npos) << len << ": " << msg;
     }
-    std::mt19937_64 rng(8);
-    int caught = 0;
-    for (int i = 0; i < 300; ++i) {
-        std::string bad = full;
-        const std::size_t pos = at + rng() % (bad.size() - at - 4);
-        bad[pos] = char(rng());
-        fixChecksum(bad);
-        try {
-            decodeAdf(bad, "x.kza");
-        } catch (const FileError&) {
-            ++caught;
-        }
-    }
-    EXPECT_GT(caught, 0);
+    EXPECT_GT(rejectedDamages(full, at, 1, 8), 0);
 }
 
 }  // namespace
