@@ -8,6 +8,7 @@
 /// Read by every thread; plain value type.
 #pragma once
 
+#include <glm/common.hpp>
 #include <glm/vec3.hpp>
 
 #include <algorithm>
@@ -73,5 +74,24 @@ struct BoxWorld {
         return p.x >= min.x && p.y >= min.y && p.z >= min.z && p.x <= max.x && p.y <= max.y && p.z <= max.z;
     }
 };
+
+/// `box` grown by `pad` (m) on every side and clipped to the domain.
+inline BoxWorld grownWithin(const Domain& d, const BoxWorld& box, double pad) {
+    const glm::dvec3 lo = d.originWorld, hi = d.originWorld + glm::dvec3(d.sizeWorld);
+    return {glm::clamp(box.min - pad, lo, hi), glm::clamp(box.max + pad, lo, hi)};
+}
+
+/// Calls fn(slot) for every tile slot that `box` (m, clipped to the domain) overlaps, x fastest.
+template <class Fn>
+void forEachSlotIn(const Domain& d, const BoxWorld& box, Fn&& fn) {
+    const double slot = d.finestCellSize() * double(1u << d.tileSpan());
+    const double last = double(d.slotsPerAxis() - 1);
+    auto toSlot = [&](double w, double o) { return uint32_t(std::clamp((w - o) / slot, 0.0, last)); };
+    const glm::uvec3 lo(toSlot(box.min.x, d.originWorld.x), toSlot(box.min.y, d.originWorld.y), toSlot(box.min.z, d.originWorld.z));
+    const glm::uvec3 hi(toSlot(box.max.x, d.originWorld.x), toSlot(box.max.y, d.originWorld.y), toSlot(box.max.z, d.originWorld.z));
+    for (uint32_t z = lo.z; z <= hi.z; ++z)
+        for (uint32_t y = lo.y; y <= hi.y; ++y)
+            for (uint32_t x = lo.x; x <= hi.x; ++x) fn(glm::uvec3(x, y, z));
+}
 
 }  // namespace kizamu::adf

@@ -81,17 +81,12 @@ private:
 std::vector<glm::dvec3> surfaceSamples(const adf::Adf& adf, const adf::BoxWorld& box) {
     const adf::Domain& d = adf.domain();
     const double h = d.finestCellSize();
-    const double slot = h * double(1u << d.tileSpan());
-    const uint32_t n = d.slotsPerAxis();
-    auto toSlot = [&](double w, double o) { return uint32_t(std::clamp((w - o) / slot, 0.0, double(n - 1))); };
     std::unordered_set<const adf::Tile*> seen;
     std::vector<mesh::BoundaryCell> cells;
-    for (uint32_t z = toSlot(box.min.z, d.originWorld.z); z <= toSlot(box.max.z, d.originWorld.z); ++z)
-        for (uint32_t y = toSlot(box.min.y, d.originWorld.y); y <= toSlot(box.max.y, d.originWorld.y); ++y)
-            for (uint32_t x = toSlot(box.min.x, d.originWorld.x); x <= toSlot(box.max.x, d.originWorld.x); ++x) {
-                const adf::Tile* t = adf.tileAtSlot({x, y, z});
-                if (t && seen.insert(t).second) mesh::appendBoundaryCells(*t, d.maxLevel, cells);
-            }
+    adf::forEachSlotIn(d, box, [&](glm::uvec3 slot) {
+        const adf::Tile* t = adf.tileAtSlot(slot);
+        if (t && seen.insert(t).second) mesh::appendBoundaryCells(*t, d.maxLevel, cells);
+    });
     std::vector<glm::dvec3> out;
     for (const mesh::BoundaryCell& c : cells) {
         const glm::dvec3 origin = d.originWorld + glm::dvec3(c.origin) * h;
@@ -127,10 +122,7 @@ std::vector<glm::dvec3> surfaceSamples(const adf::Adf& adf, const adf::BoxWorld&
 }
 
 adf::BoxWorld correctionZone(const adf::Adf& adf, const adf::BoxWorld& region, const CorrectionSettings& settings) {
-    const adf::Domain& d = adf.domain();
-    const double pad = settings.radiusCells * d.finestCellSize();
-    const glm::dvec3 lo = d.originWorld, hi = d.originWorld + glm::dvec3(d.sizeWorld);
-    return {glm::clamp(region.min - pad, lo, hi), glm::clamp(region.max + pad, lo, hi)};
+    return adf::grownWithin(adf.domain(), region, settings.radiusCells * adf.domain().finestCellSize());
 }
 
 adf::AdfPtr correctRemoteField(const adf::AdfPtr& adf, const adf::BoxWorld& zone, util::ThreadPool* pool,

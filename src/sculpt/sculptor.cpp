@@ -127,20 +127,12 @@ private:
 
 /// Bytes of the tiles `before` has in `region` that `after` replaced.
 std::size_t replacedBytes(const adf::Adf& before, const adf::Adf& after, const adf::BoxWorld& region) {
-    const adf::Domain& d = before.domain();
-    const double slot = d.finestCellSize() * double(1u << d.tileSpan());
-    const uint32_t n = d.slotsPerAxis();
-    auto toSlot = [&](double w, double o) {
-        return uint32_t(std::clamp((w - o) / slot, 0.0, double(n - 1)));
-    };
     std::unordered_set<const adf::Tile*> seen;
     std::size_t bytes = 0;
-    for (uint32_t z = toSlot(region.min.z, d.originWorld.z); z <= toSlot(region.max.z, d.originWorld.z); ++z)
-        for (uint32_t y = toSlot(region.min.y, d.originWorld.y); y <= toSlot(region.max.y, d.originWorld.y); ++y)
-            for (uint32_t x = toSlot(region.min.x, d.originWorld.x); x <= toSlot(region.max.x, d.originWorld.x); ++x) {
-                const adf::Tile* old = before.tileAtSlot({x, y, z});
-                if (old != after.tileAtSlot({x, y, z}) && seen.insert(old).second) bytes += old->bytes();
-            }
+    adf::forEachSlotIn(before.domain(), region, [&](glm::uvec3 slot) {
+        const adf::Tile* old = before.tileAtSlot(slot);
+        if (old != after.tileAtSlot(slot) && seen.insert(old).second) bytes += old->bytes();
+    });
     return bytes;
 }
 
@@ -155,9 +147,7 @@ Sculptor::~Sculptor() = default;
 
 adf::BoxWorld strokeRegion(const adf::Adf& adf, const adf::BoxWorld& swept) {
     const adf::Domain& d = adf.domain();
-    const double pad = adf.settings().bandWorld(d) + 2.0 * d.finestCellSize();
-    const glm::dvec3 lo = d.originWorld, hi = d.originWorld + glm::dvec3(d.sizeWorld);
-    return {glm::clamp(swept.min - pad, lo, hi), glm::clamp(swept.max + pad, lo, hi)};
+    return adf::grownWithin(d, swept, adf.settings().bandWorld(d) + 2.0 * d.finestCellSize());
 }
 
 ToolLimits Sculptor::limitsFor(const Stroke& stroke) const {
