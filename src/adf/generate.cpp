@@ -316,7 +316,8 @@ public:
         mLeafCorners.clear();
         mBrickValues.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
-        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version);
+        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version,
+                            mOld ? mOld->scale() : 0.0f);
     }
 
     uint64_t evaluations() const { return mEvaluations; }
