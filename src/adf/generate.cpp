@@ -135,10 +135,10 @@ float checkedDistance(double d, const glm::dvec3& p) {
     return float(d);
 }
 
-TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version) {
+TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version, double finestCell) {
     const CellType t = cellTypeOf(std::span<const float, 8>(corners, 8));
     const uint32_t nodeWord = node::makeLeaf(0, t);
-    return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, {}, version);
+    return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, {}, version, finestCell);
 }
 
 /// The face and edge neighbours of a tile (corners are shared through the upper pass).
@@ -313,7 +313,7 @@ public:
         mLeafCorners.clear();
         mBrickValues.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
-        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version);
+        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version, mDomain.finestCellSize());
     }
 
     uint64_t evaluations() const { return mEvaluations; }
@@ -452,10 +452,9 @@ private:
                 continue;
             }
             if (!node::isBrick(w) || l + 1 != level) return false;  // the old leaf is coarser
-            const int16_t* q = mOld->bricks() + 27 * node::brickIndex(w);
             const int child = childAt(o, l);
             float corners[8];
-            for (int c = 0; c < 8; ++c) corners[c] = float(q[brickPoint(child, c)]) * mOld->scale();
+            for (int c = 0; c < 8; ++c) corners[c] = mOld->brickCorner(node::brickIndex(w), child, c);
             makeLeaf(nodeIndex, corners);
             return true;
         }
@@ -471,9 +470,9 @@ private:
             for (int c = 0; c < 8; ++c) corners[c] = float(q[c]) * scale;
             makeLeaf(nodeIndex, corners);
         } else if (node::isBrick(w)) {
-            const int16_t* q = mOld->bricks() + 27 * node::brickIndex(w);
+            const uint32_t brick = node::brickIndex(w);
             mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
-            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(q[g]) * scale);
+            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(mOld->brickValue(brick, g)) * scale);
         } else {
             const auto first = uint32_t(mNodes.size());
             mNodes.resize(first + 8);
@@ -631,7 +630,7 @@ private:
             for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
         if (look.leaf || (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, o, level))) {
             ++mCoarseTiles;
-            addTile(makeSingleCellTile(level, o, corners.data(), mVersion));
+            addTile(makeSingleCellTile(level, o, corners.data(), mVersion, mDomain.finestCellSize()));
             return;
         }
         for (int c = 0; c < 8; ++c) visitUpper(o + childOffset(c) * half, level + 1);
@@ -691,7 +690,7 @@ private:
             }
             if (same) {
                 ++mCoarseTiles;
-                addTile(makeSingleCellTile(cand.level, cand.origin, cand.corners.data(), mVersion));
+                addTile(makeSingleCellTile(cand.level, cand.origin, cand.corners.data(), mVersion, mDomain.finestCellSize()));
             }
         }
     }

@@ -56,9 +56,13 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b) 
                     return fail("cell count");
                 if (ta->scale() != tb->scale()) return fail("quantisation scale");
                 if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
-                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0 ||
-                    std::memcmp(ta->bricks(), tb->bricks(), ta->brickCount() * 54) != 0)
-                    return fail("corner distances");
+                if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->brickStep() != tb->brickStep())
+                    return fail("brick encoding");
+                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0) return fail("corner distances");
+                for (uint32_t k = 0; k < ta->brickCount(); ++k)
+                    for (int g = 0; g < 27; ++g)
+                        if (ta->brickValue(k, g) != tb->brickValue(k, g)) return fail("brick distances");
+                if (ta->checksum() != tb->checksum()) return fail("tile checksum");
             }
     return ::testing::AssertionSuccess();
 }
