@@ -145,6 +145,7 @@ Adf::Stats Adf::computeStats() const {
         if (t.level() < mDomain.tileLevel()) ++s.coarseTiles;
         s.cells += t.cellCount();
         s.bricks += t.brickCount();
+        s.narrowBricks += t.narrowBrickCount();
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();
     });
