@@ -54,8 +54,7 @@ LeafRef Adf::findLeaf(glm::uvec3 p) const noexcept {
         for (int c = 0; c < 8; ++c) r.corners[c] = float(q[c]) * scale;
     } else {
         r.brickChild = childAt(level);
-        const int16_t* q = tile->bricks() + 27 * node::brickIndex(w);
-        for (int c = 0; c < 8; ++c) r.corners[c] = float(q[brickPoint(r.brickChild, c)]) * scale;
+        for (int c = 0; c < 8; ++c) r.corners[c] = float(tile->brickValue(node::brickIndex(w), brickPoint(r.brickChild, c))) * scale;
         ++level;
     }
     const int cellShift = maxLevel - level;
@@ -109,8 +108,8 @@ void AdfAccessor::descend(glm::uvec3 p) noexcept {
             mOrigin = cell.origin;
             mSize = cell.size;
         } else {
-            const int16_t* q = mTile->bricks() + 27 * node::brickIndex(cell.word);
-            for (int k = 0; k < 8; ++k) mCorners[k] = float(q[brickPoint(child, k)]) * scale;
+            const uint32_t brick = node::brickIndex(cell.word);
+            for (int k = 0; k < 8; ++k) mCorners[k] = float(mTile->brickValue(brick, brickPoint(child, k))) * scale;
             mOrigin = childOrigin;
             mSize = half;
         }
@@ -146,6 +145,7 @@ Adf::Stats Adf::computeStats() const {
         if (t.level() < mDomain.tileLevel()) ++s.coarseTiles;
         s.cells += t.cellCount();
         s.bricks += t.brickCount();
+        s.narrowBricks += t.narrowBrickCount();
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();
     });

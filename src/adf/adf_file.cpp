@@ -202,7 +202,12 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.put(t.brickCount());
         w.putRaw(t.nodes(), std::size_t(t.nodeCount()) * 4);
         w.putRaw(t.corners(), std::size_t(t.leafCount()) * 16);
-        w.putRaw(t.bricks(), std::size_t(t.brickCount()) * 54);
+        // Bricks as 16-bit values (narrow ones decoded): the format predates narrow bricks, and
+        // loading packs them again to the same bits.
+        std::vector<int16_t> bricks(std::size_t(t.brickCount()) * 27);
+        for (uint32_t b = 0; b < t.brickCount(); ++b)
+            for (int g = 0; g < 27; ++g) bricks[27 * std::size_t(b) + std::size_t(g)] = t.brickValue(b, g);
+        w.putRaw(bricks.data(), bricks.size() * 2);
     });
     std::memcpy(w.bytes().data() + countAt, &tiles, sizeof tiles);
     if (adf.colours()) encodeColours(*adf.colours(), w);
@@ -277,7 +282,7 @@ AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
         r.getBytes(corners.data(), corners.size() * 2, what);
         r.getBytes(bricks.data(), bricks.size() * 2, what);
         if (!crcOk) continue;  // reported below, once the structure has been read
-        TilePtr tile = Tile::createQuantised(level, origin, nodes, corners, bricks, scale, snapshotVersion);
+        TilePtr tile = Tile::createQuantised(level, origin, nodes, corners, bricks, scale, snapshotVersion, d.finestCellSize());
         std::string why;
         if (!validTree(*tile, d.maxLevel - level, why)) r.fail(what + ": " + why);
         const uint64_t side = uint64_t(1) << (d.tileLevel() - level);

@@ -31,7 +31,7 @@ struct LeafCell {
     }
     float corner(int c) const {
         const int16_t q = brickChild < 0 ? tile->corners()[8 * node::leafIndex(word) + uint32_t(c)]
-                                         : tile->bricks()[27 * node::brickIndex(word) + uint32_t(brickPoint(brickChild, c))];
+                                         : tile->brickValue(node::brickIndex(word), brickPoint(brickChild, c));
         return float(q) * tile->scale();
     }
 };

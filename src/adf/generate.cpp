@@ -135,10 +135,10 @@ float checkedDistance(double d, const glm::dvec3& p) {
     return float(d);
 }
 
-TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version) {
+TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version, double finestCell) {
     const CellType t = cellTypeOf(std::span<const float, 8>(corners, 8));
     const uint32_t nodeWord = node::makeLeaf(0, t);
-    return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, {}, version);
+    return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, {}, version, finestCell);
 }
 
 /// The face and edge neighbours of a tile (corners are shared through the upper pass).
@@ -316,7 +316,7 @@ public:
         mLeafCorners.clear();
         mBrickValues.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
-        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version,
+        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version, mDomain.finestCellSize(),
                             mOld ? mOld->scale() : 0.0f);
     }
 
@@ -456,25 +456,25 @@ private:
     Keep oldValuesWithin(glm::uvec3 o, int level, const DistanceSource::Range& range) const {
         const uint32_t* nodes = mOld->nodes();
         const float scale = mOld->scale();
-        auto inRange = [&](const int16_t* q, int n, const auto& index) {
+        // value(k) is a quantised value; all n must decode into the range
+        auto inRange = [&](int n, const auto& value) {
             for (int k = 0; k < n; ++k) {
-                const double v = double(float(q[index(k)]) * scale);
+                const double v = double(float(value(k)) * scale);
                 if (!(range.lo <= v && v <= range.hi)) return false;
             }
             return true;
         };
-        auto identity = [](int k) { return k; };
+        auto leafValues = [&](uint32_t leaf) { return [this, leaf](int c) { return mOld->corners()[8 * leaf + uint32_t(c)]; }; };
         uint32_t w = nodes[0];
         for (int l = mDomain.tileLevel(); l < level; ++l) {
             if (node::isInternal(w)) {
                 w = nodes[w + uint32_t(childAt(o, l))];
                 continue;
             }
-            if (node::isLeaf(w))
-                return inRange(mOld->corners() + 8 * node::leafIndex(w), 8, identity) ? Keep::Leaf : Keep::No;
+            if (node::isLeaf(w)) return inRange(8, leafValues(node::leafIndex(w))) ? Keep::Leaf : Keep::No;
             const int child = childAt(o, l);  // a brick: the cell is (inside) one of its children
-            if (!inRange(mOld->bricks() + 27 * node::brickIndex(w), 8, [&](int c) { return brickPoint(child, c); }))
-                return Keep::No;
+            const uint32_t brick = node::brickIndex(w);
+            if (!inRange(8, [&](int c) { return mOld->brickValue(brick, brickPoint(child, c)); })) return Keep::No;
             return l + 1 == level ? Keep::Copy : Keep::Leaf;
         }
         uint32_t stack[8 * kMaxTileSpan + 8];  // depth-first: at most 7 pending siblings per level
@@ -483,9 +483,10 @@ private:
         while (top > 0) {
             w = stack[--top];
             if (node::isLeaf(w)) {
-                if (!inRange(mOld->corners() + 8 * node::leafIndex(w), 8, identity)) return Keep::No;
+                if (!inRange(8, leafValues(node::leafIndex(w)))) return Keep::No;
             } else if (node::isBrick(w)) {
-                if (!inRange(mOld->bricks() + 27 * node::brickIndex(w), 27, identity)) return Keep::No;
+                const uint32_t brick = node::brickIndex(w);
+                if (!inRange(27, [&](int g) { return mOld->brickValue(brick, g); })) return Keep::No;
             } else {
                 for (uint32_t c = 0; c < 8; ++c) stack[top++] = nodes[w + c];
             }
@@ -512,10 +513,9 @@ private:
                 continue;
             }
             if (!node::isBrick(w) || l + 1 != level) return false;  // the old leaf is coarser
-            const int16_t* q = mOld->bricks() + 27 * node::brickIndex(w);
             const int child = childAt(o, l);
             float corners[8];
-            for (int c = 0; c < 8; ++c) corners[c] = float(q[brickPoint(child, c)]) * mOld->scale();
+            for (int c = 0; c < 8; ++c) corners[c] = mOld->brickCorner(node::brickIndex(w), child, c);
             makeLeaf(nodeIndex, corners);
             return true;
         }
@@ -531,9 +531,9 @@ private:
             for (int c = 0; c < 8; ++c) corners[c] = float(q[c]) * scale;
             makeLeaf(nodeIndex, corners);
         } else if (node::isBrick(w)) {
-            const int16_t* q = mOld->bricks() + 27 * node::brickIndex(w);
+            const uint32_t brick = node::brickIndex(w);
             mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
-            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(q[g]) * scale);
+            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(mOld->brickValue(brick, g)) * scale);
         } else {
             const auto first = uint32_t(mNodes.size());
             mNodes.resize(first + 8);
@@ -704,7 +704,7 @@ private:
             for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
         if (look.leaf || (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, o, level))) {
             ++mCoarseTiles;
-            addTile(makeSingleCellTile(level, o, corners.data(), mVersion));
+            addTile(makeSingleCellTile(level, o, corners.data(), mVersion, mDomain.finestCellSize()));
             return;
         }
         for (int c = 0; c < 8; ++c) visitUpper(o + childOffset(c) * half, level + 1);
@@ -774,7 +774,7 @@ private:
             }
             if (same) {
                 ++mCoarseTiles;
-                addTile(makeSingleCellTile(cand.level, cand.origin, cand.corners.data(), mVersion));
+                addTile(makeSingleCellTile(cand.level, cand.origin, cand.corners.data(), mVersion, mDomain.finestCellSize()));
             }
         }
     }

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <new>
+#include <vector>
 
 namespace kizamu::adf {
 
@@ -43,23 +44,35 @@ uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
 }  // namespace
 
 namespace {
-std::size_t blockBytes(uint32_t nodeCount, uint32_t leafCount, uint32_t brickCount) {
-    return kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8) + std::size_t(leafCount) * 16 +
-           std::size_t(brickCount) * 54;
+/// Narrow bricks: a 16-bit centre each, then 27 signed bytes each; wide bricks after, 2-aligned.
+struct Layout {
+    std::size_t corners, bases, deltas, wide, total;
+};
+Layout layoutOf(uint32_t nodeCount, uint32_t leafCount, uint32_t narrowCount, uint32_t wideCount) {
+    Layout l;
+    l.corners = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
+    l.bases = l.corners + std::size_t(leafCount) * 16;
+    l.deltas = l.bases + std::size_t(narrowCount) * 2;
+    l.wide = alignUp(l.deltas + std::size_t(narrowCount) * 27, 2);
+    l.total = l.wide + std::size_t(wideCount) * 54;
+    return l;
 }
 }  // namespace
 
-Tile* Tile::allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t brickCount) {
-    void* mem = ::operator new(blockBytes(nodeCount, leafCount, brickCount));
+Tile* Tile::allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t narrowCount, uint32_t wideCount) {
+    const Layout l = layoutOf(nodeCount, leafCount, narrowCount, wideCount);
+    void* mem = ::operator new(l.total);
     Tile* t = new (mem) Tile();
     auto* base = static_cast<unsigned char*>(mem);
-    const std::size_t cornersAt = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
     t->mNodes = reinterpret_cast<const uint32_t*>(base + kHeaderBytes);
-    t->mCorners = reinterpret_cast<const int16_t*>(base + cornersAt);
-    t->mBricks = reinterpret_cast<const int16_t*>(base + cornersAt + std::size_t(leafCount) * 16);
+    t->mCorners = reinterpret_cast<const int16_t*>(base + l.corners);
+    t->mBrickBases = reinterpret_cast<const int16_t*>(base + l.bases);
+    t->mBrickDeltas = reinterpret_cast<const int8_t*>(base + l.deltas);
+    t->mWideBricks = reinterpret_cast<const int16_t*>(base + l.wide);
     t->mNodeCount = nodeCount;
     t->mLeafCount = leafCount;
-    t->mBrickCount = brickCount;
+    t->mBrickCount = narrowCount + wideCount;
+    t->mNarrowCount = narrowCount;
     return t;
 }
 
@@ -70,7 +83,9 @@ void Tile::Deleter::operator()(const Tile* t) const {
 
 Tile::~Tile() { mMagic = 0xdeadbeefdeadbeefull; }
 
-std::size_t Tile::bytes() const { return blockBytes(mNodeCount, mLeafCount, mBrickCount); }
+std::size_t Tile::bytes() const {
+    return layoutOf(mNodeCount, mLeafCount, mNarrowCount, mBrickCount - mNarrowCount).total;
+}
 
 uint64_t Tile::computeChecksum() const {
     uint64_t h = 0xcbf29ce484222325ull;
@@ -79,7 +94,10 @@ uint64_t Tile::computeChecksum() const {
     h = fnv1a(h, &mScale, sizeof mScale);
     h = fnv1a(h, mNodes, std::size_t(mNodeCount) * 4);
     h = fnv1a(h, mCorners, std::size_t(mLeafCount) * 16);
-    h = fnv1a(h, mBricks, std::size_t(mBrickCount) * 54);
+    h = fnv1a(h, &mStep, sizeof mStep);
+    h = fnv1a(h, mBrickBases, std::size_t(mNarrowCount) * 2);
+    h = fnv1a(h, mBrickDeltas, std::size_t(mNarrowCount) * 27);
+    h = fnv1a(h, mWideBricks, std::size_t(mBrickCount - mNarrowCount) * 54);
     return h;
 }
 
@@ -98,11 +116,36 @@ int16_t quantise(float v, float scale) {
     if (v < 0.0f && r == 0) r = -1;
     return int16_t(r);
 }
+
+/// Quantisation steps per narrow-brick step: 127 of them span twice a finest cell, which holds
+/// every value of a brick of finest cells (at most sqrt(3) cells from its centre) in a
+/// 1-Lipschitz field. Depends only on the scale and the cell size, never on the values, so a
+/// decoded tile re-encodes to the same bits.
+int32_t narrowStep(float scale, double finestCell) {
+    const double steps = std::ceil(2.0 * finestCell / (127.0 * double(scale)));
+    return steps >= 1.0 ? int32_t(std::min(steps, 32767.0)) : 1;
+}
+
+/// Steps from `base` to the value nearest `q` with q's sign (inside stays inside), or false
+/// when that needs more than 127 steps or leaves the 16-bit range.
+bool narrowDelta(int32_t q, int32_t base, int32_t step, int8_t& out) {
+    const int32_t diff = q - base;
+    int32_t k = diff >= 0 ? (diff + step / 2) / step : -((-diff + step / 2) / step);
+    const int32_t v = base + k * step;
+    if (q < 0 && v >= 0) --k;
+    if (q >= 0 && v < 0) ++k;
+    if (base + k * step > 32767) --k;  // rounded past the tile's extreme value: the step below
+    if (base + k * step < -32767) ++k;
+    const int32_t decoded = base + k * step;
+    if (k < -127 || k > 127 || decoded < -32767 || decoded > 32767) return false;
+    out = int8_t(k);
+    return true;
+}
 }  // namespace
 
 TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                      std::span<const float> leafCorners, std::span<const float> brickValues,
-                     uint64_t version, float keepScale) {
+                     uint64_t version, double finestCell, float keepScale) {
     assert(leafCorners.size() % 8 == 0 && brickValues.size() % 27 == 0);
     float maxAbs = 0.0f;
     for (float v : leafCorners) maxAbs = std::max(maxAbs, std::abs(v));
@@ -114,25 +157,57 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
     const float scale = keepScale > 0.0f && maxAbs <= keepScale * 32767.0f ? keepScale
                         : maxAbs > 0.0f                                  ? maxAbs / 32767.0f
                                                                          : 1.0f;
-    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8),
-                       uint32_t(brickValues.size() / 27));
-    copyBytes(t->mNodes, nodes.data(), nodes.size() * 4);
-    auto* q = const_cast<int16_t*>(t->mCorners);
-    for (std::size_t i = 0; i < leafCorners.size(); ++i) q[i] = quantise(leafCorners[i], scale);
-    auto* b = const_cast<int16_t*>(t->mBricks);
-    for (std::size_t i = 0; i < brickValues.size(); ++i) b[i] = quantise(brickValues[i], scale);
-    return finish(t, level, latticeOrigin, scale, version);
+    std::vector<int16_t> corners(leafCorners.size()), bricks(brickValues.size());
+    for (std::size_t i = 0; i < leafCorners.size(); ++i) corners[i] = quantise(leafCorners[i], scale);
+    for (std::size_t i = 0; i < brickValues.size(); ++i) bricks[i] = quantise(brickValues[i], scale);
+    return build(level, latticeOrigin, nodes, corners, bricks, scale, version, finestCell);
 }
 
 TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                               std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues,
-                              float scale, uint64_t version) {
+                              float scale, uint64_t version, double finestCell) {
     assert(leafCorners.size() % 8 == 0 && brickValues.size() % 27 == 0);
-    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8),
-                       uint32_t(brickValues.size() / 27));
-    copyBytes(t->mNodes, nodes.data(), nodes.size() * 4);
+    return build(level, latticeOrigin, nodes, leafCorners, brickValues, scale, version, finestCell);
+}
+
+TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
+                    std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues, float scale,
+                    uint64_t version, double finestCell) {
+    const auto brickCount = uint32_t(brickValues.size() / 27);
+    const int32_t step = narrowStep(scale, finestCell);
+    // Which bricks fit narrow, and their new numbers (narrow first, each group in order).
+    std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
+    std::vector<uint8_t> narrow(brickCount, 1);
+    uint32_t narrowCount = 0;
+    for (uint32_t b = 0; b < brickCount; ++b) {
+        const int16_t* q = brickValues.data() + 27 * std::size_t(b);
+        for (int g = 0; g < 27 && narrow[b]; ++g) narrow[b] = narrowDelta(q[g], q[13], step, deltas[27 * std::size_t(b) + g]);
+        narrowCount += narrow[b];
+    }
+    std::vector<uint32_t> renumber(brickCount);
+    for (uint32_t b = 0, n = 0, w = narrowCount; b < brickCount; ++b) renumber[b] = narrow[b] ? n++ : w++;
+
+    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8), narrowCount, brickCount - narrowCount);
+    t->mStep = step;
+    auto* words = const_cast<uint32_t*>(t->mNodes);
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const uint32_t w = nodes[i];
+        words[i] = node::isBrick(w) && node::brickIndex(w) < brickCount ? node::makeBrick(renumber[node::brickIndex(w)]) : w;
+    }
     copyBytes(t->mCorners, leafCorners.data(), leafCorners.size() * 2);
-    copyBytes(t->mBricks, brickValues.data(), brickValues.size() * 2);
+    auto* bases = const_cast<int16_t*>(t->mBrickBases);
+    auto* packed = const_cast<int8_t*>(t->mBrickDeltas);
+    auto* wide = const_cast<int16_t*>(t->mWideBricks);
+    for (uint32_t b = 0; b < brickCount; ++b) {
+        const int16_t* q = brickValues.data() + 27 * std::size_t(b);
+        const uint32_t n = renumber[b];
+        if (narrow[b]) {
+            bases[n] = q[13];
+            std::memcpy(packed + 27 * std::size_t(n), deltas.data() + 27 * std::size_t(b), 27);
+        } else {
+            std::memcpy(wide + 27 * std::size_t(n - narrowCount), q, 54);
+        }
+    }
     return finish(t, level, latticeOrigin, scale, version);
 }
 

@@ -8,6 +8,11 @@
 /// a *brick*: one node word and the 27 distances of its 3x3x3 half grid, which the 8 children
 /// share (27 values instead of 8 words and 64 values). Distances are quantised to 16 bits with
 /// one scale per tile (docs/ARCHITECTURE.md gives the measurements behind both choices).
+/// A brick whose values all lie within 127 *brick steps* of its centre (every brick of finest
+/// cells, in a 1-Lipschitz field) is stored *narrow*: its centre as 16 bits and 27 signed bytes
+/// counting brick steps from it (29 bytes instead of 54); the step is fixed per tile from its
+/// scale and the finest cell size, so the encoding is idempotent (decode, re-encode: same bits).
+/// Other bricks stay *wide* (27 x 16 bits). Narrow bricks come first in the brick numbering.
 /// A tile never changes after `create`; any number of threads may read it. Edits build new
 /// tiles; old ones are freed through epochs once no reader can see them (snapshot_store.h).
 #pragma once
@@ -66,32 +71,42 @@ public:
     /// @param leafCorners     8 values per leaf in corner order
     /// @param brickValues     27 values per brick in half-grid order
     /// @param version         snapshot version that created it (readers check it)
+    /// @param finestCell      the domain's finest cell size, m (sets the narrow-brick step)
     /// @param keepScale       a scale to keep when every value fits it (0: none). Regeneration
     ///                        passes the old tile's, so cells it copies keep their bits and
     ///                        the mesher sees them unchanged.
+    /// Brick indices in `nodes` are renumbered (narrow bricks first); the field is unchanged
+    /// but for narrow bricks' rounding to their step (under 0.008 finest cells).
     /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
     static std::shared_ptr<const Tile> create(int level, glm::uvec3 latticeOrigin,
                                               std::span<const uint32_t> nodes,
                                               std::span<const float> leafCorners,
                                               std::span<const float> brickValues, uint64_t version,
-                                              float keepScale = 0.0f);
-    /// Builds a tile from already quantised data (file loading). Checksum is recomputed.
+                                              double finestCell, float keepScale = 0.0f);
+    /// Builds a tile from already quantised data (file loading). Checksum is recomputed. Brick
+    /// words with an index out of range are left as they are (the file validation rejects them).
     static std::shared_ptr<const Tile> createQuantised(int level, glm::uvec3 latticeOrigin,
                                                        std::span<const uint32_t> nodes,
                                                        std::span<const int16_t> leafCorners,
                                                        std::span<const int16_t> brickValues,
-                                                       float scale, uint64_t version);
+                                                       float scale, uint64_t version, double finestCell);
 
     int level() const { return mLevel; }
     glm::uvec3 latticeOrigin() const { return mOrigin; }
     uint32_t nodeCount() const { return mNodeCount; }
     uint32_t leafCount() const { return mLeafCount; }    ///< lone leaves (not in bricks)
-    uint32_t brickCount() const { return mBrickCount; }
+    uint32_t brickCount() const { return mBrickCount; }   ///< narrow and wide
+    uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow
+    int32_t brickStep() const { return mStep; }           ///< quantisation steps per narrow-brick step
     /// Leaf cells: lone leaves plus 8 per brick.
     std::size_t cellCount() const { return mLeafCount + 8 * std::size_t(mBrickCount); }
     const uint32_t* nodes() const { return mNodes; }
     const int16_t* corners() const { return mCorners; }  ///< 8 per lone leaf
-    const int16_t* bricks() const { return mBricks; }    ///< 27 per brick
+    /// Quantised value of half-grid point g (tile.h's brickPoint order) of brick `brick`.
+    int16_t brickValue(uint32_t brick, int g) const {
+        if (brick < mNarrowCount) return int16_t(int32_t(mBrickBases[brick]) + int32_t(mBrickDeltas[27 * brick + uint32_t(g)]) * mStep);
+        return mWideBricks[27 * (brick - mNarrowCount) + uint32_t(g)];
+    }
     float scale() const { return mScale; }               ///< m per quantisation step
     uint64_t version() const { return mVersion; }
     uint64_t checksum() const { return mChecksum; }
@@ -108,7 +123,7 @@ public:
     float corner(uint32_t leaf, int c) const { return float(mCorners[8 * leaf + c]) * mScale; }
     /// Decoded corner `c` of child `child` of brick `brick`, m.
     float brickCorner(uint32_t brick, int child, int c) const {
-        return float(mBricks[27 * brick + brickPoint(child, c)]) * mScale;
+        return float(brickValue(brick, brickPoint(child, c))) * mScale;
     }
 
     ~Tile();
@@ -117,7 +132,11 @@ public:
 
 private:
     Tile() = default;
-    static Tile* allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t brickCount);
+    static Tile* allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t narrowCount, uint32_t wideCount);
+    /// Shared tail of both create functions: quantised bricks in, narrow ones packed.
+    static std::shared_ptr<const Tile> build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
+                                             std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues,
+                                             float scale, uint64_t version, double finestCell);
     /// Sets the header of a filled block, seals it with its checksum and hands it out.
     static std::shared_ptr<const Tile> finish(Tile* t, int level, glm::uvec3 latticeOrigin, float scale,
                                               uint64_t version);
@@ -130,11 +149,15 @@ private:
     uint64_t mChecksum = 0;
     const uint32_t* mNodes = nullptr;
     const int16_t* mCorners = nullptr;
-    const int16_t* mBricks = nullptr;
+    const int16_t* mBrickBases = nullptr;   ///< one per narrow brick
+    const int8_t* mBrickDeltas = nullptr;   ///< 27 per narrow brick
+    const int16_t* mWideBricks = nullptr;   ///< 27 per wide brick
     glm::uvec3 mOrigin{0};
     uint32_t mNodeCount = 0;
     uint32_t mLeafCount = 0;
     uint32_t mBrickCount = 0;
+    uint32_t mNarrowCount = 0;
+    int32_t mStep = 1;
     float mScale = 0.0f;
     int mLevel = 0;
 

@@ -2,6 +2,7 @@
 /// @file cmd_info.cpp
 /// @brief `kizamu info FILE|DIR`: level, tiles, cells, memory and bounds of a .kza file, or
 /// what a session directory holds.
+#include "adf/adf_breakdown.h"
 #include "adf/adf_file.h"
 #include "adf/colour_layer.h"
 #include "app/commands.h"
@@ -40,7 +41,7 @@ void printSessionInfo(const std::string& dir) {
     std::printf("  cells       %zu leaves, %.2f MB\n", st.cells, double(st.bytes()) / 1e6);
 }
 
-void printInfo(const std::string& path) {
+void printInfo(const std::string& path, bool breakdown) {
     if (sculpt::isSessionDir(path)) {
         printSessionInfo(path);
         return;
@@ -76,6 +77,7 @@ void printInfo(const std::string& path) {
                     st.surfaceBounds.max.x, st.surfaceBounds.max.y, st.surfaceBounds.max.z);
     else
         std::printf("  bounds      no surface in the domain\n");
+    if (breakdown) std::fputs(adf::formatBreakdown(adf::computeBreakdown(*a), d.maxLevel).c_str(), stdout);
 }
 
 }  // namespace
@@ -84,7 +86,9 @@ void addInfoCommand(CLI::App& app) {
     auto* cmd = app.add_subcommand("info", "Print level, tiles, cells, memory and bounds of a .kza file, or the strokes of a session directory");
     auto path = std::make_shared<std::string>();
     cmd->add_option("file", *path, "ADF file (.kza) or session directory")->required();
-    cmd->callback([path] { printInfo(*path); });
+    auto breakdown = std::make_shared<bool>(false);
+    cmd->add_flag("--breakdown", *breakdown, "Also print cells per level, storage kind and distance, and bytes per part");
+    cmd->callback([path, breakdown] { printInfo(*path, *breakdown); });
 }
 
 }  // namespace kizamu::app

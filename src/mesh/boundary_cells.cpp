@@ -41,7 +41,8 @@ void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryC
             for (int c = 0; c < 8; ++c) b.corners[c] = float(q[c]) * scale;
             out.push_back(b);
         } else {
-            const int16_t* q = t.bricks() + 27 * node::brickIndex(w);
+            int16_t q[27];
+            for (int g = 0; g < 27; ++g) q[g] = t.brickValue(node::brickIndex(w), g);
             if (!signChange<27>(q)) continue;
             for (int child = 0; child < 8; ++child) {
                 int16_t raw[8];

@@ -15,6 +15,8 @@
 #include <mutex>
 #include <set>
 #include <tuple>
+#include <utility>
+#include <vector>
 
 namespace kizamu::test {
 
@@ -34,6 +36,39 @@ inline ::testing::AssertionResult sameColours(const adf::Adf& a, const adf::Adf&
             return ::testing::AssertionFailure() << "paint differs in slot " << ca->slotKeys()[i];
     }
     return ::testing::AssertionSuccess();
+}
+
+/// The same tree, and decoded values within the rounding of both tiles (half a quantisation
+/// step each, and half a narrow-brick step each where bricks are narrow).
+inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
+    auto brickTolerance = [](const adf::Tile& t, uint32_t brick) {
+        return 0.5 * double(t.scale()) * (brick < t.narrowBrickCount() ? double(t.brickStep()) + 1.0 : 1.0);
+    };
+    std::vector<std::pair<uint32_t, uint32_t>> stack{{a.nodes()[0], b.nodes()[0]}};
+    while (!stack.empty()) {
+        const auto [wa, wb] = stack.back();
+        stack.pop_back();
+        if (adf::node::isInternal(wa) != adf::node::isInternal(wb) || adf::node::isBrick(wa) != adf::node::isBrick(wb) ||
+            adf::node::isLeaf(wa) != adf::node::isLeaf(wb))
+            return false;
+        if (adf::node::isInternal(wa)) {
+            for (uint32_t c = 0; c < 8; ++c) stack.emplace_back(a.nodes()[wa + c], b.nodes()[wb + c]);
+        } else if (adf::node::isBrick(wa)) {
+            const uint32_t ka = adf::node::brickIndex(wa), kb = adf::node::brickIndex(wb);
+            // twice: a copied cell may carry the rounding of the tile it was copied from too
+            const double tolerance = 2.0 * (brickTolerance(a, ka) + brickTolerance(b, kb)) * (1.0 + 1e-6);
+            for (int g = 0; g < 27; ++g)
+                if (std::abs(double(a.brickValue(ka, g)) * a.scale() - double(b.brickValue(kb, g)) * b.scale()) > tolerance)
+                    return false;
+        } else {
+            if (adf::node::leafType(wa) != adf::node::leafType(wb)) return false;
+            const double tolerance = 0.5 * (double(a.scale()) + double(b.scale())) * (1.0 + 1e-6);
+            for (int c = 0; c < 8; ++c)
+                if (std::abs(double(a.corner(adf::node::leafIndex(wa), c)) - double(b.corner(adf::node::leafIndex(wb), c))) > tolerance)
+                    return false;
+        }
+    }
+    return true;
 }
 
 /// Every slot maps to tiles with identical level, origin, scale, nodes and corners, and the
@@ -57,23 +92,19 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, 
                 if (ta->nodeCount() != tb->nodeCount() || ta->leafCount() != tb->leafCount() ||
                     ta->brickCount() != tb->brickCount())
                     return fail("cell count");
-                if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
                 if (ta->scale() != tb->scale()) {
                     if (!scaleMayDiffer) return fail("quantisation scale");
-                    const double tolerance = 0.5 * (double(ta->scale()) + double(tb->scale())) * (1.0 + 1e-6);
-                    auto near = [&](const int16_t* qa, const int16_t* qb, std::size_t count) {
-                        for (std::size_t i = 0; i < count; ++i)
-                            if (std::abs(double(qa[i]) * ta->scale() - double(qb[i]) * tb->scale()) > tolerance) return false;
-                        return true;
-                    };
-                    if (!near(ta->corners(), tb->corners(), ta->leafCount() * 8) ||
-                        !near(ta->bricks(), tb->bricks(), ta->brickCount() * 27))
-                        return fail("corner distances (beyond quantisation)");
+                    if (!sameUpToQuantisation(*ta, *tb)) return fail("tree or distances (beyond quantisation)");
                     continue;
                 }
-                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0 ||
-                    std::memcmp(ta->bricks(), tb->bricks(), ta->brickCount() * 54) != 0)
-                    return fail("corner distances");
+                if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
+                if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->brickStep() != tb->brickStep())
+                    return fail("brick encoding");
+                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0) return fail("corner distances");
+                for (uint32_t k = 0; k < ta->brickCount(); ++k)
+                    for (int g = 0; g < 27; ++g)
+                        if (ta->brickValue(k, g) != tb->brickValue(k, g)) return fail("brick distances");
+                if (ta->checksum() != tb->checksum()) return fail("tile checksum");
             }
     return ::testing::AssertionSuccess();
 }
