@@ -69,19 +69,22 @@ PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t se
             const BoundaryCell& cell = all[i];
             SplitMix rng{seed * 0x2545f4914f6cdd1dull + i};
             const float size = float(cell.size);
-            const float toMetres = 1.0f / (size * h);  // gradient per unit cell -> per metre
+            const glm::vec3 cellOrigin = origin + glm::vec3(cell.origin) * h;
+            const float cellMetres = size * h;
             const std::size_t end = firstPoint(i + 1);
             for (std::size_t k = firstPoint(i); k < end; ++k) {
                 glm::vec3 f(rng.unit(), rng.unit(), rng.unit());
-                adf::Sample s = adf::trilinear(cell.corners, f);
-                glm::vec3 g = s.gradient * toMetres;
+                const adf::Sample s = adf::trilinear(cell.corners, f);
+                // One projection step along the gradient, in cell units: f -= d g / |g|^2,
+                // with d in metres and g in metres per cell (one division, none per axis).
+                const glm::vec3 g = s.gradient;
                 const float g2 = glm::dot(g, g);
-                if (g2 > 1e-12f) f -= (s.distance / g2) * g / (size * h);  // one projection step
+                if (g2 > 1e-12f * cellMetres * cellMetres) f -= (s.distance / g2) * g;
                 f = glm::clamp(f, glm::vec3(-0.5f), glm::vec3(1.5f));
-                g = adf::trilinear(cell.corners, f).gradient;
-                const float gl = glm::length(g);
-                out.positions[k] = origin + (glm::vec3(cell.origin) + f * size) * h;
-                out.normals[k] = gl > 0.0f ? g / gl : glm::vec3(0.0f, 0.0f, 1.0f);
+                const glm::vec3 n = adf::trilinear(cell.corners, f).gradient;
+                const float n2 = glm::dot(n, n);
+                out.positions[k] = cellOrigin + f * cellMetres;
+                out.normals[k] = n2 > 0.0f ? n * (1.0f / std::sqrt(n2)) : glm::vec3(0.0f, 0.0f, 1.0f);
             }
         }
     });
