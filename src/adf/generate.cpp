@@ -445,7 +445,12 @@ private:
         if (level >= mDomain.maxLevel) return Keep::No;  // its corners are sampled already
         const double size = double(s) * mDomain.finestCellSize();
         const glm::dvec3 centre = mDomain.originWorld + (glm::dvec3(mBase + o) + 0.5 * double(s)) * mDomain.finestCellSize();
-        const DistanceSource::Range range = mSource.unchangedRange(centre, size * kHalfDiagonal);
+        DistanceSource::Range range = mSource.unchangedRange(centre, size * kHalfDiagonal);
+        // The old tile's values are rounded (16-bit steps, narrow-brick steps): stay clear of
+        // the range's ends by that much.
+        const double rounding = double(mOld->scale()) * double(std::max(1, mOld->brickStep()) + 1);
+        range.lo += rounding;
+        range.hi -= rounding;
         if (range.lo > range.hi || mRule.hidesFeature(mSource, mBase + o, level)) return Keep::No;
         return oldValuesWithin(o, level, range);
     }

@@ -152,11 +152,12 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
     for (float v : brickValues) maxAbs = std::max(maxAbs, std::abs(v));
     // One scale per tile: a tile spans at most 2^span finest cells, so its surface cells keep
     // a step of about diagonal/32767 (under 0.01 finest cell at span 6).
-    // A kept scale may be coarser than this tile needs, but never coarser than the tile it
-    // replaces had: the same block of space, the same bound on the step.
-    const float scale = keepScale > 0.0f && maxAbs <= keepScale * 32767.0f ? keepScale
-                        : maxAbs > 0.0f                                  ? maxAbs / 32767.0f
-                                                                         : 1.0f;
+    // A kept scale may be up to twice as coarse as this tile needs (so it never drifts far
+    // from what the values ask for); otherwise the tile gets its own.
+    const float own = maxAbs / 32767.0f;
+    const float scale = keepScale > 0.0f && maxAbs > 0.0f && own <= keepScale && keepScale <= 2.0f * own ? keepScale
+                        : maxAbs > 0.0f                                                            ? own
+                                                                                                   : 1.0f;
     std::vector<int16_t> corners(leafCorners.size()), bricks(brickValues.size());
     for (std::size_t i = 0; i < leafCorners.size(); ++i) corners[i] = quantise(leafCorners[i], scale);
     for (std::size_t i = 0; i < brickValues.size(); ++i) bricks[i] = quantise(brickValues[i], scale);

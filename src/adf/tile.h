@@ -72,7 +72,8 @@ public:
     /// @param brickValues     27 values per brick in half-grid order
     /// @param version         snapshot version that created it (readers check it)
     /// @param finestCell      the domain's finest cell size, m (sets the narrow-brick step)
-    /// @param keepScale       a scale to keep when every value fits it (0: none). Regeneration
+    /// @param keepScale       a scale to keep when every value fits it and it is at most twice
+    ///                        what the values need (0: none). Regeneration
     ///                        passes the old tile's, so cells it copies keep their bits and
     ///                        the mesher sees them unchanged.
     /// Brick indices in `nodes` are renumbered (narrow bricks first); the field is unchanged

@@ -77,6 +77,7 @@ SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(
         if (sinHalf > 0.0) s.axis = glm::dvec3(r.x, r.y, r.z) / sinHalf;
         s.fixedOrientation = s.angle < 1e-9;
         s.angleSteps = std::max(8, int(std::ceil(s.angle / kMaxStepRadians)) + 1);
+        if (!s.fixedOrientation && tool.shape != ToolShape::Sphere) mExact = false;
         mSegments.push_back(s);
     }
     mNodes.reserve(2 * mSegments.size());

@@ -43,6 +43,10 @@ public:
     const Tool& tool() const { return mTool; }
     /// The stroke's first pose (orientation unit).
     const ToolSample& firstSample() const { return mSegments.front().a; }
+    /// True when distance() is the exact (so 1-Lipschitz) distance to the swept volume: a
+    /// sphere, or a stroke that never turns. A turning cube or cylinder is found by a sampled
+    /// search that may overestimate by a fraction of the tool's size.
+    bool exact() const { return mExact; }
 
 private:
     struct Segment {
@@ -64,6 +68,7 @@ private:
     std::vector<Segment> mSegments;
     std::vector<Node> mNodes;
     adf::BoxWorld mBounds;
+    bool mExact = true;
 };
 
 std::shared_ptr<const SweptTool> makeSweptTool(const Tool& tool, std::vector<ToolSample> samples);

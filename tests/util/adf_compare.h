@@ -62,7 +62,8 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
                     return false;
         } else {
             if (adf::node::leafType(wa) != adf::node::leafType(wb)) return false;
-            const double tolerance = 0.5 * (double(a.scale()) + double(b.scale())) * (1.0 + 1e-6);
+            // twice, as for bricks: a copied leaf may carry an older tile's rounding too
+            const double tolerance = (double(a.scale()) + double(b.scale())) * (1.0 + 1e-6);
             for (int c = 0; c < 8; ++c)
                 if (std::abs(double(a.corner(adf::node::leafIndex(wa), c)) - double(b.corner(adf::node::leafIndex(wb), c))) > tolerance)
                     return false;

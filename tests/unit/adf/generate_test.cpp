@@ -405,6 +405,27 @@ TEST(Generate, CellsAnEditLeavesUnchangedAreCopiedNotSampled) {
     EXPECT_GT(changed, 100);
 }
 
+TEST(Generate, SmallRegenerationsAreTheSameOnAnyNumberOfThreads) {
+    // A dab's few tiles run in one phase, without handing border samples over: the result
+    // must still be the serial one, bit for bit, at a tile corner (8 tiles) and inside one.
+    const Domain d = testPartDomain(8);
+    util::ThreadPool two(2), three(3);
+    const AdfPtr base = generate(*makeTestPart(d), d, testPartSettings(), &two);
+    const SourcePtr old = makeAdfSource(base);
+    for (const glm::dvec3 c : {glm::dvec3(0.75), glm::dvec3(0.35, 0.2, 0.65)}) {
+        const double r = 0.03, pad = r + 10 * d.finestCellSize();
+        const BoxWorld region{c - pad, c + pad};
+        const auto declaring = std::make_shared<DeclaredCarve>(makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)),
+                                                               c, r, 0.05 * d.finestCellSize());
+        const SourcePtr edit = makeRegionLimited(old, declaring, region);
+        GenerationStats stats;
+        const AdfPtr serial = regenerate(*base, *edit, region, nullptr, &stats);
+        EXPECT_LT(stats.tilesGenerated, 16u) << "small enough for one phase";
+        EXPECT_TRUE(test::sameAdf(*serial, *regenerate(*base, *edit, region, &two)));
+        EXPECT_TRUE(test::sameAdf(*serial, *regenerate(*base, *edit, region, &three)));
+    }
+}
+
 TEST(Generate, SmallFeaturesOnFlatSurfacesAreNotMissed) {
     // A bump 3 finest cells in radius on a plane: the plane alone passes every 19-point test in
     // big cells, so only the feature-size rule makes generation look closer.

@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file stroke_edit.cpp
+/// @brief StrokeEdit: a stroke's CSG with the old field.
+#include "sculpt/stroke_edit.h"
+
+#include "sculpt/symmetry.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <limits>
+#include <span>
+#include <utility>
+
+namespace kizamu::sculpt {
+
+namespace {
+
+
+/// old − tool (carve) or old ∪ tool (add), as min/max CSG, asking the swept tool only as far as
+/// it can change the answer. `reflect` mirrors the tool across the domain's mid planes of the
+/// axes whose bit is set (symmetry): the query point is reflected instead.
+class StrokeEdit final : public adf::DistanceSource {
+public:
+    StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre, double offset,
+               ToolLimits limits, double finestCell)
+        : mOld(std::move(old)), mTool(std::move(tool)), mOp(mTool->tool().op), mReflect(reflect), mCentre(centre),
+          mOffset(offset), mFinestCell(finestCell), mCore(mTool->tool().strength * mTool->tool().radius), mLimits(std::move(limits)) {
+        // Flatten: the plane through the first pose, normal to its z axis (mirrored copies
+        // mirror the point, so the plane is taken in the reflected frame too).
+        const ToolSample& first = mTool->firstSample();
+        mPlanePoint = mirrored(first.position);
+        mPlaneNormal = first.orientation * glm::dvec3(0.0, 0.0, 1.0);
+        for (int k = 0; k < 3; ++k)
+            if ((mReflect >> k) & 1) mPlaneNormal[k] = -mPlaneNormal[k];
+        mSmallestFeature = std::min(mOld->smallestFeature(), mTool->smallestFeature());
+        for (const adf::SourcePtr& m : mLimits.masks) mSmallestFeature = std::min(mSmallestFeature, m->smallestFeature());
+    }
+    double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        mOld->distances(p, out);
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(p[i], out[i]);
+    }
+    double featureSize(const glm::dvec3& c, double radius) const override {
+        double f = std::min(mOld->featureSize(c, radius), mTool->featureSize(mirrored(c), radius));
+        for (const adf::SourcePtr& m : mLimits.masks) f = std::min(f, m->featureSize(c, radius));
+        return f;
+    }
+
+    /// Where the tool cannot reach, the old field stands: carving changes only points deeper
+    /// in the material than the tool's distance, adding only points farther out, the gradual
+    /// tools only points inside the tool. An exact swept distance is 1-Lipschitz, so its value
+    /// at the centre less the radius bounds it over the ball; masks and limits only ever take
+    /// away from what the tool does. The slack covers neighbouring tiles storing a shared
+    /// corner at different scales (the generator also allows for the old tile's own rounding).
+    Range unchangedRange(const glm::dvec3& c, double radius) const override {
+        constexpr double kInf = std::numeric_limits<double>::infinity();
+        if (!mTool->exact()) return {};  // a turning cube or cylinder: no Lipschitz bound to lean on
+        const double slack = 0.05 * mFinestCell;
+        const double reach = radius + slack;
+        const glm::dvec3 q = mirrored(c);
+        switch (mOp) {
+        case ToolOp::Carve: {
+            // unchanged where old >= -tool, i.e. old >= reach - tool(c)
+            const double t = mTool->distanceBelow(q, kInf);
+            return {reach - t, kInf};
+        }
+        case ToolOp::Add: {
+            const double t = mTool->distanceBelow(q, kInf);
+            return {-kInf, t - reach};
+        }
+        default:
+            if (mTool->distanceBelow(q, reach) >= reach) return {-kInf, kInf};  // the weight is 0
+            return {};
+        }
+    }
+
+private:
+    glm::dvec3 mirrored(const glm::dvec3& p) const { return mirroredPoint(p, mReflect, mCentre); }
+    /// The swept tool's distance at p (q: p mirrored) where below `limit`, cut by the limits:
+    /// intersected with the outside of every mask and with the allowed side of the offset of
+    /// the reference surface.
+    double toolBelow(const glm::dvec3& p, const glm::dvec3& q, double limit) const {
+        double d = mTool->distanceBelow(q, limit);
+        if (d >= limit || mLimits.empty()) return d;
+        for (const adf::SourcePtr& m : mLimits.masks) d = std::max(d, -m->distance(p));
+        if (mLimits.reference) {
+            const double ref = mLimits.reference->distance(p);
+            if (mLimits.depth >= 0.0) d = std::max(d, -(ref + mLimits.depth));  // carve only above ref = -depth
+            if (mLimits.height >= 0.0) d = std::max(d, ref - mLimits.height);   // add only below ref = height
+        }
+        return d;
+    }
+    double combine(const glm::dvec3& p, double old) const {
+        const glm::dvec3 q = mirrored(p);
+        switch (mOp) {
+        case ToolOp::Carve: return std::max(old, -toolBelow(p, q, -old));  // decided by tool < -old
+        case ToolOp::Add: return std::min(old, toolBelow(p, q, old));      // decided by tool < old
+        default: break;
+        }
+        // The gradual tools: a smooth weight, 0 at the tool's boundary and 1 at depth `mCore`
+        // inside it, so the surface moves continuously as the tool arrives.
+        const double inside = -toolBelow(p, q, 0.0);
+        if (!(inside > 0.0)) return old;
+        const double w = toolWeight(inside, mCore);
+        switch (mOp) {
+        case ToolOp::Build: return old - mOffset * w;
+        case ToolOp::HeatGun: return old + mOffset * w;
+        case ToolOp::Smooth: {
+            // One Laplacian step: the mean of the field at six points a quarter of the tool's
+            // radius away. A plane's field is its own mean; a ridge's is higher (wears), a
+            // valley's lower (fills).
+            const double r = 0.25 * mTool->tool().radius;
+            double mean = 0.0;
+            for (int k = 0; k < 3; ++k)
+                for (double sign : {-1.0, 1.0}) {
+                    glm::dvec3 o(0.0);
+                    o[k] = sign * r;
+                    mean += mOld->distance(p + o);
+                }
+            return old + w * mTool->tool().strength * (mean / 6.0 - old);
+        }
+        case ToolOp::Flatten: return old + w * (glm::dot(p - mPlanePoint, mPlaneNormal) - old);
+        default: return old;
+        }
+    }
+    adf::SourcePtr mOld;
+    std::shared_ptr<const SweptTool> mTool;
+    ToolOp mOp;
+    uint8_t mReflect;
+    glm::dvec3 mCentre;
+    double mOffset;  ///< m, build and heat gun
+    double mFinestCell;  ///< m
+    double mCore;    ///< m, depth inside the tool where the weight reaches 1
+    glm::dvec3 mPlanePoint{0.0}, mPlaneNormal{0.0, 0.0, 1.0};  ///< flatten
+    ToolLimits mLimits;
+};
+
+}  // namespace
+
+adf::SourcePtr makeStrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect,
+                              glm::dvec3 centre, double offset, ToolLimits limits, double finestCell) {
+    return std::make_shared<StrokeEdit>(std::move(old), std::move(tool), reflect, centre, offset, std::move(limits),
+                                        finestCell);
+}
+
+}  // namespace kizamu::sculpt

@@ -1,0 +1,79 @@
+// SPDX-License-Identifier: Apache-2.0
+// The stroke edit's promise to regeneration: wherever it says the old field stands
+// (unchangedRange), it answers the old field exactly, for every tool, shape, turn, mask and
+// mirror.
+#include "sculpt/stroke_edit.h"
+
+#include "adf/distance_source.h"
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+namespace kizamu::sculpt {
+namespace {
+
+glm::dquat randomRotation(std::mt19937_64& rng) {
+    std::normal_distribution<double> n(0.0, 1.0);
+    return glm::normalize(glm::dquat(n(rng), n(rng), n(rng), n(rng)));
+}
+
+TEST(StrokeEdit, AnswersTheOldFieldWhereverItSaysItStands) {
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const double cell = 1.0 / 512.0;
+    // The old field: a wavy union of shapes, so old values vary across every ball.
+    const adf::SourcePtr old = adf::makeCsg(
+        adf::CsgOp::Union, adf::makeTranslated(adf::makeSphere(0.2), glm::dvec3(0.5, 0.5, 0.4)),
+        adf::makeTranslated(adf::makeBox(glm::dvec3(0.3, 0.3, 0.05)), glm::dvec3(0.5, 0.5, 0.6)));
+    const glm::dvec3 centre(0.5);
+    int kept = 0, checked = 0, turningKept = 0;
+    for (int trial = 0; trial < 240; ++trial) {
+        Tool tool;
+        tool.shape = ToolShape(trial % 3);
+        tool.op = ToolOp(trial / 3 % 6);  // carve, add, build, heat gun, smooth, flatten
+        tool.radius = 0.02 + 0.04 * u(rng);
+        tool.halfLength = 0.02 + 0.04 * u(rng);
+        tool.strength = 0.5 + 0.5 * u(rng);
+        tool.amount = 3.0 * cell;
+        tool.rate = 0.01;
+        const bool turning = trial % 2 == 1;
+        std::vector<ToolSample> samples;
+        const glm::dvec3 start(0.3 + 0.4 * u(rng), 0.3 + 0.4 * u(rng), 0.55 + 0.1 * u(rng));
+        const glm::dquat q0 = randomRotation(rng);
+        for (int k = 0; k < 4; ++k)
+            samples.push_back({start + 0.03 * double(k) * glm::dvec3(1.0, 0.5, -0.2), turning ? randomRotation(rng) : q0});
+        const auto swept = makeSweptTool(tool, samples);
+        ToolLimits limits;
+        if (trial % 5 == 0) limits.masks.push_back(adf::makeTranslated(adf::makeSphere(0.04), start));
+        const auto reflect = uint8_t(trial % 4 == 0 ? 1 : 0);
+        const adf::SourcePtr edit = makeStrokeEdit(old, swept, reflect, centre, 3.0 * cell, limits, cell);
+        for (int b = 0; b < 40; ++b) {
+            // Balls of 1 to 16 cells, near the tool or its mirror image.
+            const double radius = cell * std::exp2(4.0 * u(rng));
+            glm::dvec3 c = start + (0.12 * glm::dvec3(u(rng), u(rng), u(rng)) - 0.06);
+            if (reflect && u(rng) < 0.5) c.x = 2.0 * centre.x - c.x;
+            const adf::DistanceSource::Range range = edit->unchangedRange(c, radius);
+            if (range.lo > range.hi) continue;
+            ++kept;
+            if (turning && tool.shape != ToolShape::Sphere) ++turningKept;
+            for (int k = 0; k < 20; ++k) {
+                glm::dvec3 d(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5);
+                const glm::dvec3 p = c + radius * u(rng) * glm::normalize(d);
+                const double was = old->distance(p);
+                if (was < range.lo || was > range.hi) continue;
+                ++checked;
+                ASSERT_EQ(edit->distance(p), was) << "trial " << trial << " ball " << b;
+            }
+        }
+    }
+    EXPECT_GT(kept, 2000);
+    EXPECT_GT(checked, 20000);
+    EXPECT_EQ(turningKept, 0) << "a turning cube or cylinder has no Lipschitz bound: nothing is kept";
+}
+
+}  // namespace
+}  // namespace kizamu::sculpt
