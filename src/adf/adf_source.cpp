@@ -8,6 +8,7 @@
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
+#include <limits>
 
 #include <stdexcept>
 #include <utility>
@@ -166,6 +167,14 @@ public:
             ni = no = 0;
             for (std::size_t i = 0; i < n; ++i) out[start + i] = mRegion.contains(p[start + i]) ? inValues[ni++] : outValues[no++];
         }
+    }
+    /// Outside the region the source is the base field (regenerate's contract); a ball reaching
+    /// into it is as unchanged as the edit says.
+    Range unchangedRange(const glm::dvec3& c, double radius) const override {
+        const glm::dvec3 nearest = glm::clamp(c, mRegion.min, mRegion.max);
+        if (glm::distance(nearest, c) > radius)
+            return {-std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+        return mInside->unchangedRange(c, radius);
     }
     /// A cell touching the region takes the new field's features only. Asking both sides would
     /// make a chain of edits (each `inside` built on the previous source) exponential, and the

@@ -24,6 +24,8 @@ double DistanceSource::featureSize(const glm::dvec3&, double) const {
     return std::numeric_limits<double>::infinity();
 }
 
+DistanceSource::Range DistanceSource::unchangedRange(const glm::dvec3&, double) const { return {}; }
+
 namespace {
 
 /// Shared batch loop for primitives: one virtual call per batch, the scalar form inlined.

@@ -45,6 +45,19 @@ public:
     /// Default: no features (a smooth field such as a sampled ADF).
     virtual double featureSize(const glm::dvec3& centreWorld, double radius) const;
 
+    /// Values (m) of a base field within which this source, an edit built on that field, is
+    /// known to equal it: inside the ball (`centreWorld`, `radius`), wherever the base field
+    /// lies in [lo, hi], this source answers the base field's value bit for bit. Local
+    /// regeneration keeps the base's cells of a ball whose base values all lie in the range
+    /// (a carve leaves everything outside the tool and above its depth untouched).
+    /// Default: the empty range (not known).
+    struct Range {
+        double lo = std::numeric_limits<double>::infinity();
+        double hi = -std::numeric_limits<double>::infinity();
+        bool contains(double lo2, double hi2) const { return lo <= lo2 && hi2 <= hi; }
+    };
+    virtual Range unchangedRange(const glm::dvec3& centreWorld, double radius) const;
+
     /// The smallest feature anywhere (m): a lower bound of every featureSize() answer, fixed at
     /// construction (nodes cache it, so sources built on sources stay O(1) here).
     double smallestFeature() const { return mSmallestFeature; }

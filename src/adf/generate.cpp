@@ -279,6 +279,9 @@ private:
     std::vector<std::unique_ptr<TileScratch>> mFree;
 };
 
+/// What a regenerated cell keeps of the old tile (TileGenerator::keepsOld).
+enum class Keep : uint8_t { No, Copy, Leaf };
+
 /// Generates one tile; lives for one tile, borrowing a scratch volume from the pool.
 class TileGenerator {
 public:
@@ -313,7 +316,8 @@ public:
         mLeafCorners.clear();
         mBrickValues.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
-        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version);
+        return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version,
+                            mOld ? mOld->scale() : 0.0f);
     }
 
     uint64_t evaluations() const { return mEvaluations; }
@@ -364,23 +368,19 @@ private:
     /// evaluated points is the one the children would evaluate one by one (each child still
     /// looks at its centre first), but a source call now covers up to 144 points instead of
     /// 1 or 18, which halves the per-point cost of a CSG tree.
-    void prefetchChildren(glm::uvec3 o, uint32_t childSize, int childLevel) {
+    /// Children that will be copied from the old tile (`keep`) need no samples (if the copy
+    /// turns out impossible, subdivide evaluates them itself: only the batching differs).
+    void prefetchChildren(glm::uvec3 o, uint32_t childSize, int childLevel, const Keep* keep) {
         const uint32_t q = childSize / 2;
         glm::uvec3 pts[8 * 18];
         int n = 0;
-        // Children that will be copied from the old tile need no samples (if the copy turns out
-        // impossible, subdivide evaluates them itself: only the batching differs).
-        bool copied[8];
-        for (int c = 0; c < 8; ++c) {
-            const glm::uvec3 co = o + childOffset(c) * childSize;
-            copied[c] = mOld && outsideRegion(co, childSize);
-            if (!copied[c]) pts[n++] = co + gridOffset(kCentre) * q;
-        }
+        for (int c = 0; c < 8; ++c)
+            if (keep[c] == Keep::No) pts[n++] = o + childOffset(c) * childSize + gridOffset(kCentre) * q;
         evaluate(pts, n);
         n = 0;
         for (int c = 0; c < 8; ++c) {
             const glm::uvec3 co = o + childOffset(c) * childSize;
-            if (copied[c] || mRule.firstLook(mValues[index(co + gridOffset(kCentre) * q)], childLevel).leaf) continue;
+            if (keep[c] != Keep::No || mRule.firstLook(mValues[index(co + gridOffset(kCentre) * q)], childLevel).leaf) continue;
             for (int g : kFaceEdgePoints) pts[n++] = co + gridOffset(g) * q;
         }
         evaluate(pts, n);
@@ -433,6 +433,66 @@ private:
         return a.x > hi.x || a.y > hi.y || a.z > hi.z || a.x + int(s) < lo.x || a.y + int(s) < lo.y || a.z + int(s) < lo.z;
     }
 
+    /// Sub-tile regeneration: what a cell keeps of the old tile. `Copy`: the old tile's cells
+    /// there. `Leaf`: the cell lies inside a coarser old leaf, whose trilinear field it
+    /// inherits as one leaf on the parent's half-grid values (a fresh generation would find it
+    /// exact and stop there too). Cells clear of the region are copied; inside it, cells where
+    /// the source says it equals the old field for every value the old cells hold there, and
+    /// where no new feature asks for finer cells, are kept too.
+    Keep keepsOld(glm::uvec3 o, uint32_t s, int level) const {
+        if (!mOld) return Keep::No;
+        if (outsideRegion(o, s)) return Keep::Copy;
+        if (level >= mDomain.maxLevel) return Keep::No;  // its corners are sampled already
+        const double size = double(s) * mDomain.finestCellSize();
+        const glm::dvec3 centre = mDomain.originWorld + (glm::dvec3(mBase + o) + 0.5 * double(s)) * mDomain.finestCellSize();
+        const DistanceSource::Range range = mSource.unchangedRange(centre, size * kHalfDiagonal);
+        if (range.lo > range.hi || mRule.hidesFeature(mSource, mBase + o, level)) return Keep::No;
+        return oldValuesWithin(o, level, range);
+    }
+
+    /// Whether every value the old tile stores for the cell at `o` (its subtree, or the coarser
+    /// leaf holding it) lies in `range`: then so does the old field over the cell, which is
+    /// trilinear between them. Says which way the cell can be kept.
+    Keep oldValuesWithin(glm::uvec3 o, int level, const DistanceSource::Range& range) const {
+        const uint32_t* nodes = mOld->nodes();
+        const float scale = mOld->scale();
+        auto inRange = [&](const int16_t* q, int n, const auto& index) {
+            for (int k = 0; k < n; ++k) {
+                const double v = double(float(q[index(k)]) * scale);
+                if (!(range.lo <= v && v <= range.hi)) return false;
+            }
+            return true;
+        };
+        auto identity = [](int k) { return k; };
+        uint32_t w = nodes[0];
+        for (int l = mDomain.tileLevel(); l < level; ++l) {
+            if (node::isInternal(w)) {
+                w = nodes[w + uint32_t(childAt(o, l))];
+                continue;
+            }
+            if (node::isLeaf(w))
+                return inRange(mOld->corners() + 8 * node::leafIndex(w), 8, identity) ? Keep::Leaf : Keep::No;
+            const int child = childAt(o, l);  // a brick: the cell is (inside) one of its children
+            if (!inRange(mOld->bricks() + 27 * node::brickIndex(w), 8, [&](int c) { return brickPoint(child, c); }))
+                return Keep::No;
+            return l + 1 == level ? Keep::Copy : Keep::Leaf;
+        }
+        uint32_t stack[8 * kMaxTileSpan + 8];  // depth-first: at most 7 pending siblings per level
+        int top = 0;
+        stack[top++] = w;
+        while (top > 0) {
+            w = stack[--top];
+            if (node::isLeaf(w)) {
+                if (!inRange(mOld->corners() + 8 * node::leafIndex(w), 8, identity)) return Keep::No;
+            } else if (node::isBrick(w)) {
+                if (!inRange(mOld->bricks() + 27 * node::brickIndex(w), 27, identity)) return Keep::No;
+            } else {
+                for (uint32_t c = 0; c < 8; ++c) stack[top++] = nodes[w + c];
+            }
+        }
+        return Keep::Copy;
+    }
+
     /// Child index of the cell at local `o` inside its parent at `level`.
     int childAt(glm::uvec3 o, int level) const {
         const uint32_t shift = uint32_t(mDomain.maxLevel - level - 1);
@@ -482,8 +542,10 @@ private:
         }
     }
 
-    void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level) {
-        if (mOld && outsideRegion(o, s) && copyOld(nodeIndex, o, level)) return;
+    /// `keepChecked`: the parent already asked keepsOld for this cell (and was told no, or
+    /// the copy failed).
+    void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked = false) {
+        if (!keepChecked && keepsOld(o, s, level) == Keep::Copy && copyOld(nodeIndex, o, level)) return;
         float v[27];
         const uint32_t base = index(o);
         const uint32_t step[3] = {s, mDim * s, mDim * mDim * s};
@@ -504,11 +566,22 @@ private:
         if (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, mBase + o, level))
             return makeLeaf(nodeIndex, corners);
 
-        if (level + 1 < mDomain.maxLevel) prefetchChildren(o, half, level + 1);
+        Keep keep[8];
+        for (int c = 0; c < 8; ++c) keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1);
+        if (level + 1 < mDomain.maxLevel) prefetchChildren(o, half, level + 1, keep);
         const auto first = uint32_t(mNodes.size());
         const std::size_t leafMark = mLeafCorners.size();
         mNodes.resize(first + 8);
-        for (int c = 0; c < 8; ++c) subdivide(first + c, o + childOffset(c) * half, half, level + 1);
+        for (int c = 0; c < 8; ++c) {
+            const glm::uvec3 co = o + childOffset(c) * half;
+            if (keep[c] == Keep::Leaf) {
+                float childCorners[8];
+                for (int k = 0; k < 8; ++k) childCorners[k] = v[brickPoint(c, k)];
+                makeLeaf(first + c, childCorners);
+            } else if (!(keep[c] == Keep::Copy && copyOld(first + c, co, level + 1))) {
+                subdivide(first + c, co, half, level + 1, true);
+            }
+        }
         if (!look.nearBand && sameNonBoundaryLeaves(first)) {
             // Coalesce (Kizamu 5.1): the surface did not pass through after all.
             mNodes.resize(first);
@@ -652,6 +725,16 @@ private:
             const glm::uvec3 s = mJobs[j].slot;
             colour[j] = int((s.x & 1u) | ((s.y & 1u) << 1) | ((s.z & 1u) << 2));
             byColour[colour[j]].push_back(j);
+        }
+        // A small regeneration (a dab: a few tiles, often one per colour) would run its colours
+        // one after another on one thread. Then all tiles run at once instead, each evaluating
+        // the border points it shares: the values are the same (the source is a function of
+        // the point), only shared border points are evaluated twice.
+        const unsigned threads = mPool ? mPool->threadCount() : 1u;
+        if (mBase && threads > 1 && mJobs.size() < 8u * threads) {
+            byColour = {};
+            for (std::size_t j = 0; j < mJobs.size(); ++j) byColour[0].push_back(j);
+            std::fill(colour.begin(), colour.end(), 0);
         }
         std::atomic<uint64_t> evaluations{0};
         for (int c = 0; c < 8; ++c) {

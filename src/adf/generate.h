@@ -50,7 +50,8 @@ AdfPtr generate(const DistanceSource& source, const Domain& domain,
 /// the region are copied from `base`'s tile where it has them (sub-tile regeneration): `source`
 /// must equal `base`'s field outside the region. The result equals (bit for bit) a full
 /// generation of `source` provided `source` equals the field `base` was generated from outside
-/// the region and the tiles' quantisation scales do not change (tested with a tool edit).
+/// the region and the tiles' quantisation scales do not change (tested with a tool edit; a
+/// rebuilt tile keeps its old scale whenever its new values fit it).
 /// The new snapshot's version is base.version() + 1.
 /// Complexity: O(cells overlapping the region) evaluations, O(cells of the touched tiles)
 /// copying, plus O(root + touched chunks).

@@ -102,14 +102,18 @@ int16_t quantise(float v, float scale) {
 
 TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                      std::span<const float> leafCorners, std::span<const float> brickValues,
-                     uint64_t version) {
+                     uint64_t version, float keepScale) {
     assert(leafCorners.size() % 8 == 0 && brickValues.size() % 27 == 0);
     float maxAbs = 0.0f;
     for (float v : leafCorners) maxAbs = std::max(maxAbs, std::abs(v));
     for (float v : brickValues) maxAbs = std::max(maxAbs, std::abs(v));
     // One scale per tile: a tile spans at most 2^span finest cells, so its surface cells keep
     // a step of about diagonal/32767 (under 0.01 finest cell at span 6).
-    const float scale = maxAbs > 0.0f ? maxAbs / 32767.0f : 1.0f;
+    // A kept scale may be coarser than this tile needs, but never coarser than the tile it
+    // replaces had: the same block of space, the same bound on the step.
+    const float scale = keepScale > 0.0f && maxAbs <= keepScale * 32767.0f ? keepScale
+                        : maxAbs > 0.0f                                  ? maxAbs / 32767.0f
+                                                                         : 1.0f;
     Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8),
                        uint32_t(brickValues.size() / 27));
     copyBytes(t->mNodes, nodes.data(), nodes.size() * 4);

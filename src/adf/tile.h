@@ -66,11 +66,15 @@ public:
     /// @param leafCorners     8 values per leaf in corner order
     /// @param brickValues     27 values per brick in half-grid order
     /// @param version         snapshot version that created it (readers check it)
+    /// @param keepScale       a scale to keep when every value fits it (0: none). Regeneration
+    ///                        passes the old tile's, so cells it copies keep their bits and
+    ///                        the mesher sees them unchanged.
     /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
     static std::shared_ptr<const Tile> create(int level, glm::uvec3 latticeOrigin,
                                               std::span<const uint32_t> nodes,
                                               std::span<const float> leafCorners,
-                                              std::span<const float> brickValues, uint64_t version);
+                                              std::span<const float> brickValues, uint64_t version,
+                                              float keepScale = 0.0f);
     /// Builds a tile from already quantised data (file loading). Checksum is recomputed.
     static std::shared_ptr<const Tile> createQuantised(int level, glm::uvec3 latticeOrigin,
                                                        std::span<const uint32_t> nodes,

@@ -41,9 +41,9 @@ namespace {
 class StrokeEdit final : public adf::DistanceSource {
 public:
     StrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect, glm::dvec3 centre, double offset,
-               ToolLimits limits)
+               ToolLimits limits, double finestCell)
         : mOld(std::move(old)), mTool(std::move(tool)), mOp(mTool->tool().op), mReflect(reflect), mCentre(centre),
-          mOffset(offset), mCore(mTool->tool().strength * mTool->tool().radius), mLimits(std::move(limits)) {
+          mOffset(offset), mFinestCell(finestCell), mCore(mTool->tool().strength * mTool->tool().radius), mLimits(std::move(limits)) {
         // Flatten: the plane through the first pose, normal to its z axis (mirrored copies
         // mirror the point, so the plane is taken in the reflected frame too).
         const ToolSample& first = mTool->firstSample();
@@ -63,6 +63,33 @@ public:
         double f = std::min(mOld->featureSize(c, radius), mTool->featureSize(mirrored(c), radius));
         for (const adf::SourcePtr& m : mLimits.masks) f = std::min(f, m->featureSize(c, radius));
         return f;
+    }
+
+    /// Where the tool cannot reach, the old field stands: carving changes only points deeper
+    /// in the material than the tool's distance, adding only points farther out, the gradual
+    /// tools only points inside the tool. The swept tool is 1-Lipschitz, so its distance at
+    /// the centre less the radius bounds it over the ball; masks and limits only ever take
+    /// away from what the tool does. The slack covers the old field's re-quantisation where
+    /// neighbouring tiles store a shared corner at different scales.
+    Range unchangedRange(const glm::dvec3& c, double radius) const override {
+        constexpr double kInf = std::numeric_limits<double>::infinity();
+        const double slack = 0.05 * mFinestCell;
+        const double reach = radius + slack;
+        const glm::dvec3 q = mirrored(c);
+        switch (mOp) {
+        case ToolOp::Carve: {
+            // unchanged where old >= -tool, i.e. old >= reach - tool(c)
+            const double t = mTool->distanceBelow(q, kInf);
+            return {reach - t, kInf};
+        }
+        case ToolOp::Add: {
+            const double t = mTool->distanceBelow(q, kInf);
+            return {-kInf, t - reach};
+        }
+        default:
+            if (mTool->distanceBelow(q, reach) >= reach) return {-kInf, kInf};  // the weight is 0
+            return {};
+        }
     }
 
 private:
@@ -120,6 +147,7 @@ private:
     uint8_t mReflect;
     glm::dvec3 mCentre;
     double mOffset;  ///< m, build and heat gun
+    double mFinestCell;  ///< m
     double mCore;    ///< m, depth inside the tool where the weight reaches 1
     glm::dvec3 mPlanePoint{0.0}, mPlaneNormal{0.0, 0.0, 1.0};  ///< flatten
     ToolLimits mLimits;
@@ -192,6 +220,7 @@ void Sculptor::apply(const Stroke& stroke) {
         adf::AdfBuilder builder(*mCurrent);
         builder.setColours(paintStroke(*mCurrent, resolved, mPool, &ps));
         mLast.tilesRebuilt = 0;
+        mLast.samples = 0;
         mLast.colourTilesPainted = ps.slotsPainted;
         finish(builder.build(mCurrent->version() + 1), ps.replacedBytes, mPending, t0);
         return;
@@ -204,15 +233,17 @@ void Sculptor::apply(const Stroke& stroke) {
     PendingList pending = mPending;
     std::size_t bytes = 0;
     mLast.tilesRebuilt = 0;
+    mLast.samples = 0;
     for (uint8_t reflect = 0; reflect < 8; ++reflect) {
         if ((reflect & ~stroke.mirror) != 0) continue;
         const adf::BoxWorld region = strokeRegion(*next, mirroredBox(swept->bounds(), reflect, centre));
         const adf::SourcePtr old = adf::makeAdfSource(next);
         const double offset = stroke.tool.op == ToolOp::HeatGun ? stroke.tool.rate * stroke.dwell : stroke.tool.amount;
-        const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre, offset, limits);
+        const adf::SourcePtr edited = std::make_shared<StrokeEdit>(old, swept, reflect, centre, offset, limits, d.finestCellSize());
         adf::GenerationStats gs;
         adf::AdfPtr after = adf::regenerate(*next, *adf::makeRegionLimited(old, edited, region), region, mPool, &gs);
         mLast.tilesRebuilt += gs.tilesGenerated + gs.coarseTiles;
+        mLast.samples += gs.samples;
         bytes += replacedBytes(*mCurrent, *after, region);
         next = std::move(after);
         if (mCorrecting)

@@ -36,6 +36,7 @@ struct ToolLimits;
 struct EditStats {
     double ms = 0.0;                 ///< wall time of the last stroke's regeneration
     std::size_t tilesRebuilt = 0;    ///< tiles that stroke rebuilt
+    std::size_t samples = 0;         ///< distances it evaluated
     std::size_t colourTilesPainted = 0;  ///< colour tiles a paint stroke rewrote
     std::size_t replacedBytes = 0;   ///< bytes of the tiles (distance or colour) it replaced (its undo record)
 };

@@ -262,7 +262,9 @@ TEST(Generate, LocalRegenerationEqualsFullGeneration) {
         GenerationStats stats;
         const AdfPtr edited = regenerate(*base, *carved, region, &pool, &stats);
         const AdfPtr full = generate(*carved, ds, testPartSettings(), &pool);
-        EXPECT_TRUE(test::sameAdf(*edited, *full));
+        // Rebuilt tiles keep their old quantisation scale where the values fit it; a fresh
+        // generation picks each tile's own, so values agree within quantisation there.
+        EXPECT_TRUE(test::sameAdf(*edited, *full, true));
         EXPECT_EQ(edited->version(), base->version() + 1);
         EXPECT_GE(stats.tilesGenerated, 8u) << "the edit should straddle 8 tiles";
         EXPECT_LT(stats.tilesGenerated, base->computeStats().tiles / 4);
@@ -327,6 +329,8 @@ TEST(Generate, SubTileRegenerationSamplesOnlyTheRegion) {
     const glm::uvec3 slot((tileMin - d.originWorld) / tileSize + 0.5);
     const double quanta = double(a->tileAtSlot(slot)->scale()) + double(base->tileAtSlot(slot)->scale());
     ASSERT_NE(a->tileAtSlot(slot), base->tileAtSlot(slot));
+    // The dab's values fit the old scale, so the rebuilt tile keeps it (and copied cells their bits).
+    EXPECT_EQ(a->tileAtSlot(slot)->scale(), base->tileAtSlot(slot)->scale());
     int compared = 0;
     for (int i = 0; i <= 20; ++i)
         for (int j = 0; j <= 20; ++j)
@@ -337,6 +341,66 @@ TEST(Generate, SubTileRegenerationSamplesOnlyTheRegion) {
                 ASSERT_NEAR(a->distance(glm::vec3(p)), base->distance(glm::vec3(p)), quanta) << i << "," << j << "," << k;
             }
     EXPECT_GT(compared, 8000);
+}
+
+/// A carve that says where it leaves the old field alone (as the sculptor's edits do): the
+/// same field and features as `carve`, plus the unchanged range of old values.
+class DeclaredCarve final : public DistanceSource {
+public:
+    DeclaredCarve(SourcePtr carve, glm::dvec3 centre, double radius, double slack)
+        : mCarve(std::move(carve)), mCentre(centre), mRadius(radius), mSlack(slack) {
+        mSmallestFeature = mCarve->smallestFeature();
+    }
+    double distance(const glm::dvec3& p) const override { return mCarve->distance(p); }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override { mCarve->distances(p, out); }
+    double featureSize(const glm::dvec3& c, double r) const override { return mCarve->featureSize(c, r); }
+    Range unchangedRange(const glm::dvec3& c, double r) const override {
+        return {r + mSlack - (glm::distance(c, mCentre) - mRadius), std::numeric_limits<double>::infinity()};
+    }
+
+private:
+    SourcePtr mCarve;
+    glm::dvec3 mCentre;
+    double mRadius, mSlack;
+};
+
+TEST(Generate, CellsAnEditLeavesUnchangedAreCopiedNotSampled) {
+    // Inside the region, cells where the source declares the old field unchanged keep the old
+    // tile's cells: far fewer samples, and there the field is the old one (up to quantisation).
+    const Domain d = testPartDomain(8);
+    const AdfPtr base = generate(*makeTestPart(d), d, testPartSettings());
+    const glm::dvec3 c(0.35, 0.2, 0.65);
+    const double r = 0.03, pad = r + 10 * d.finestCellSize();
+    const SourcePtr old = makeAdfSource(base);
+    const SourcePtr sphere = makeTranslated(makeSphere(r), c);
+    const SourcePtr carve = makeCsg(CsgOp::Difference, old, sphere);
+    const BoxWorld region{c - pad, c + pad};
+    GenerationStats plain, declared;
+    const AdfPtr a = regenerate(*base, *makeRegionLimited(old, carve, region), region, nullptr, &plain);
+    const auto declaring = std::make_shared<DeclaredCarve>(carve, c, r, 0.05 * d.finestCellSize());
+    const AdfPtr b = regenerate(*base, *makeRegionLimited(old, declaring, region), region, nullptr, &declared);
+    EXPECT_LT(double(declared.samples), 0.92 * double(plain.samples)) << declared.samples << " vs " << plain.samples;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    const ErrorBound bound = testPartSettings().errorBound(d);
+    int unchanged = 0, changed = 0;
+    for (int i = 0; i < 20000; ++i) {
+        const glm::dvec3 p = c + pad * glm::dvec3(u(rng), u(rng), u(rng));
+        const double was = base->distance(glm::vec3(p)), tool = sphere->distance(p);
+        if (was + tool > 4.0 * d.finestCellSize()) {
+            // Clear of the tool's reach: the old field (kept cells reproduce it up to
+            // quantisation; cells whose ball reaches the tool were re-derived from the same
+            // values, within the error bound).
+            ++unchanged;
+            ASSERT_NEAR(b->distance(glm::vec3(p)), was, bound(std::abs(was))) << p.x << "," << p.y << "," << p.z;
+        } else if (tool < -d.finestCellSize()) {
+            ++changed;
+            ASSERT_GT(b->distance(glm::vec3(p)), 0.0f);  // carved in both
+            ASSERT_GT(a->distance(glm::vec3(p)), 0.0f);
+        }
+    }
+    EXPECT_GT(unchanged, 5000);
+    EXPECT_GT(changed, 100);
 }
 
 TEST(Generate, SmallFeaturesOnFlatSurfacesAreNotMissed) {

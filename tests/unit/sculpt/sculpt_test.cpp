@@ -176,6 +176,41 @@ TEST(Sculptor, MirroredStrokesCarveBothSidesAsOneUndoableStroke) {
     EXPECT_EQ(parseScript(formatScript(withMirror), "mem").steps[0].stroke.mirror, 0b011);
 }
 
+TEST(Sculptor, CarveAndAddFollowTheirCsgWhereverTheyReach) {
+    // Edits keep the old cells wherever they say the old field stands (unchangedRange): the
+    // result must still be min/max CSG of the old field and the tool across the whole region,
+    // in the material under the tool as well as above the surface.
+    util::ThreadPool pool(2);
+    const Script script = slabScript(8);  // top face at z = 0.5
+    const adf::AdfPtr start = startAdf(script, 0, &pool);
+    const adf::Domain& d = start->domain();
+    const double h = d.finestCellSize();
+    const adf::ErrorBound bound = start->settings().errorBound(d);
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    for (ToolOp op : {ToolOp::Carve, ToolOp::Add}) {
+        Stroke dab;
+        dab.tool.op = op;
+        dab.tool.radius = 8.0 * h;
+        const glm::dvec3 c(0.47, 0.52, 0.5 + (op == ToolOp::Add ? 2.0 : -2.0) * h);
+        dab.samples = {{c, kIdentity}};
+        Sculptor s(start, &pool);
+        s.apply(dab);
+        int checked = 0;
+        for (int i = 0; i < 20000; ++i) {
+            const glm::dvec3 p = c + 18.0 * h * glm::dvec3(u(rng), u(rng), u(rng));
+            const double old = start->distance(glm::vec3(p)), tool = glm::distance(p, c) - dab.tool.radius;
+            const double want = op == ToolOp::Carve ? std::max(old, -tool) : std::min(old, tool);
+            const double seam = op == ToolOp::Carve ? std::abs(old + tool) : std::abs(old - tool);
+            if (std::abs(want) > 6.0 * h || seam < 2.0 * h) continue;  // the accurate band, away from the CSG crease
+            ++checked;
+            ASSERT_NEAR(s.current()->distance(glm::vec3(p)), want, bound(want) + 0.01 * h)
+                << (op == ToolOp::Carve ? "carve" : "add") << " at " << p.x << "," << p.y << "," << p.z;
+        }
+        EXPECT_GT(checked, 5000);
+    }
+}
+
 TEST(Sculptor, BuildRaisesAndTheHeatGunMeltsInProportionToDwell) {
     util::ThreadPool pool;
     const Script script = slabScript(7);  // top face at z = 0.5
