@@ -7,7 +7,10 @@
 /// through its leaf structure and the decoded (float) corner values, so that is what is
 /// compared: two leaves are equal when they are the same cell and their 8 decoded corners are
 /// bit-identical. Nothing about how the tile was made is assumed (a new quantisation scale
-/// simply shows up as changed cells). Bricks compare as their 8 leaf children.
+/// simply shows up as changed cells). Bricks compare as their 8 leaf children. When both tiles
+/// have the same quantisation scale (regeneration keeps it whenever the values fit) the raw
+/// 16-bit values are compared, a brick's 27 at once: the same answer, since decoding with one
+/// positive scale is injective.
 /// Complexity: O(nodes of the two tiles). Threading: any thread. Memory: the output only.
 #pragma once
 
