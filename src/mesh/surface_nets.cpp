@@ -116,22 +116,6 @@ struct SmallUnionFind {
     }
 };
 
-/// Distinct tile keys whose slots touch (closed) the slot box [lo, end).
-void neighbourKeys(const Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vector<uint64_t>& out) {
-    const uint32_t n = adf.domain().slotsPerAxis();
-    const glm::uvec3 a(lo.x ? lo.x - 1 : 0, lo.y ? lo.y - 1 : 0, lo.z ? lo.z - 1 : 0);
-    const glm::uvec3 b(std::min(end.x + 1, n), std::min(end.y + 1, n), std::min(end.z + 1, n));
-    const Tile* last = nullptr;
-    for (uint32_t z = a.z; z < b.z; ++z)
-        for (uint32_t y = a.y; y < b.y; ++y)
-            for (uint32_t x = a.x; x < b.x; ++x) {
-                const Tile* t = adf.tileAtSlot({x, y, z});
-                if (t == last) continue;
-                last = t;
-                out.push_back(packLattice(t->latticeOrigin()));
-            }
-}
-
 void scanLeaves(const Adf& adf, TileMesh& tm) {
     tm.leaves.clear();
     appendBoundaryCells(*tm.tile, adf.domain().maxLevel, tm.leaves);
@@ -297,7 +281,7 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
     tm.incidences.clear();
     tm.multiFaces.clear();
     tm.cellVertex.clear();
-    tm.cellIndexBuilt = false;
+    tm.cellVertex.reserve(inc.size() / 4);
     CellScratch scratch;
     std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the incidences
     for (std::size_t i0 = 0; i0 < inc.size();) {
@@ -314,7 +298,7 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
             std::copy(r.corners, r.corners + 8, corners);
             if (!isBoundary(corners)) ++st.signlessCells;
         }
-        meshCell(adf, tm, &inc[i0], uint32_t(i1 - i0), corners, scratch, st);
+        tm.cellVertex.assign(cell, meshCell(adf, tm, &inc[i0], uint32_t(i1 - i0), corners, scratch, st));
         i0 = i1;
     }
     tm.liveIncidences = tm.incidences.size();
@@ -323,6 +307,21 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
 }  // namespace
 
 namespace detail {
+
+void neighbourKeys(const Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vector<uint64_t>& out) {
+    const uint32_t n = adf.domain().slotsPerAxis();
+    const glm::uvec3 a(lo.x ? lo.x - 1 : 0, lo.y ? lo.y - 1 : 0, lo.z ? lo.z - 1 : 0);
+    const glm::uvec3 b(std::min(end.x + 1, n), std::min(end.y + 1, n), std::min(end.z + 1, n));
+    const Tile* last = nullptr;
+    for (uint32_t z = a.z; z < b.z; ++z)
+        for (uint32_t y = a.y; y < b.y; ++y)
+            for (uint32_t x = a.x; x < b.x; ++x) {
+                const Tile* t = adf.tileAtSlot({x, y, z});
+                if (t == last) continue;
+                last = t;
+                out.push_back(packLattice(t->latticeOrigin()));
+            }
+}
 
 void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
     const uint32_t shift = uint32_t(adf.domain().maxLevel - adf.domain().tileLevel());
@@ -637,7 +636,11 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         scanStats[i].boundaryLeaves = tm.leaves.size();
         std::vector<Crossing> fresh;
         computeCrossings(a, tm.key, tm.leaves, fresh, scanStats[i]);
-        for (const Crossing& x : fresh) tm.crossings[tm.crossings.append()] = x;
+        for (const Crossing& x : fresh) {
+            const uint32_t j = tm.crossings.append();
+            tm.crossings[j] = x;
+            tm.crossings[j].slot = j;
+        }
         tm.liveCrossings = uint32_t(fresh.size());
         for (uint32_t j = 0; j < fresh.size(); ++j) {
             const Crossing& x = fresh[j];

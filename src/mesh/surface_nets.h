@@ -104,6 +104,7 @@ private:
     util::ThreadPool* mPool;
     adf::AdfPtr mAdf;
     std::unordered_map<uint64_t, std::unique_ptr<TileMesh>> mTiles;
+    uint32_t mRelaxStamp = 0;  ///< update counter marking vertices queued for relaxation
     SurfaceNetsStats mStats;
 };
 

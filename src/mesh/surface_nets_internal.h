@@ -11,6 +11,7 @@
 #pragma once
 
 #include "mesh/boundary_cells.h"
+#include "mesh/flat_map.h"
 #include "mesh/slot_pool.h"
 #include "mesh/surface_nets.h"
 
@@ -49,6 +50,7 @@ struct Crossing {
     uint64_t ringCell[4] = {};   ///< packed leaf origins
     uint64_t ringOwner[4] = {};  ///< packed origins of the tiles holding them
     glm::vec3 point{0.0f};       ///< zero crossing, lattice units
+    uint32_t slot = 0;           ///< its index in the emitting tile's pool
     VertexRef ringVertex[4];
     /// Extra vertex on the face between ring cells q and q+1, where that face carries two
     /// segments joining the same pair of vertices (set by the face's owner, see splitFaces).
@@ -89,6 +91,7 @@ struct Vertex {
     uint32_t incBegin = 0, incEnd = 0;
     uint32_t nextInCell = UINT32_MAX;  ///< the cell's next vertex (several sheets), or none
     bool alive = true;                 ///< false: a released slot
+    uint32_t relaxStamp = 0;           ///< the last update that queued it for relaxation
 };
 
 /// A face with four or more crossings, recorded by the cell with the smaller key: its segments
@@ -131,9 +134,9 @@ struct SurfaceMesher::TileMesh {
     std::size_t liveIncidences = 0;
     std::vector<detail::MultiFace> multiFaces;
     std::vector<detail::SplitVertex> splits;  ///< numbered after `vertices`
-    /// Cell key -> its first vertex; built the first time an update touches the tile.
-    std::unordered_map<uint64_t, uint32_t> cellVertex;
-    bool cellIndexBuilt = false;
+    /// Cell key -> its first vertex, for every cell with a vertex (filled by a build, kept by
+    /// updates): an update reaches the vertices and crossings around a changed cell through it.
+    FlatMap64 cellVertex;
     uint32_t offset = 0;  ///< first vertex in the assembled mesh
 
     uint32_t allocateVertex() {
@@ -190,6 +193,10 @@ struct CellScratch {
 /// Returns the first vertex (UINT32_MAX if n == 0); the others follow through nextInCell.
 uint32_t meshCell(const adf::Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
                   CellScratch& s, SurfaceNetsStats& st);
+
+/// Distinct tile keys whose slots touch (closed) the slot box [lo, end), appended to `out`
+/// (a coarse tile may appear more than once).
+void neighbourKeys(const adf::Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vector<uint64_t>& out);
 
 /// Recomputes `tm`'s split vertices from its multi-crossing faces (reads both cells' vertices).
 void splitFaces(TileMesh& tm);

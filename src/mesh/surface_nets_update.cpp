@@ -36,8 +36,15 @@ void sortUnique(std::vector<T>& v) {
     v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-/// The finest unit cubes inside changed cells, per tile slot: a bitmap, or the whole slot.
+/// The finest unit cubes inside changed cells, per tile slot: a bitmap (x fastest, so a row
+/// of a 64-cell slot is one word), or the whole slot. Queries come in spatially coherent runs,
+/// so each task queries through its own Query, which caches the last slot looked up.
 class ChangedCells {
+    struct Slot {
+        bool whole = false;
+        std::vector<uint64_t> bits;
+    };
+
 public:
     ChangedCells(const Adf& adf)
         : mShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())), mTop(adf.domain().latticeSize()) {}
@@ -58,43 +65,81 @@ public:
                     if (s.bits.empty()) s.bits.assign((std::size_t(1) << (3 * mShift)) / 64 + 1, 0);
                     const glm::uvec3 o = b.lo - (glm::uvec3(x, y, z) << mShift);  // inside this slot
                     for (uint32_t k = 0; k < b.size; ++k)
-                        for (uint32_t j = 0; j < b.size; ++j)
-                            for (uint32_t i = 0; i < b.size; ++i) {
-                                const std::size_t at = bit(o + glm::uvec3(i, j, k));
-                                s.bits[at >> 6] |= uint64_t(1) << (at & 63);
-                            }
+                        for (uint32_t j = 0; j < b.size; ++j) setRun(s.bits, bit(o + glm::uvec3(0, j, k)), b.size);
                 }
     }
 
-    /// The finest cube with minimum corner `u` lies in a changed cell.
-    bool unitChanged(glm::uvec3 u) const {
-        auto it = mSlots.find(slotKey(u >> mShift));
-        if (it == mSlots.end()) return false;
-        if (it->second.whole) return true;
-        const std::size_t at = bit(u & glm::uvec3((1u << mShift) - 1));
-        return (it->second.bits[at >> 6] >> (at & 63)) & 1;
-    }
+    /// Reads the marks (after the last mark()); one per task: it caches the last slot.
+    class Query {
+    public:
+        explicit Query(const ChangedCells& c) : mCells(c) {}
 
-    /// Lattice point `p` lies on the closed box of a changed cell.
-    bool pointChanged(glm::uvec3 p) const {
-        for (int c = 0; c < 8; ++c) {
-            const glm::uvec3 d(c & 1, (c >> 1) & 1, c >> 2);
-            if ((d.x > p.x) || (d.y > p.y) || (d.z > p.z)) continue;
-            const glm::uvec3 u = p - d;
-            if (u.x >= mTop || u.y >= mTop || u.z >= mTop) continue;
-            if (unitChanged(u)) return true;
+        /// The finest cube with minimum corner `u` lies in a changed cell.
+        bool unitChanged(glm::uvec3 u) const {
+            const Slot* s = slot(u >> mShift);
+            if (!s) return false;
+            if (s->whole) return true;
+            const std::size_t at = bit(u & glm::uvec3((1u << mShift) - 1));
+            return (s->bits[at >> 6] >> (at & 63)) & 1;
         }
-        return false;
-    }
+
+        /// Lattice point `p` lies on the closed box of a changed cell.
+        bool pointChanged(glm::uvec3 p) const {
+            const uint32_t mask = (1u << mShift) - 1;
+            const glm::uvec3 local = p & mask;
+            if (local.x > 0 && local.y > 0 && local.z > 0 && p.x < mTop && p.y < mTop && p.z < mTop) {
+                // The 8 unit cubes around p lie in one slot: two bits in each of 4 rows.
+                const Slot* s = slot(p >> mShift);
+                if (!s) return false;
+                if (s->whole) return true;
+                for (uint32_t dz = 0; dz < 2; ++dz)
+                    for (uint32_t dy = 0; dy < 2; ++dy) {
+                        const std::size_t at = bit(local - glm::uvec3(1, dy, dz));
+                        const uint64_t pair = (s->bits[at >> 6] >> (at & 63)) | ((at & 63) == 63 ? s->bits[(at >> 6) + 1] << 1 : 0);
+                        if (pair & 3) return true;
+                    }
+                return false;
+            }
+            for (int c = 0; c < 8; ++c) {
+                const glm::uvec3 d(c & 1, (c >> 1) & 1, c >> 2);
+                if ((d.x > p.x) || (d.y > p.y) || (d.z > p.z)) continue;
+                const glm::uvec3 u = p - d;
+                if (u.x >= mTop || u.y >= mTop || u.z >= mTop) continue;
+                if (unitChanged(u)) return true;
+            }
+            return false;
+        }
+
+    private:
+        const Slot* slot(glm::uvec3 s) const {
+            const uint64_t key = slotKey(s);
+            if (key != mLastKey) {
+                auto it = mCells.mSlots.find(key);
+                mLastKey = key;
+                mLast = it == mCells.mSlots.end() ? nullptr : &it->second;
+            }
+            return mLast;
+        }
+        std::size_t bit(glm::uvec3 local) const { return mCells.bit(local); }
+        const ChangedCells& mCells;
+        const uint32_t mShift = mCells.mShift, mTop = mCells.mTop;
+        mutable uint64_t mLastKey = UINT64_MAX;
+        mutable const Slot* mLast = nullptr;
+    };
 
 private:
-    struct Slot {
-        bool whole = false;
-        std::vector<uint64_t> bits;
-    };
     static uint64_t slotKey(glm::uvec3 s) { return packLattice(s); }
     std::size_t bit(glm::uvec3 local) const {
         return std::size_t(local.x) | (std::size_t(local.y) << mShift) | (std::size_t(local.z) << (2 * mShift));
+    }
+    /// Sets bits [at, at + n).
+    static void setRun(std::vector<uint64_t>& bits, std::size_t at, uint32_t n) {
+        while (n > 0) {
+            const uint32_t off = uint32_t(at & 63), take = std::min(n, 64u - off);
+            bits[at >> 6] |= (take == 64 ? ~uint64_t(0) : ((uint64_t(1) << take) - 1)) << off;
+            at += take;
+            n -= take;
+        }
     }
     uint32_t mShift, mTop;
     std::unordered_map<uint64_t, Slot> mSlots;
@@ -157,12 +202,17 @@ void SurfaceMesher::update(adf::AdfPtr next) {
 
     // 0. Tiles the new snapshot does not share with the old one, and old tiles that are gone,
     // compared cell by cell.
+    // Slot by slot (two loads each; the old tile of every TileMesh is the old snapshot's).
     std::vector<uint64_t> dirty;
-    a.forEachTile([&](const Tile& t) {
-        if (oldAdf.tileAtSlot(t.latticeOrigin() >> shift) != &t) dirty.push_back(packLattice(t.latticeOrigin()));
-    });
-    for (const auto& [key, tm] : mTiles)
-        if (a.tileAtSlot(tm->slotMin) != tm->tile) dirty.push_back(key);
+    for (uint32_t z = 0; z < slots; ++z)
+        for (uint32_t y = 0; y < slots; ++y)
+            for (uint32_t x = 0; x < slots; ++x) {
+                const Tile* was = oldAdf.tileAtSlot({x, y, z});
+                const Tile* now = a.tileAtSlot({x, y, z});
+                if (was == now) continue;
+                dirty.push_back(packLattice(was->latticeOrigin()));
+                dirty.push_back(packLattice(now->latticeOrigin()));
+            }
     sortUnique(dirty);
     std::vector<std::vector<LatticeBox>> boxesOf(dirty.size());
     util::parallelFor(mPool, dirty.size(), [&](std::size_t i) {
@@ -236,21 +286,50 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
         ScanOut& out = scans[i];
+        const ChangedCells::Query changedAt(changed);
         const Touched box = scanBox[i];
+        const glm::uvec3 hi = glm::min(box.hi, glm::uvec3(a.domain().latticeSize()));
+        const std::vector<LatticeBox> region{{box.lo, std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z})}};
+        // Only a leaf with a corner on a changed cell can emit (or have emitted) such a crossing.
+        auto dropUnchanged = [&](std::vector<BoundaryCell>& leaves) {
+            std::erase_if(leaves, [&](const BoundaryCell& b) {
+                for (int c = 0; c < 8; ++c)
+                    if (changedAt.pointChanged(b.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * b.size)) return false;
+                return true;
+            });
+        };
+        // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
+        // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
         std::vector<std::pair<uint64_t, uint32_t>> old;  // (key, slot)
-        for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
-            const Crossing& x = tm.crossings[j];
-            if (x.alive && inBox(x.start, box.lo, box.hi) && changed.pointChanged(x.start)) old.emplace_back(x.key(), j);
+        std::vector<BoundaryCell> leaves;
+        if (tm.liveCrossings > 0) {
+            const Tile* was = tileOfKey(oldAdf, tm.key);
+            if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
+            appendBoundaryCellsTouching(*was, maxLevel, region, leaves);
+            dropUnchanged(leaves);
+            for (const BoundaryCell& e : leaves) {
+                const uint64_t cell = packLattice(e.origin);
+                const uint32_t* firstVertex = tm.cellVertex.find(cell);
+                if (!firstVertex) continue;
+                for (uint32_t vi = *firstVertex; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
+                    const Vertex& v = tm.vertices[vi];
+                    for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+                        // Another tile's crossing: only fields no task writes in this phase.
+                        const Crossing& x = *tm.incidences[j].x;
+                        if (x.ringCell[x.emitter] != cell || x.ringOwner[x.emitter] != tm.key) continue;
+                        if (inBox(x.start, box.lo, box.hi) && changedAt.pointChanged(x.start)) old.emplace_back(x.key(), x.slot);
+                    }
+                }
+            }
+            leaves.clear();
         }
         std::vector<Crossing> fresh;
         if (tileOfKey(a, tm.key) == tm.tile) {
-            std::vector<BoundaryCell> leaves;
-            const glm::uvec3 hi = glm::min(box.hi, glm::uvec3(a.domain().latticeSize()));
-            const uint32_t size = std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z});
-            appendBoundaryCellsTouching(*tm.tile, maxLevel, {LatticeBox{box.lo, size}}, leaves);
+            appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves);
+            dropUnchanged(leaves);
             out.st.boundaryLeaves = leaves.size();
             computeCrossings(a, tm.key, leaves, fresh, out.st);
-            std::erase_if(fresh, [&](const Crossing& x) { return !changed.pointChanged(x.start); });
+            std::erase_if(fresh, [&](const Crossing& x) { return !changedAt.pointChanged(x.start); });
         }
         std::sort(old.begin(), old.end());
         std::sort(fresh.begin(), fresh.end(), [](const Crossing& l, const Crossing& r) { return l.key() < r.key(); });
@@ -265,6 +344,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         auto add = [&](const Crossing& x) {
             const uint32_t j = tm.crossings.append();  // never a slot released in this update
             tm.crossings[j] = x;
+            tm.crossings[j].slot = j;
             ++tm.liveCrossings;
             out.added.push_back(&tm.crossings[j]);
         };
@@ -288,6 +368,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     });
     st.tilesScanned = scanTiles.size();
     std::vector<CellTask> tasks;
+    const ChangedCells::Query changedAt(changed);
     for (const ScanOut& s : scans) {
         st.boundaryLeaves += s.st.boundaryLeaves;
         st.openCrossings += s.st.openCrossings;
@@ -300,7 +381,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                     tasks.push_back({x->ringOwner[q], x->ringCell[q], x});
         for (Crossing* x : s.kept)
             for (int q = 0; q < 4; ++q)
-                if (changed.unitChanged(unpackLattice(x->ringCell[q])))
+                if (changedAt.unitChanged(unpackLattice(x->ringCell[q])))
                     tasks.push_back({x->ringOwner[q], x->ringCell[q], nullptr});
     }
     sortUnique(tasks);
@@ -323,12 +404,6 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t ti) {
         TileMesh& tm = *meshTiles[ti];
         SurfaceNetsStats& ms = meshStats[ti];
-        if (!tm.cellIndexBuilt) {
-            tm.cellVertex.clear();
-            for (uint32_t v = 0; v < tm.vertices.size(); ++v)
-                if (tm.vertices[v].alive) tm.cellVertex.try_emplace(tm.vertices[v].cell, v);
-            tm.cellIndexBuilt = true;
-        }
         CellScratch scratch;
         std::vector<Incidence> inc;
         for (std::size_t c0 = taskBegin[ti]; c0 < taskBegin[ti + 1];) {
@@ -338,8 +413,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             ++ms.cellsMeshed;
             inc.clear();
             // Kept crossings, from the old vertices (which go).
-            if (auto it = tm.cellVertex.find(cell); it != tm.cellVertex.end()) {
-                for (uint32_t vi = it->second; vi != UINT32_MAX;) {
+            if (const uint32_t* firstVertex = tm.cellVertex.find(cell)) {
+                for (uint32_t vi = *firstVertex; vi != UINT32_MAX;) {
                     const Vertex& v = tm.vertices[vi];
                     for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
                         const VertexIncidence& in = tm.incidences[j];
@@ -350,7 +425,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                     tm.releaseVertex(vi);
                     vi = nextVi;
                 }
-                tm.cellVertex.erase(it);
+                tm.cellVertex.erase(cell);
             }
             // Added crossings.
             for (std::size_t c = c0; c < c1; ++c) {
@@ -372,7 +447,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             const std::size_t incBefore = tm.incidences.size();
             const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), leaf.corners, scratch, ms);
             tm.liveIncidences += tm.incidences.size() - incBefore;
-            tm.cellVertex[cell] = first;
+            tm.cellVertex.assign(cell, first);
             for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) made[ti].push_back({&tm, vi});
         }
         compactIncidences(tm);
@@ -388,22 +463,45 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     }
 
     const auto tPhase2 = std::chrono::steady_clock::now();
-    // 3. Split vertices (rare: every tile that has multi-crossing faces), then relaxation of the
-    // new vertices and every vertex that reads one of them.
-    for (const auto& [key, tm] : mTiles)
-        if (!tm->multiFaces.empty() || !tm->splits.empty()) splitFaces(*tm);
-    std::vector<std::pair<TileMesh*, uint32_t>> relax;
+    // 3. Split vertices (rare) of the re-meshed tiles and their neighbours: a multi-crossing
+    // face lies between two adjacent cells, so its owner is the tile of a re-meshed cell or a
+    // neighbour of it. Then relaxation of the new vertices and every vertex that reads one of
+    // them (each once: marked with this update's stamp).
+    {
+        std::vector<uint64_t> near;
+        for (const TileMesh* tm : meshTiles) neighbourKeys(a, tm->slotMin, tm->slotEnd, near);
+        sortUnique(near);
+        for (uint64_t k : near) {
+            auto it = mTiles.find(k);
+            if (it != mTiles.end() && (!it->second->multiFaces.empty() || !it->second->splits.empty())) splitFaces(*it->second);
+        }
+    }
+    if (++mRelaxStamp == 0) {  // wrapped: clear every mark
+        for (const auto& [key, tm] : mTiles)
+            for (Vertex& v : tm->vertices) v.relaxStamp = 0;
+        mRelaxStamp = 1;
+    }
+    std::vector<VertexRef> relax;
     for (const std::vector<VertexRef>& list : made)
         for (const VertexRef& r : list) {
             const Vertex& v = r.tile->vertices[r.index];
             for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
                 const Crossing& x = *r.tile->incidences[j].x;
-                for (int q = 0; q < 4; ++q) relax.emplace_back(x.ringVertex[q].tile, x.ringVertex[q].index);
+                for (int q = 0; q < 4; ++q) {
+                    const VertexRef n = x.ringVertex[q];
+                    Vertex& w = n.tile->vertices[n.index];
+                    if (w.relaxStamp == mRelaxStamp) continue;
+                    w.relaxStamp = mRelaxStamp;
+                    relax.push_back(n);
+                }
             }
         }
-    sortUnique(relax);  // pointer order: the set is what matters, each vertex is independent
-    util::parallelFor(mPool, relax.size(), [&](std::size_t i) {
-        relaxVertex(*relax[i].first, relax[i].first->vertices[relax[i].second]);
+    // Each vertex is independent (reads neighbours' `projected`, writes its own position):
+    // blocks of vertices, not one pool hand-off each.
+    constexpr std::size_t kRelaxBlock = 512;
+    util::parallelFor(mPool, (relax.size() + kRelaxBlock - 1) / kRelaxBlock, [&](std::size_t b) {
+        const std::size_t end = std::min(relax.size(), (b + 1) * kRelaxBlock);
+        for (std::size_t i = b * kRelaxBlock; i < end; ++i) relaxVertex(*relax[i].tile, relax[i].tile->vertices[relax[i].index]);
     });
     st.verticesRelaxed = relax.size();
 
