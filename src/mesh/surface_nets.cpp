@@ -330,7 +330,7 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
 }
 
 void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves,
-                      std::vector<Crossing>& out, SurfaceNetsStats& st) {
+                      std::vector<Crossing>& out, SurfaceNetsStats& st, StartFilter filter) {
     const uint32_t top = adf.domain().latticeSize();
     LeafLocator locator(adf);
     for (const BoundaryCell& leaf : leaves) {
@@ -343,6 +343,7 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                 if (in0 == in1) continue;
                 const glm::uvec3 corner(c0 & 1, (c0 >> 1) & 1, c0 >> 2);
                 const glm::uvec3 p = leaf.origin + corner * leaf.size;
+                if (filter.keep && !filter.keep(filter.context, p)) continue;
                 const bool plusA = corner[a] == 0, plusB = corner[b] == 0;
                 const int mine = plusA ? (plusB ? 0 : 3) : (plusB ? 1 : 2);
                 // Leaf at each quadrant: the one holding the unit cube next to p there.

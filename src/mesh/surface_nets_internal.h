@@ -164,9 +164,16 @@ using TileMesh = SurfaceMesher::TileMesh;
 /// Slots [lo, end) covered by tile `t`.
 void slotBox(const adf::Adf& adf, const adf::Tile& t, glm::uvec3& lo, glm::uvec3& end);
 
-/// The crossings emitted by `leaves` of the tile `tileKey` (any order), appended to `out`.
+/// Which edge start points a computation wants (an update: those on changed cells).
+struct StartFilter {
+    bool (*keep)(const void* context, glm::uvec3 start) = nullptr;
+    const void* context = nullptr;
+};
+
+/// The crossings emitted by `leaves` of the tile `tileKey` (any order), appended to `out`;
+/// with a filter, only those whose start point it keeps (others are not looked at).
 void computeCrossings(const adf::Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves,
-                      std::vector<Crossing>& out, SurfaceNetsStats& st);
+                      std::vector<Crossing>& out, SurfaceNetsStats& st, StartFilter filter = {});
 
 /// The run of quadrants that ring cell q fills (a larger leaf fills two when the edge lies in
 /// its face), as Incidence::first/last.

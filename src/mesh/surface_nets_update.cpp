@@ -152,12 +152,12 @@ inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
 /// A cell to re-mesh, and a crossing added around it (or none).
 struct CellTask {
     uint64_t owner, cell;
+    uint64_t addedKey;  ///< the added crossing's key (0 for none): integer compares only
     Crossing* added;
     bool operator<(const CellTask& o) const {
         if (owner != o.owner) return owner < o.owner;
         if (cell != o.cell) return cell < o.cell;
-        const uint64_t a = added ? added->key() : 0, b = o.added ? o.added->key() : 0;
-        return a < b;
+        return addedKey < o.addedKey;
     }
     bool operator==(const CellTask&) const = default;
 };
@@ -328,11 +328,16 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves);
             dropUnchanged(leaves);
             out.st.boundaryLeaves = leaves.size();
-            computeCrossings(a, tm.key, leaves, fresh, out.st);
-            std::erase_if(fresh, [&](const Crossing& x) { return !changedAt.pointChanged(x.start); });
+            const StartFilter onChanged{[](const void* q, glm::uvec3 p) {
+                                            return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
+                                        },
+                                        &changedAt};
+            computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
         }
         std::sort(old.begin(), old.end());
-        std::sort(fresh.begin(), fresh.end(), [](const Crossing& l, const Crossing& r) { return l.key() < r.key(); });
+        std::vector<std::pair<uint64_t, uint32_t>> order(fresh.size());  // (key, index): no record moves
+        for (uint32_t j = 0; j < fresh.size(); ++j) order[j] = {fresh[j].key(), j};
+        std::sort(order.begin(), order.end());
         std::size_t o = 0, f = 0;
         auto remove = [&](uint32_t j) {
             Crossing& x = tm.crossings[j];
@@ -348,18 +353,19 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             ++tm.liveCrossings;
             out.added.push_back(&tm.crossings[j]);
         };
-        while (o < old.size() || f < fresh.size()) {
-            if (f == fresh.size() || (o < old.size() && old[o].first < fresh[f].key())) {
+        while (o < old.size() || f < order.size()) {
+            if (f == order.size() || (o < old.size() && old[o].first < order[f].first)) {
                 remove(old[o++].second);
-            } else if (o == old.size() || fresh[f].key() < old[o].first) {
-                add(fresh[f++]);
+            } else if (o == old.size() || order[f].first < old[o].first) {
+                add(fresh[order[f++].second]);
             } else {
                 Crossing& x = tm.crossings[old[o].second];
-                if (x.sameAs(fresh[f])) {
+                const Crossing& y = fresh[order[f].second];
+                if (x.sameAs(y)) {
                     out.kept.push_back(&x);
                 } else {
                     remove(old[o].second);
-                    add(fresh[f]);
+                    add(y);
                 }
                 ++o;
                 ++f;
@@ -369,20 +375,23 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.tilesScanned = scanTiles.size();
     std::vector<CellTask> tasks;
     const ChangedCells::Query changedAt(changed);
+    // Totals move by what changed (the tiles not visited hold what they held).
+    int64_t crossingDelta = 0, vertexDelta = 0, splitDelta = 0;
     for (const ScanOut& s : scans) {
+        crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
         st.boundaryLeaves += s.st.boundaryLeaves;
         st.openCrossings += s.st.openCrossings;
         st.crossingsComputed += s.st.crossingsComputed;
         for (Crossing* x : s.removed)
-            for (int q = 0; q < 4; ++q) tasks.push_back({x->ringOwner[q], x->ringCell[q], nullptr});
+            for (int q = 0; q < 4; ++q) tasks.push_back({x->ringOwner[q], x->ringCell[q], 0, nullptr});
         for (Crossing* x : s.added)
             for (int q = 0; q < 4; ++q)
                 if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
-                    tasks.push_back({x->ringOwner[q], x->ringCell[q], x});
+                    tasks.push_back({x->ringOwner[q], x->ringCell[q], x->key(), x});
         for (Crossing* x : s.kept)
             for (int q = 0; q < 4; ++q)
                 if (changedAt.unitChanged(unpackLattice(x->ringCell[q])))
-                    tasks.push_back({x->ringOwner[q], x->ringCell[q], nullptr});
+                    tasks.push_back({x->ringOwner[q], x->ringCell[q], 0, nullptr});
     }
     sortUnique(tasks);
 
@@ -399,11 +408,18 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         taskBegin.push_back(i);
     }
     taskBegin.push_back(tasks.size());
+    for (const TileMesh* tm : meshTiles) vertexDelta -= tm->liveVertices;
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     std::vector<std::vector<VertexRef>> made(meshTiles.size());
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t ti) {
         TileMesh& tm = *meshTiles[ti];
         SurfaceNetsStats& ms = meshStats[ti];
+        // The re-meshed cells' multi-crossing faces are found again by meshCell.
+        const auto taskFirst = tasks.begin() + std::ptrdiff_t(taskBegin[ti]), taskEnd = tasks.begin() + std::ptrdiff_t(taskBegin[ti + 1]);
+        std::erase_if(tm.multiFaces, [&](const MultiFace& mf) {
+            const auto at = std::lower_bound(taskFirst, taskEnd, mf.cellA, [](const CellTask& t, uint64_t c) { return t.cell < c; });
+            return at != taskEnd && at->cell == mf.cellA;
+        });
         CellScratch scratch;
         std::vector<Incidence> inc;
         for (std::size_t c0 = taskBegin[ti]; c0 < taskBegin[ti + 1];) {
@@ -437,7 +453,6 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                 inc.push_back({cell, x->key(), x, first, last});
             }
             std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
-            std::erase_if(tm.multiFaces, [&](const MultiFace& mf) { return mf.cellA == cell; });
             c0 = c1;
             if (inc.empty()) continue;
             const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));
@@ -452,6 +467,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         }
         compactIncidences(tm);
     });
+    for (const TileMesh* tm : meshTiles) vertexDelta += tm->liveVertices;
     st.tilesMeshed = meshTiles.size();
     for (const SurfaceNetsStats& s : meshStats) {
         st.cellsMeshed += s.cellsMeshed;
@@ -473,7 +489,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         sortUnique(near);
         for (uint64_t k : near) {
             auto it = mTiles.find(k);
-            if (it != mTiles.end() && (!it->second->multiFaces.empty() || !it->second->splits.empty())) splitFaces(*it->second);
+            if (it == mTiles.end() || (it->second->multiFaces.empty() && it->second->splits.empty())) continue;
+            splitDelta -= int64_t(it->second->splits.size());
+            splitFaces(*it->second);
+            splitDelta += int64_t(it->second->splits.size());
         }
     }
     if (++mRelaxStamp == 0) {  // wrapped: clear every mark
@@ -505,14 +524,25 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     });
     st.verticesRelaxed = relax.size();
 
-    // Released crossings can be reused from the next update on; gone tiles must be empty.
+    // Released crossings can be reused from the next update on. Gone tiles must be empty; they
+    // and tiles left empty (only a visited tile can become empty) are dropped.
     for (std::size_t i = 0; i < scanTiles.size(); ++i)
         for (uint32_t j : scans[i].released) scanTiles[i]->crossings.release(j);
+    std::vector<uint64_t> emptied;
     for (uint64_t k : dirty) {
         auto it = mTiles.find(k);
         if (it == mTiles.end() || tileOfKey(a, k)) continue;
         if (it->second->liveCrossings || it->second->liveVertices)
             throw std::logic_error("surface nets: a tile that is gone still holds mesh");
+        emptied.push_back(k);
+    }
+    for (const std::vector<TileMesh*>* list : {&scanTiles, &meshTiles})
+        for (const TileMesh* tm : *list)
+            if (tm->liveCrossings == 0 && tm->liveVertices == 0) emptied.push_back(tm->key);
+    sortUnique(emptied);
+    for (uint64_t k : emptied) {
+        auto it = mTiles.find(k);
+        splitDelta -= int64_t(it->second->splits.size());
         mTiles.erase(it);
     }
     const auto tPhase3 = std::chrono::steady_clock::now();
@@ -520,8 +550,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.crossingMs = ms(tStart, tPhase1);
     st.vertexMs = ms(tPhase1, tPhase2);
     st.relaxMs = ms(tPhase2, tPhase3);
-    dropEmptyTiles();
-    totals(st);
+    st.crossings = std::size_t(int64_t(mStats.crossings) + crossingDelta);
+    st.vertices = std::size_t(int64_t(mStats.vertices) + vertexDelta);
+    st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
     mStats = st;
 }
 

@@ -237,6 +237,10 @@ TEST(SurfaceNets, IncrementalRemeshEqualsFullMeshAcrossTileCorners) {
         ASSERT_TRUE(test::closedOrientedManifold(spliced)) << "edit " << i;
         EXPECT_EQ(spliced.triangleCount(), fresh.triangleCount()) << "edit " << i;
         EXPECT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "edit " << i;
+        // Totals are carried by deltas over the visited tiles: they must still be the whole mesh's.
+        EXPECT_EQ(inc.crossings, full.crossings) << "edit " << i;
+        EXPECT_EQ(inc.vertices, full.vertices) << "edit " << i;
+        EXPECT_EQ(inc.splitEdges, full.splitEdges) << "edit " << i;
         EXPECT_LT(inc.tilesMeshed, allTiles / 2) << "edit " << i << " re-meshed too much";
         EXPECT_GT(inc.tilesMeshed, 0u);
     }
@@ -309,8 +313,12 @@ TEST(SurfaceNets, RepeatedDabsAtTileCornersAndNewTileScalesEqualAFullMesh) {
         a = next;
         mesher.update(a);
         serial.update(a);
-        const MeshBuffers spliced = mesher.mesh(), fresh = mesh::meshAdf(a, &pool);
+        SurfaceNetsStats full;
+        const MeshBuffers spliced = mesher.mesh(), fresh = mesh::meshAdf(a, &pool, &full);
         ASSERT_TRUE(test::closedOrientedManifold(spliced)) << "edit " << i;
+        EXPECT_EQ(mesher.stats().crossings, full.crossings) << "edit " << i;
+        EXPECT_EQ(mesher.stats().vertices, full.vertices) << "edit " << i;
+        EXPECT_EQ(mesher.stats().splitEdges, full.splitEdges) << "edit " << i;
         ASSERT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "edit " << i;
         const MeshBuffers s = serial.mesh();  // serial and parallel updates agree bit for bit
         ASSERT_EQ(s.positions, spliced.positions) << "edit " << i;
