@@ -281,7 +281,9 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
     tm.incidences.clear();
     tm.multiFaces.clear();
     tm.cellVertex.clear();
-    tm.cellVertex.reserve(inc.size() / 4);
+    std::size_t cells = 0;  // incidences are grouped by cell: size the index once
+    for (std::size_t i = 0; i < inc.size(); ++i) cells += i == 0 || inc[i].cell != inc[i - 1].cell;
+    tm.cellVertex.reserve(cells);
     CellScratch scratch;
     std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the incidences
     for (std::size_t i0 = 0; i0 < inc.size();) {

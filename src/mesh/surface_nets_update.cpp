@@ -302,8 +302,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
         std::vector<std::pair<uint64_t, uint32_t>> old;  // (key, slot)
         std::vector<BoundaryCell> leaves;
+        const Tile* was = nullptr;
         if (tm.liveCrossings > 0) {
-            const Tile* was = tileOfKey(oldAdf, tm.key);
+            was = tileOfKey(oldAdf, tm.key);
             if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
             appendBoundaryCellsTouching(*was, maxLevel, region, leaves);
             dropUnchanged(leaves);
@@ -321,12 +322,14 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                     }
                 }
             }
-            leaves.clear();
         }
         std::vector<Crossing> fresh;
         if (tileOfKey(a, tm.key) == tm.tile) {
-            appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves);
-            dropUnchanged(leaves);
+            if (was != tm.tile) {  // a rebuilt tile (a neighbour the edit left alone has the same leaves)
+                leaves.clear();
+                appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves);
+                dropUnchanged(leaves);
+            }
             out.st.boundaryLeaves = leaves.size();
             const StartFilter onChanged{[](const void* q, glm::uvec3 p) {
                                             return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
@@ -422,14 +425,22 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         });
         CellScratch scratch;
         std::vector<Incidence> inc;
+        const ChangedCells::Query cellChanged(changed);
         for (std::size_t c0 = taskBegin[ti]; c0 < taskBegin[ti + 1];) {
             std::size_t c1 = c0;
             const uint64_t cell = tasks[c0].cell;
             while (c1 < taskBegin[ti + 1] && tasks[c1].cell == cell) ++c1;
             ++ms.cellsMeshed;
             inc.clear();
-            // Kept crossings, from the old vertices (which go).
+            // Kept crossings, from the old vertices (which go). An unchanged cell (its origin is
+            // on no changed cell: changed cells are whole octree cells) keeps its corners.
+            float corners[8];
+            bool haveCorners = false;
             if (const uint32_t* firstVertex = tm.cellVertex.find(cell)) {
+                if (!cellChanged.unitChanged(unpackLattice(cell))) {
+                    std::copy(tm.vertices[*firstVertex].corners, tm.vertices[*firstVertex].corners + 8, corners);
+                    haveCorners = true;
+                }
                 for (uint32_t vi = *firstVertex; vi != UINT32_MAX;) {
                     const Vertex& v = tm.vertices[vi];
                     for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
@@ -455,12 +466,15 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
             c0 = c1;
             if (inc.empty()) continue;
-            const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));
+            if (!haveCorners) {
+                const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));
+                std::copy(leaf.corners, leaf.corners + 8, corners);
+            }
             bool anyIn = false, anyOut = false;
-            for (float v : leaf.corners) (v < 0.0f ? anyIn : anyOut) = true;
+            for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
             if (!(anyIn && anyOut)) ++ms.signlessCells;
             const std::size_t incBefore = tm.incidences.size();
-            const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), leaf.corners, scratch, ms);
+            const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), corners, scratch, ms);
             tm.liveIncidences += tm.incidences.size() - incBefore;
             tm.cellVertex.assign(cell, first);
             for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) made[ti].push_back({&tm, vi});
