@@ -27,10 +27,12 @@
 /// recomputes only the crossings starting on a changed cell, the vertices of the cells around
 /// changed crossings (and of changed cells), and relaxes those vertices and their neighbours;
 /// the result equals a mesh built from scratch (tests/unit/mesh/surface_nets_test.cpp).
-/// Complexity: O(boundary leaves) for a build; an update costs O(nodes of the rebuilt tiles)
-/// for the comparison, a scan of the crossings of tiles touching changed cells, and work
-/// proportional to the changed cells. Threading: tiles in parallel on the pool; one
-/// SurfaceMesher is owned by one thread. Memory: about 200 bytes per crossing and 100 per vertex.
+/// Complexity: O(boundary leaves) for a build; an update costs O(slots) to find the rebuilt
+/// tiles, O(nodes of the rebuilt tiles) to compare them, and otherwise work proportional to
+/// the changed cells (old crossings are reached through a per-tile cell index, never a scan).
+/// Threading: tiles in parallel on the pool; one SurfaceMesher is owned by one thread.
+/// Memory: 232 bytes per crossing, 128 per vertex (plus its incidences) and 16-21 per cell
+/// index entry (a flat hash at most 3/4 full).
 #pragma once
 
 #include "adf/adf.h"
