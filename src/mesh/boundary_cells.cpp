@@ -3,6 +3,8 @@
 /// @brief appendBoundaryCells.
 #include "mesh/boundary_cells.h"
 
+#include "mesh/tile_diff.h"
+
 namespace kizamu::mesh {
 
 namespace {
@@ -14,9 +16,9 @@ inline bool signChange(const int16_t* v) {
     return neg && pos;
 }
 
-}  // namespace
-
-void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out) {
+/// The walk, descending only into cells for which `keep(origin, size)` holds.
+template <class Keep>
+void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, Keep keep) {
     namespace node = adf::node;
     struct Item {
         uint32_t node;
@@ -29,6 +31,7 @@ void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryC
     const float scale = t.scale();
     while (top > 0) {
         const Item it = stack[--top];
+        if (!keep(it.origin, it.size)) continue;
         const uint32_t w = t.nodes()[it.node];
         const uint32_t half = it.size >> 1;
         if (node::isInternal(w)) {
@@ -48,12 +51,29 @@ void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryC
                 int16_t raw[8];
                 for (int c = 0; c < 8; ++c) raw[c] = q[adf::brickPoint(child, c)];
                 if (!signChange<8>(raw)) continue;
-                BoundaryCell b{it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half, half, {}, true};
+                const glm::uvec3 o = it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half;
+                if (!keep(o, half)) continue;
+                BoundaryCell b{o, half, {}, true};
                 for (int c = 0; c < 8; ++c) b.corners[c] = float(raw[c]) * scale;
                 out.push_back(b);
             }
         }
     }
+}
+
+}  // namespace
+
+void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out) {
+    appendIf(t, maxLevel, out, [](glm::uvec3, uint32_t) { return true; });
+}
+
+void appendBoundaryCellsTouching(const adf::Tile& t, int maxLevel, const std::vector<LatticeBox>& boxes,
+                                 std::vector<BoundaryCell>& out) {
+    appendIf(t, maxLevel, out, [&](glm::uvec3 o, uint32_t size) {
+        for (const LatticeBox& b : boxes)
+            if (touches(b, o, size)) return true;
+        return false;
+    });
 }
 
 }  // namespace kizamu::mesh

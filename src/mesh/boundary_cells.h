@@ -22,7 +22,14 @@ struct BoundaryCell {
     bool brickChild = false;  ///< its 7 siblings are leaves of the same size (no lookup needed)
 };
 
+struct LatticeBox;
+
 /// Appends the sign-changing leaves of `tile` (depth-first order) to `out`.
 void appendBoundaryCells(const adf::Tile& tile, int maxLevel, std::vector<BoundaryCell>& out);
+
+/// The same, restricted to leaves whose closed box shares a point with one of `boxes` (closed):
+/// subtrees clear of every box are not visited. Complexity: O(nodes near the boxes × boxes).
+void appendBoundaryCellsTouching(const adf::Tile& tile, int maxLevel, const std::vector<LatticeBox>& boxes,
+                                 std::vector<BoundaryCell>& out);
 
 }  // namespace kizamu::mesh

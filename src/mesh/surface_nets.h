@@ -21,13 +21,18 @@
 /// surface along the gradient, moved half-way along the tangent plane toward its neighbours'
 /// mean and projected again, never leaving its cell (Kizamu's relaxation).
 ///
-/// Work. Everything is per stored tile: a tile's *crossings* (emitted by its boundary leaves),
-/// the *vertices* of its cells, their positions. An update re-meshes the tiles a new snapshot
-/// does not share with the previous one and the neighbours that read them, and splices them in;
+/// Work. State is kept per stored tile: a tile's *crossings* (emitted by its boundary leaves),
+/// the *vertices* of its cells, their positions. An update compares each tile the new snapshot
+/// does not share with the previous one against its old version, cell by cell (tile_diff.h),
+/// recomputes only the crossings starting on a changed cell, the vertices of the cells around
+/// changed crossings (and of changed cells), and relaxes those vertices and their neighbours;
 /// the result equals a mesh built from scratch (tests/unit/mesh/surface_nets_test.cpp).
-/// Complexity: O(boundary leaves) for a build; an update touches the changed tiles and two
-/// rings of neighbouring tiles. Threading: tiles in parallel on the pool; one SurfaceMesher is
-/// owned by one thread. Memory: about 200 bytes per crossing and 100 per vertex.
+/// Complexity: O(boundary leaves) for a build; an update costs O(slots) to find the rebuilt
+/// tiles, O(nodes of the rebuilt tiles) to compare them, and otherwise work proportional to
+/// the changed cells (old crossings are reached through a per-tile cell index, never a scan).
+/// Threading: tiles in parallel on the pool; one SurfaceMesher is owned by one thread.
+/// Memory: 232 bytes per crossing, 128 per vertex (plus its incidences) and 16-21 per cell
+/// index entry (a flat hash at most 3/4 full).
 #pragma once
 
 #include "adf/adf.h"
@@ -58,6 +63,11 @@ struct SurfaceNetsStats {
     std::size_t openCrossings = 0;     ///< crossings on the domain boundary (left open), scanned tiles
     std::size_t splitEdges = 0;        ///< doubled dual edges split by an extra vertex, whole mesh
     std::size_t oddFaces = 0;          ///< faces with an odd crossing count (never expected)
+    std::size_t changedCells = 0;      ///< update: cells where a rebuilt tile differs from the old one
+    std::size_t crossingsComputed = 0;  ///< crossings computed (an update recomputes those at changed cells)
+    std::size_t cellsMeshed = 0;       ///< update: cells whose vertices were recomputed
+    std::size_t verticesComputed = 0;  ///< vertices computed (cycles and first projection)
+    std::size_t verticesRelaxed = 0;   ///< vertices relaxed (computed ones and their neighbours)
     double crossingMs = 0.0;           ///< wall time: boundary leaves and crossings
     double vertexMs = 0.0;             ///< wall time: cycles, vertices, first projection
     double relaxMs = 0.0;              ///< wall time: split edges, relaxation, normals
@@ -89,11 +99,14 @@ public:
     struct TileMesh;
 
 private:
-    void rebuild(const std::vector<uint64_t>& dirty, bool everything);
+    TileMesh* ensureTile(uint64_t key);  ///< null if `key` is no tile of the snapshot
+    void dropEmptyTiles();
+    void totals(SurfaceNetsStats& st) const;
 
     util::ThreadPool* mPool;
     adf::AdfPtr mAdf;
     std::unordered_map<uint64_t, std::unique_ptr<TileMesh>> mTiles;
+    uint32_t mRelaxStamp = 0;  ///< update counter marking vertices queued for relaxation
     SurfaceNetsStats mStats;
 };
 

@@ -11,6 +11,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include <map>
 #include <mutex>
 #include <random>
 
@@ -236,6 +237,10 @@ TEST(SurfaceNets, IncrementalRemeshEqualsFullMeshAcrossTileCorners) {
         ASSERT_TRUE(test::closedOrientedManifold(spliced)) << "edit " << i;
         EXPECT_EQ(spliced.triangleCount(), fresh.triangleCount()) << "edit " << i;
         EXPECT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "edit " << i;
+        // Totals are carried by deltas over the visited tiles: they must still be the whole mesh's.
+        EXPECT_EQ(inc.crossings, full.crossings) << "edit " << i;
+        EXPECT_EQ(inc.vertices, full.vertices) << "edit " << i;
+        EXPECT_EQ(inc.splitEdges, full.splitEdges) << "edit " << i;
         EXPECT_LT(inc.tilesMeshed, allTiles / 2) << "edit " << i << " re-meshed too much";
         EXPECT_GT(inc.tilesMeshed, 0u);
     }
@@ -256,6 +261,120 @@ TEST(SurfaceNets, UpdateWithTheSameSnapshotChangesNothingAndEmptyFieldsGiveEmpty
     EXPECT_EQ(mesher.mesh().triangleCount(), 0u);
     mesher.update(a);
     EXPECT_TRUE(test::canonical(mesher.mesh()) == test::canonical(before));
+}
+
+/// Tiles of `b` that replace a tile of `a` at the same slot with another quantisation scale.
+std::size_t tilesWithNewScale(const Adf& a, const Adf& b) {
+    std::size_t n = 0;
+    const uint32_t shift = uint32_t(b.domain().maxLevel - b.domain().tileLevel());
+    b.forEachTile([&](const Tile& t) {
+        const Tile* old = a.tileAtSlot(t.latticeOrigin() >> shift);
+        if (old != &t && old->level() == t.level() && old->scale() != t.scale()) ++n;
+    });
+    return n;
+}
+
+TEST(SurfaceNets, RepeatedDabsAtTileCornersAndNewTileScalesEqualAFullMesh) {
+    // The sub-tile update must not reuse anything stale: a rebuilt tile whose quantisation scale
+    // changed decodes different floats in cells the edit never touched, and dabs repeated around
+    // one tile corner re-mesh the same cells over and over (released slots get reused).
+    const Domain d = unitDomain(7, 3);
+    util::ThreadPool pool(3);
+    const SourcePtr part = makeTranslated(makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5));
+    AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
+    SurfaceMesher mesher(&pool), serial;
+    mesher.build(a);
+    serial.build(a);
+    const double cell = d.finestCellSize(), tile = 8 * cell;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    std::size_t rescaled = 0;
+    for (int i = 0; i < 24; ++i) {
+        glm::dvec3 c;
+        double r;
+        CsgOp op = i % 5 == 4 ? CsgOp::Union : CsgOp::Difference;
+        if (i % 3 == 2) {
+            // Deep cuts into the block's core: tiles there lose their largest values, so their
+            // scale changes while most of their cells are copied.
+            c = glm::dvec3(0.5 + 0.1 * u(rng), 0.5 + 0.1 * u(rng), 0.5 + 0.05 * u(rng));
+            r = 0.06 + 0.02 * u(rng);
+            op = CsgOp::Difference;
+        } else {
+            // Small dabs on the top face around two tile corners.
+            const double corner = i % 2 ? 8 * tile : 9 * tile;
+            c = glm::dvec3(corner + 1.5 * cell * u(rng), corner + 1.5 * cell * u(rng), 0.7 + cell * u(rng));
+            r = 2.5 * cell + cell * u(rng);
+        }
+        const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
+        const SourcePtr old = makeAdfSource(a);
+        const AdfPtr next =
+            regenerate(*a, *makeRegionLimited(old, makeCsg(op, old, makeTranslated(makeSphere(r), c)), region), region, &pool);
+        rescaled += tilesWithNewScale(*a, *next);
+        a = next;
+        mesher.update(a);
+        serial.update(a);
+        SurfaceNetsStats full;
+        const MeshBuffers spliced = mesher.mesh(), fresh = mesh::meshAdf(a, &pool, &full);
+        ASSERT_TRUE(test::closedOrientedManifold(spliced)) << "edit " << i;
+        EXPECT_EQ(mesher.stats().crossings, full.crossings) << "edit " << i;
+        EXPECT_EQ(mesher.stats().vertices, full.vertices) << "edit " << i;
+        EXPECT_EQ(mesher.stats().splitEdges, full.splitEdges) << "edit " << i;
+        ASSERT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "edit " << i;
+        const MeshBuffers s = serial.mesh();  // serial and parallel updates agree bit for bit
+        ASSERT_EQ(s.positions, spliced.positions) << "edit " << i;
+        ASSERT_EQ(s.normals, spliced.normals) << "edit " << i;
+        ASSERT_EQ(s.indices, spliced.indices) << "edit " << i;
+    }
+    EXPECT_GT(rescaled, 0u) << "no edit changed a tile's quantisation scale: the case is untested";
+}
+
+TEST(SurfaceNets, ASmallDabInsideATileRecomputesFewOfItsVertices) {
+    // Counters, not time: the update's work follows the changed cells, not the tile. A dab that
+    // changes its tile's quantisation scale changes every cell of it (re-meshed, rightly, by the
+    // test above), so this one takes the first of a few dabs that keeps every scale.
+    const Domain d = testPartDomain(10);  // 64-cell tiles, as in the app
+    const SourcePtr part = makeTestPart(d);
+    const AdfPtr base = generate(*part, d, testPartSettings());
+    const MeshBuffers surface = mesh::meshAdf(base);
+    const double cell = d.finestCellSize(), tileWorld = 64 * cell;
+    // Dabs on the tile holding the most vertices, well inside it.
+    auto slotOf = [&](const glm::vec3& p) {
+        const glm::uvec3 s((glm::dvec3(p) - d.originWorld) / tileWorld);
+        return uint64_t(s.x) | (uint64_t(s.y) << 20) | (uint64_t(s.z) << 40);
+    };
+    std::map<uint64_t, std::size_t> perTile;
+    for (const glm::vec3& p : surface.positions) ++perTile[slotOf(p)];
+    const uint64_t densest =
+        std::max_element(perTile.begin(), perTile.end(), [](auto& l, auto& r) { return l.second < r.second; })->first;
+    bool tested = false;
+    for (std::size_t k = 0; k < surface.positions.size() && !tested; k += 13) {
+        const glm::dvec3 c(surface.positions[k]);
+        const glm::dvec3 inTileAt = (c - d.originWorld) / tileWorld - glm::floor((c - d.originWorld) / tileWorld);
+        if (slotOf(surface.positions[k]) != densest || glm::any(glm::lessThan(inTileAt, glm::dvec3(0.3))) ||
+            glm::any(glm::greaterThan(inTileAt, glm::dvec3(0.7))))
+            continue;
+        const double r = 2 * cell;
+        const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
+        const SourcePtr old = makeAdfSource(base);
+        const AdfPtr a = regenerate(
+            *base, *makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)), region), region);
+        if (tilesWithNewScale(*base, *a) > 0) continue;
+        SurfaceMesher mesher;
+        mesher.build(base);
+        mesher.update(a);
+        const SurfaceNetsStats inc = mesher.stats();
+        const MeshBuffers full = mesh::meshAdf(a);
+        ASSERT_TRUE(test::canonical(mesher.mesh()) == test::canonical(full));
+        std::size_t inTile = 0;
+        for (const glm::vec3& p : full.positions) inTile += slotOf(p) == densest;
+        std::printf("dab: %zu changed cells; %zu vertices recomputed, %zu relaxed, %zu crossings computed; %zu vertices in its tile\n",
+                    inc.changedCells, inc.verticesComputed, inc.verticesRelaxed, inc.crossingsComputed, inTile);
+        EXPECT_GT(inc.verticesComputed, 0u);
+        EXPECT_LT(inc.verticesComputed * 5, inTile);  // a whole-tile re-mesh recomputes all of them
+        EXPECT_LT(inc.verticesRelaxed * 4, inTile);
+        tested = true;
+    }
+    EXPECT_TRUE(tested) << "every dab changed a tile's scale";
 }
 
 }  // namespace

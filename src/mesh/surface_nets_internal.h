@@ -1,0 +1,217 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file surface_nets_internal.h
+/// @brief The mesher's per-tile state and the per-cell steps shared by a full build
+/// (surface_nets.cpp) and the sub-tile update (surface_nets_update.cpp).
+///
+/// References between tiles: a crossing holds a VertexRef (tile, index) for each leaf around it,
+/// written only by the tile owning that leaf; a vertex lists its crossings by pointer, so
+/// crossings live in a SlotPool and never move. Both sides are rewritten together whenever a
+/// cell is re-meshed, which is what lets an update replace single crossings and cells.
+/// Threading: as surface_nets.h (a slot is written by one task per phase, read after a barrier).
+#pragma once
+
+#include "mesh/boundary_cells.h"
+#include "mesh/flat_map.h"
+#include "mesh/slot_pool.h"
+#include "mesh/surface_nets.h"
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+namespace kizamu::mesh {
+
+namespace detail {
+
+/// 20 bits per axis: lattice coordinates stay below 2^16 + 1.
+inline uint64_t packLattice(glm::uvec3 p) {
+    return uint64_t(p.x) | (uint64_t(p.y) << 20) | (uint64_t(p.z) << 40);
+}
+inline glm::uvec3 unpackLattice(uint64_t k) {
+    return {uint32_t(k & 0xfffff), uint32_t((k >> 20) & 0xfffff), uint32_t((k >> 40) & 0xfffff)};
+}
+
+/// A vertex's owner and index; filled in by the tile that owns the cell.
+struct VertexRef {
+    SurfaceMesher::TileMesh* tile = nullptr;
+    uint32_t index = 0;
+};
+
+/// One sign-changing minimal edge and the leaves around it. Quadrants q0..q3 turn
+/// counter-clockwise about +axis: (+a,+b), (-a,+b), (-a,-b), (+a,-b) with a, b the next axes.
+struct Crossing {
+    glm::uvec3 start{0};
+    uint32_t length = 0;
+    uint8_t axis = 0;
+    uint8_t startInside = 0;  ///< start corner negative: the surface faces +axis
+    uint8_t emitter = 0;      ///< quadrant of the smallest leaf (it emitted this record)
+    uint8_t alive = 0;        ///< a slot of the pool in use
+    uint8_t ringLevel[4] = {};
+    uint64_t ringCell[4] = {};   ///< packed leaf origins
+    uint64_t ringOwner[4] = {};  ///< packed origins of the tiles holding them
+    glm::vec3 point{0.0f};       ///< zero crossing, lattice units
+    uint32_t slot = 0;           ///< its index in the emitting tile's pool
+    VertexRef ringVertex[4];
+    /// Extra vertex on the face between ring cells q and q+1, where that face carries two
+    /// segments joining the same pair of vertices (set by the face's owner, see splitFaces).
+    VertexRef split[4];
+
+    /// Unique per minimal edge (one minimal edge starts at a point along an axis).
+    uint64_t key() const { return packLattice(start) | (uint64_t(axis) << 60); }
+    bool sameAs(const Crossing& o) const {
+        return start == o.start && length == o.length && axis == o.axis && startInside == o.startInside &&
+               emitter == o.emitter && std::equal(ringLevel, ringLevel + 4, o.ringLevel) &&
+               std::equal(ringCell, ringCell + 4, o.ringCell) &&
+               std::equal(ringOwner, ringOwner + 4, o.ringOwner) && point == o.point;
+    }
+};
+
+/// Quadrants a cell occupies around a crossing, as a cyclic run first..last.
+struct Incidence {
+    uint64_t cell;
+    uint64_t crossingKey;
+    Crossing* x;
+    uint8_t first, last;
+};
+
+struct VertexIncidence {
+    Crossing* x;
+    uint8_t first, last;
+};
+
+struct Vertex {
+    uint64_t cell = 0;
+    glm::uvec3 origin{0};
+    uint32_t size = 0;
+    glm::vec3 projected{0.0f};  ///< after the first projection (what neighbours read)
+    glm::vec3 position{0.0f};   ///< final, lattice units
+    glm::vec3 normal{0.0f};
+    glm::vec3 crossingNormal{0.0f};  ///< sum of the crossed edges' directions (fallback normal)
+    float corners[8] = {};  ///< the cell's: projection reads the cell's own trilinear field
+    uint32_t incBegin = 0, incEnd = 0;
+    uint32_t nextInCell = UINT32_MAX;  ///< the cell's next vertex (several sheets), or none
+    bool alive = true;                 ///< false: a released slot
+    uint32_t relaxStamp = 0;           ///< the last update that queued it for relaxation
+};
+
+/// A face with four or more crossings, recorded by the cell with the smaller key: its segments
+/// (crossing pairs) and the ring positions of the two cells in each crossing.
+struct MultiFace {
+    uint64_t cellA = 0, cellB = 0;
+    struct End {
+        Crossing* x;
+        uint8_t qA, qB;  ///< ring positions of A and B next to each other
+    };
+    std::vector<std::pair<End, End>> segments;
+};
+
+/// A vertex splitting a doubled dual edge: placed half-way between its two ends.
+struct SplitVertex {
+    VertexRef a, b;
+};
+
+}  // namespace detail
+
+struct SurfaceMesher::TileMesh {
+    const adf::Tile* tile = nullptr;
+    uint64_t key = 0;
+    glm::uvec3 slotMin{0}, slotEnd{0};  ///< slots covered
+    std::vector<BoundaryCell> leaves;   ///< during a build only, sorted by cell key
+    SlotPool<detail::Crossing> crossings;  ///< emitted by this tile's leaves
+    uint32_t liveCrossings = 0;
+    /// During a build: crossings with a leaf owned by another tile, by that tile's key, so a
+    /// neighbour gathering its cells' crossings reads only its own range.
+    struct BorderRef {
+        uint64_t owner;
+        uint32_t index;
+        bool operator<(const BorderRef& o) const { return owner != o.owner ? owner < o.owner : index < o.index; }
+    };
+    std::vector<BorderRef> border;
+    std::vector<detail::Vertex> vertices;  ///< a build numbers them by cell key, then cycle
+    std::vector<uint32_t> freeVertices;    ///< released slots of `vertices`
+    uint32_t liveVertices = 0;
+    std::vector<detail::VertexIncidence> incidences;  ///< ranges of the vertices (some unused)
+    std::size_t liveIncidences = 0;
+    std::vector<detail::MultiFace> multiFaces;
+    std::vector<detail::SplitVertex> splits;  ///< numbered after `vertices`
+    /// Cell key -> its first vertex, for every cell with a vertex (filled by a build, kept by
+    /// updates): an update reaches the vertices and crossings around a changed cell through it.
+    FlatMap64 cellVertex;
+    uint32_t offset = 0;  ///< first vertex in the assembled mesh
+
+    uint32_t allocateVertex() {
+        ++liveVertices;
+        if (freeVertices.empty()) {
+            vertices.emplace_back();
+            return uint32_t(vertices.size() - 1);
+        }
+        const uint32_t i = freeVertices.back();
+        freeVertices.pop_back();
+        vertices[i] = detail::Vertex{};
+        return i;
+    }
+    void releaseVertex(uint32_t i) {
+        vertices[i].alive = false;
+        freeVertices.push_back(i);
+        --liveVertices;
+    }
+};
+
+namespace detail {
+
+using TileMesh = SurfaceMesher::TileMesh;
+
+/// Slots [lo, end) covered by tile `t`.
+void slotBox(const adf::Adf& adf, const adf::Tile& t, glm::uvec3& lo, glm::uvec3& end);
+
+/// Which edge start points a computation wants (an update: those on changed cells).
+struct StartFilter {
+    bool (*keep)(const void* context, glm::uvec3 start) = nullptr;
+    const void* context = nullptr;
+};
+
+/// The crossings emitted by `leaves` of the tile `tileKey` (any order), appended to `out`;
+/// with a filter, only those whose start point it keeps (others are not looked at).
+void computeCrossings(const adf::Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves,
+                      std::vector<Crossing>& out, SurfaceNetsStats& st, StartFilter filter = {});
+
+/// The run of quadrants that ring cell q fills (a larger leaf fills two when the edge lies in
+/// its face), as Incidence::first/last.
+void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last);
+
+/// Reusable buffers of meshCell.
+struct CellScratch {
+    struct FaceEntry {
+        uint64_t neighbour;
+        int q;  ///< ring position of the neighbour
+        uint32_t local;
+    };
+    std::vector<FaceEntry> faces;
+    std::vector<const Crossing*> faceXs;
+    std::vector<std::pair<uint32_t, uint32_t>> pairs;
+    std::vector<uint32_t> cycleOf, parent, made;
+};
+
+/// Cycles and projected vertices of one cell owned by `tm`, from all its incidences `inc[0..n)`
+/// sorted by crossing key (the order fixes every float sum, so a build and an update agree bit
+/// for bit) and its 8 corners. Takes vertex slots from `tm` (released ones first), appends
+/// their incidences and the cell's multi-crossing faces, writes the vertex refs into the
+/// crossings' slots of this cell and forgets split vertices on faces toward larger keys.
+/// Returns the first vertex (UINT32_MAX if n == 0); the others follow through nextInCell.
+uint32_t meshCell(const adf::Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
+                  CellScratch& s, SurfaceNetsStats& st);
+
+/// Distinct tile keys whose slots touch (closed) the slot box [lo, end), appended to `out`
+/// (a coarse tile may appear more than once).
+void neighbourKeys(const adf::Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vector<uint64_t>& out);
+
+/// Recomputes `tm`'s split vertices from its multi-crossing faces (reads both cells' vertices).
+void splitFaces(TileMesh& tm);
+
+/// Tangential relaxation toward the neighbours' mean, projection, normal (reads neighbours'
+/// `projected`, writes the vertex's `position` and `normal`).
+void relaxVertex(TileMesh& tm, Vertex& v);
+
+}  // namespace detail
+
+}  // namespace kizamu::mesh

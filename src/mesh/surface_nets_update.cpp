@@ -1,0 +1,573 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file surface_nets_update.cpp
+/// @brief SurfaceMesher::update: sub-tile re-meshing after an edit.
+///
+/// Why it is exact. A crossing depends only on the leaves whose closed boxes contain its start
+/// point p (its emitter and the leaves found around p) and on the emitter's corners; so a
+/// crossing whose p lies on no changed cell is the same record in both snapshots, and only
+/// crossings starting on a changed cell's closed box are recomputed (old ones there removed,
+/// identical ones kept in place). A cell's vertices depend on its corners and on the crossings
+/// around it, so only the cells around removed or added crossings, and changed cells, are
+/// re-meshed from all their crossings (kept ones from the old vertices' lists); a position after
+/// relaxation depends on the neighbours' projected vertices, so their neighbours are relaxed too.
+/// Every float is computed by the same code in the same order as in a build (incidences sorted
+/// by crossing key), so an update equals a build bit for bit.
+#include "mesh/surface_nets.h"
+
+#include "mesh/surface_nets_internal.h"
+#include "mesh/tile_diff.h"
+#include "util/thread_pool.h"
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+
+namespace kizamu::mesh {
+
+using adf::Adf;
+using adf::Tile;
+using namespace detail;
+
+namespace {
+
+template <class T>
+void sortUnique(std::vector<T>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+/// The finest unit cubes inside changed cells, per tile slot: a bitmap (x fastest, so a row
+/// of a 64-cell slot is one word), or the whole slot. Queries come in spatially coherent runs,
+/// so each task queries through its own Query, which caches the last slot looked up.
+class ChangedCells {
+    struct Slot {
+        bool whole = false;
+        std::vector<uint64_t> bits;
+    };
+
+public:
+    ChangedCells(const Adf& adf)
+        : mShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())), mTop(adf.domain().latticeSize()) {}
+
+    void mark(const LatticeBox& b) {
+        const uint32_t slotSize = 1u << mShift;
+        const glm::uvec3 s0 = b.lo >> mShift, s1 = (b.lo + (b.size - 1)) >> mShift;
+        for (uint32_t z = s0.z; z <= s1.z; ++z)
+            for (uint32_t y = s0.y; y <= s1.y; ++y)
+                for (uint32_t x = s0.x; x <= s1.x; ++x) {
+                    Slot& s = mSlots[slotKey({x, y, z})];
+                    if (s.whole) continue;
+                    if (b.size >= slotSize) {
+                        s.whole = true;
+                        s.bits = {};
+                        continue;
+                    }
+                    if (s.bits.empty()) s.bits.assign((std::size_t(1) << (3 * mShift)) / 64 + 1, 0);
+                    const glm::uvec3 o = b.lo - (glm::uvec3(x, y, z) << mShift);  // inside this slot
+                    for (uint32_t k = 0; k < b.size; ++k)
+                        for (uint32_t j = 0; j < b.size; ++j) setRun(s.bits, bit(o + glm::uvec3(0, j, k)), b.size);
+                }
+    }
+
+    /// Reads the marks (after the last mark()); one per task: it caches the last slot.
+    class Query {
+    public:
+        explicit Query(const ChangedCells& c) : mCells(c) {}
+
+        /// The finest cube with minimum corner `u` lies in a changed cell.
+        bool unitChanged(glm::uvec3 u) const {
+            const Slot* s = slot(u >> mShift);
+            if (!s) return false;
+            if (s->whole) return true;
+            const std::size_t at = bit(u & glm::uvec3((1u << mShift) - 1));
+            return (s->bits[at >> 6] >> (at & 63)) & 1;
+        }
+
+        /// Lattice point `p` lies on the closed box of a changed cell.
+        bool pointChanged(glm::uvec3 p) const {
+            const uint32_t mask = (1u << mShift) - 1;
+            const glm::uvec3 local = p & mask;
+            if (local.x > 0 && local.y > 0 && local.z > 0 && p.x < mTop && p.y < mTop && p.z < mTop) {
+                // The 8 unit cubes around p lie in one slot: two bits in each of 4 rows.
+                const Slot* s = slot(p >> mShift);
+                if (!s) return false;
+                if (s->whole) return true;
+                for (uint32_t dz = 0; dz < 2; ++dz)
+                    for (uint32_t dy = 0; dy < 2; ++dy) {
+                        const std::size_t at = bit(local - glm::uvec3(1, dy, dz));
+                        const uint64_t pair = (s->bits[at >> 6] >> (at & 63)) | ((at & 63) == 63 ? s->bits[(at >> 6) + 1] << 1 : 0);
+                        if (pair & 3) return true;
+                    }
+                return false;
+            }
+            for (int c = 0; c < 8; ++c) {
+                const glm::uvec3 d(c & 1, (c >> 1) & 1, c >> 2);
+                if ((d.x > p.x) || (d.y > p.y) || (d.z > p.z)) continue;
+                const glm::uvec3 u = p - d;
+                if (u.x >= mTop || u.y >= mTop || u.z >= mTop) continue;
+                if (unitChanged(u)) return true;
+            }
+            return false;
+        }
+
+    private:
+        const Slot* slot(glm::uvec3 s) const {
+            const uint64_t key = slotKey(s);
+            if (key != mLastKey) {
+                auto it = mCells.mSlots.find(key);
+                mLastKey = key;
+                mLast = it == mCells.mSlots.end() ? nullptr : &it->second;
+            }
+            return mLast;
+        }
+        std::size_t bit(glm::uvec3 local) const { return mCells.bit(local); }
+        const ChangedCells& mCells;
+        const uint32_t mShift = mCells.mShift, mTop = mCells.mTop;
+        mutable uint64_t mLastKey = UINT64_MAX;
+        mutable const Slot* mLast = nullptr;
+    };
+
+private:
+    static uint64_t slotKey(glm::uvec3 s) { return packLattice(s); }
+    std::size_t bit(glm::uvec3 local) const {
+        return std::size_t(local.x) | (std::size_t(local.y) << mShift) | (std::size_t(local.z) << (2 * mShift));
+    }
+    /// Sets bits [at, at + n).
+    static void setRun(std::vector<uint64_t>& bits, std::size_t at, uint32_t n) {
+        while (n > 0) {
+            const uint32_t off = uint32_t(at & 63), take = std::min(n, 64u - off);
+            bits[at >> 6] |= (take == 64 ? ~uint64_t(0) : ((uint64_t(1) << take) - 1)) << off;
+            at += take;
+            n -= take;
+        }
+    }
+    uint32_t mShift, mTop;
+    std::unordered_map<uint64_t, Slot> mSlots;
+};
+
+inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
+    return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
+}
+
+/// A cell to re-mesh, and a crossing added around it (or none).
+struct CellTask {
+    uint64_t owner, cell;
+    uint64_t addedKey;  ///< the added crossing's key (0 for none): integer compares only
+    Crossing* added;
+    bool operator<(const CellTask& o) const {
+        if (owner != o.owner) return owner < o.owner;
+        if (cell != o.cell) return cell < o.cell;
+        return addedKey < o.addedKey;
+    }
+    bool operator==(const CellTask&) const = default;
+};
+
+/// Rebuilds `tm`'s incidence list when most of it belongs to re-meshed vertices.
+void compactIncidences(TileMesh& tm) {
+    if (tm.incidences.size() < 2 * tm.liveIncidences + 1024) return;
+    std::vector<VertexIncidence> kept;
+    kept.reserve(tm.liveIncidences);
+    for (Vertex& v : tm.vertices) {
+        if (!v.alive) continue;
+        const uint32_t begin = uint32_t(kept.size());
+        kept.insert(kept.end(), tm.incidences.begin() + v.incBegin, tm.incidences.begin() + v.incEnd);
+        v.incBegin = begin;
+        v.incEnd = uint32_t(kept.size());
+    }
+    tm.incidences.swap(kept);
+}
+
+}  // namespace
+
+void SurfaceMesher::update(adf::AdfPtr next) {
+    if (!next) throw std::invalid_argument("surface nets: no snapshot");
+    if (!mAdf || !(next->domain() == mAdf->domain())) {
+        build(std::move(next));
+        return;
+    }
+    const auto tStart = std::chrono::steady_clock::now();
+    const adf::AdfPtr before = std::move(mAdf);  // its tiles stay alive until the update is done
+    mAdf = std::move(next);
+    const Adf& oldAdf = *before;
+    const Adf& a = *mAdf;
+    const int maxLevel = a.domain().maxLevel;
+    const uint32_t shift = uint32_t(maxLevel - a.domain().tileLevel());
+    const uint32_t slots = a.domain().slotsPerAxis();
+    SurfaceNetsStats st;
+    auto tileOfKey = [&](const Adf& s, uint64_t key) -> const Tile* {
+        const Tile* t = s.tileAtSlot(unpackLattice(key) >> shift);
+        return packLattice(t->latticeOrigin()) == key ? t : nullptr;
+    };
+    auto extentOf = [&](const Tile& t) { return 1u << uint32_t(maxLevel - t.level()); };
+
+    // 0. Tiles the new snapshot does not share with the old one, and old tiles that are gone,
+    // compared cell by cell.
+    // Slot by slot (two loads each; the old tile of every TileMesh is the old snapshot's).
+    std::vector<uint64_t> dirty;
+    for (uint32_t z = 0; z < slots; ++z)
+        for (uint32_t y = 0; y < slots; ++y)
+            for (uint32_t x = 0; x < slots; ++x) {
+                const Tile* was = oldAdf.tileAtSlot({x, y, z});
+                const Tile* now = a.tileAtSlot({x, y, z});
+                if (was == now) continue;
+                dirty.push_back(packLattice(was->latticeOrigin()));
+                dirty.push_back(packLattice(now->latticeOrigin()));
+            }
+    sortUnique(dirty);
+    std::vector<std::vector<LatticeBox>> boxesOf(dirty.size());
+    util::parallelFor(mPool, dirty.size(), [&](std::size_t i) {
+        const Tile* was = tileOfKey(oldAdf, dirty[i]);
+        const Tile* now = tileOfKey(a, dirty[i]);
+        if (was && now && was->level() == now->level()) {
+            appendChangedCells(*was, *now, maxLevel, boxesOf[i]);
+        } else {
+            if (was) boxesOf[i].push_back({was->latticeOrigin(), extentOf(*was)});
+            if (now) boxesOf[i].push_back({now->latticeOrigin(), extentOf(*now)});
+        }
+    });
+    ChangedCells changed(a);
+    // Tiles whose closed box touches a changed cell, with the bounding box of those cells.
+    struct Touched {
+        glm::uvec3 lo{UINT32_MAX}, hi{0};
+    };
+    std::unordered_map<uint64_t, Touched> touched;
+    for (const std::vector<LatticeBox>& boxes : boxesOf)
+        for (const LatticeBox& b : boxes) {
+            ++st.changedCells;
+            changed.mark(b);
+            const glm::uvec3 hi = b.lo + b.size;
+            glm::uvec3 s0 = b.lo >> shift, s1 = glm::min(hi >> shift, glm::uvec3(slots - 1));
+            for (int k = 0; k < 3; ++k)
+                if (s0[k] > 0 && (b.lo[k] & ((1u << shift) - 1)) == 0) --s0[k];
+            for (uint32_t z = s0.z; z <= s1.z; ++z)
+                for (uint32_t y = s0.y; y <= s1.y; ++y)
+                    for (uint32_t x = s0.x; x <= s1.x; ++x) {
+                        Touched& t = touched[packLattice(a.tileAtSlot({x, y, z})->latticeOrigin())];
+                        t.lo = glm::min(t.lo, b.lo);
+                        t.hi = glm::max(t.hi, hi);
+                    }
+        }
+    // Gone tiles: every crossing and vertex they hold goes.
+    for (uint64_t k : dirty) {
+        auto it = mTiles.find(k);
+        if (it == mTiles.end()) continue;
+        const Tile* now = tileOfKey(a, k);
+        if (!now) {
+            touched[k] = {glm::uvec3(0), glm::uvec3(UINT32_MAX)};
+        } else if (now != it->second->tile) {
+            it->second->tile = now;
+            slotBox(a, *now, it->second->slotMin, it->second->slotEnd);
+        }
+    }
+    std::vector<uint64_t> touchedKeys;
+    for (const auto& [k, t] : touched) touchedKeys.push_back(k);
+    std::sort(touchedKeys.begin(), touchedKeys.end());
+    std::vector<TileMesh*> scanTiles;
+    std::vector<Touched> scanBox;
+    for (uint64_t k : touchedKeys) {
+        auto it = mTiles.find(k);
+        TileMesh* tm = it != mTiles.end() ? it->second.get() : nullptr;
+        if (!tm) {
+            const Tile* t = tileOfKey(a, k);
+            if (!t || (t->singleLeaf() && t->rootType() != adf::CellType::Boundary)) continue;  // emits nothing
+            tm = ensureTile(k);
+        }
+        scanTiles.push_back(tm);
+        scanBox.push_back(touched[k]);
+    }
+
+    // 1. Crossings starting on a changed cell: recomputed by the tiles that can emit them.
+    struct ScanOut {
+        std::vector<Crossing*> removed, added, kept;
+        std::vector<uint32_t> released;
+        SurfaceNetsStats st;
+    };
+    std::vector<ScanOut> scans(scanTiles.size());
+    util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
+        TileMesh& tm = *scanTiles[i];
+        ScanOut& out = scans[i];
+        const ChangedCells::Query changedAt(changed);
+        const Touched box = scanBox[i];
+        const glm::uvec3 hi = glm::min(box.hi, glm::uvec3(a.domain().latticeSize()));
+        const std::vector<LatticeBox> region{{box.lo, std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z})}};
+        // Only a leaf with a corner on a changed cell can emit (or have emitted) such a crossing.
+        auto dropUnchanged = [&](std::vector<BoundaryCell>& leaves) {
+            std::erase_if(leaves, [&](const BoundaryCell& b) {
+                for (int c = 0; c < 8; ++c)
+                    if (changedAt.pointChanged(b.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * b.size)) return false;
+                return true;
+            });
+        };
+        // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
+        // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
+        std::vector<std::pair<uint64_t, uint32_t>> old;  // (key, slot)
+        std::vector<BoundaryCell> leaves;
+        const Tile* was = nullptr;
+        if (tm.liveCrossings > 0) {
+            was = tileOfKey(oldAdf, tm.key);
+            if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
+            appendBoundaryCellsTouching(*was, maxLevel, region, leaves);
+            dropUnchanged(leaves);
+            for (const BoundaryCell& e : leaves) {
+                const uint64_t cell = packLattice(e.origin);
+                const uint32_t* firstVertex = tm.cellVertex.find(cell);
+                if (!firstVertex) continue;
+                for (uint32_t vi = *firstVertex; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
+                    const Vertex& v = tm.vertices[vi];
+                    for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+                        // Another tile's crossing: only fields no task writes in this phase.
+                        const Crossing& x = *tm.incidences[j].x;
+                        if (x.ringCell[x.emitter] != cell || x.ringOwner[x.emitter] != tm.key) continue;
+                        if (inBox(x.start, box.lo, box.hi) && changedAt.pointChanged(x.start)) old.emplace_back(x.key(), x.slot);
+                    }
+                }
+            }
+        }
+        std::vector<Crossing> fresh;
+        if (tileOfKey(a, tm.key) == tm.tile) {
+            if (was != tm.tile) {  // a rebuilt tile (a neighbour the edit left alone has the same leaves)
+                leaves.clear();
+                appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves);
+                dropUnchanged(leaves);
+            }
+            out.st.boundaryLeaves = leaves.size();
+            const StartFilter onChanged{[](const void* q, glm::uvec3 p) {
+                                            return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
+                                        },
+                                        &changedAt};
+            computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
+        }
+        std::sort(old.begin(), old.end());
+        std::vector<std::pair<uint64_t, uint32_t>> order(fresh.size());  // (key, index): no record moves
+        for (uint32_t j = 0; j < fresh.size(); ++j) order[j] = {fresh[j].key(), j};
+        std::sort(order.begin(), order.end());
+        std::size_t o = 0, f = 0;
+        auto remove = [&](uint32_t j) {
+            Crossing& x = tm.crossings[j];
+            x.alive = 0;
+            --tm.liveCrossings;
+            out.removed.push_back(&x);
+            out.released.push_back(j);
+        };
+        auto add = [&](const Crossing& x) {
+            const uint32_t j = tm.crossings.append();  // never a slot released in this update
+            tm.crossings[j] = x;
+            tm.crossings[j].slot = j;
+            ++tm.liveCrossings;
+            out.added.push_back(&tm.crossings[j]);
+        };
+        while (o < old.size() || f < order.size()) {
+            if (f == order.size() || (o < old.size() && old[o].first < order[f].first)) {
+                remove(old[o++].second);
+            } else if (o == old.size() || order[f].first < old[o].first) {
+                add(fresh[order[f++].second]);
+            } else {
+                Crossing& x = tm.crossings[old[o].second];
+                const Crossing& y = fresh[order[f].second];
+                if (x.sameAs(y)) {
+                    out.kept.push_back(&x);
+                } else {
+                    remove(old[o].second);
+                    add(y);
+                }
+                ++o;
+                ++f;
+            }
+        }
+    });
+    st.tilesScanned = scanTiles.size();
+    std::vector<CellTask> tasks;
+    const ChangedCells::Query changedAt(changed);
+    // Totals move by what changed (the tiles not visited hold what they held).
+    int64_t crossingDelta = 0, vertexDelta = 0, splitDelta = 0;
+    for (const ScanOut& s : scans) {
+        crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
+        st.boundaryLeaves += s.st.boundaryLeaves;
+        st.openCrossings += s.st.openCrossings;
+        st.crossingsComputed += s.st.crossingsComputed;
+        for (Crossing* x : s.removed)
+            for (int q = 0; q < 4; ++q) tasks.push_back({x->ringOwner[q], x->ringCell[q], 0, nullptr});
+        for (Crossing* x : s.added)
+            for (int q = 0; q < 4; ++q)
+                if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
+                    tasks.push_back({x->ringOwner[q], x->ringCell[q], x->key(), x});
+        for (Crossing* x : s.kept)
+            for (int q = 0; q < 4; ++q)
+                if (changedAt.unitChanged(unpackLattice(x->ringCell[q])))
+                    tasks.push_back({x->ringOwner[q], x->ringCell[q], 0, nullptr});
+    }
+    sortUnique(tasks);
+
+    const auto tPhase1 = std::chrono::steady_clock::now();
+    // 2. Cells around changed crossings, and changed cells: all their vertices, from scratch.
+    std::vector<TileMesh*> meshTiles;
+    std::vector<std::size_t> taskBegin;
+    for (std::size_t i = 0; i < tasks.size(); ++i) {
+        if (i > 0 && tasks[i].owner == tasks[i - 1].owner) continue;
+        auto it = mTiles.find(tasks[i].owner);
+        TileMesh* tm = it != mTiles.end() ? it->second.get() : ensureTile(tasks[i].owner);
+        if (!tm) throw std::logic_error("surface nets: a crossing's cell has no tile");
+        meshTiles.push_back(tm);
+        taskBegin.push_back(i);
+    }
+    taskBegin.push_back(tasks.size());
+    for (const TileMesh* tm : meshTiles) vertexDelta -= tm->liveVertices;
+    std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
+    std::vector<std::vector<VertexRef>> made(meshTiles.size());
+    util::parallelFor(mPool, meshTiles.size(), [&](std::size_t ti) {
+        TileMesh& tm = *meshTiles[ti];
+        SurfaceNetsStats& ms = meshStats[ti];
+        // The re-meshed cells' multi-crossing faces are found again by meshCell.
+        const auto taskFirst = tasks.begin() + std::ptrdiff_t(taskBegin[ti]), taskEnd = tasks.begin() + std::ptrdiff_t(taskBegin[ti + 1]);
+        std::erase_if(tm.multiFaces, [&](const MultiFace& mf) {
+            const auto at = std::lower_bound(taskFirst, taskEnd, mf.cellA, [](const CellTask& t, uint64_t c) { return t.cell < c; });
+            return at != taskEnd && at->cell == mf.cellA;
+        });
+        CellScratch scratch;
+        std::vector<Incidence> inc;
+        const ChangedCells::Query cellChanged(changed);
+        for (std::size_t c0 = taskBegin[ti]; c0 < taskBegin[ti + 1];) {
+            std::size_t c1 = c0;
+            const uint64_t cell = tasks[c0].cell;
+            while (c1 < taskBegin[ti + 1] && tasks[c1].cell == cell) ++c1;
+            ++ms.cellsMeshed;
+            inc.clear();
+            // Kept crossings, from the old vertices (which go). An unchanged cell (its origin is
+            // on no changed cell: changed cells are whole octree cells) keeps its corners.
+            float corners[8];
+            bool haveCorners = false;
+            if (const uint32_t* firstVertex = tm.cellVertex.find(cell)) {
+                if (!cellChanged.unitChanged(unpackLattice(cell))) {
+                    std::copy(tm.vertices[*firstVertex].corners, tm.vertices[*firstVertex].corners + 8, corners);
+                    haveCorners = true;
+                }
+                for (uint32_t vi = *firstVertex; vi != UINT32_MAX;) {
+                    const Vertex& v = tm.vertices[vi];
+                    for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+                        const VertexIncidence& in = tm.incidences[j];
+                        if (in.x->alive) inc.push_back({cell, in.x->key(), in.x, in.first, in.last});
+                    }
+                    tm.liveIncidences -= v.incEnd - v.incBegin;
+                    const uint32_t nextVi = v.nextInCell;
+                    tm.releaseVertex(vi);
+                    vi = nextVi;
+                }
+                tm.cellVertex.erase(cell);
+            }
+            // Added crossings.
+            for (std::size_t c = c0; c < c1; ++c) {
+                Crossing* x = tasks[c].added;
+                if (!x) continue;
+                const int q = int(std::find(x->ringCell, x->ringCell + 4, cell) - x->ringCell);
+                uint8_t first, last;
+                incidenceRun(*x, q, first, last);
+                inc.push_back({cell, x->key(), x, first, last});
+            }
+            std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
+            c0 = c1;
+            if (inc.empty()) continue;
+            if (!haveCorners) {
+                const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));
+                std::copy(leaf.corners, leaf.corners + 8, corners);
+            }
+            bool anyIn = false, anyOut = false;
+            for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
+            if (!(anyIn && anyOut)) ++ms.signlessCells;
+            const std::size_t incBefore = tm.incidences.size();
+            const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), corners, scratch, ms);
+            tm.liveIncidences += tm.incidences.size() - incBefore;
+            tm.cellVertex.assign(cell, first);
+            for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) made[ti].push_back({&tm, vi});
+        }
+        compactIncidences(tm);
+    });
+    for (const TileMesh* tm : meshTiles) vertexDelta += tm->liveVertices;
+    st.tilesMeshed = meshTiles.size();
+    for (const SurfaceNetsStats& s : meshStats) {
+        st.cellsMeshed += s.cellsMeshed;
+        st.multiSheetCells += s.multiSheetCells;
+        st.multiCrossingFaces += s.multiCrossingFaces;
+        st.oddFaces += s.oddFaces;
+        st.signlessCells += s.signlessCells;
+        st.verticesComputed += s.verticesComputed;
+    }
+
+    const auto tPhase2 = std::chrono::steady_clock::now();
+    // 3. Split vertices (rare) of the re-meshed tiles and their neighbours: a multi-crossing
+    // face lies between two adjacent cells, so its owner is the tile of a re-meshed cell or a
+    // neighbour of it. Then relaxation of the new vertices and every vertex that reads one of
+    // them (each once: marked with this update's stamp).
+    {
+        std::vector<uint64_t> near;
+        for (const TileMesh* tm : meshTiles) neighbourKeys(a, tm->slotMin, tm->slotEnd, near);
+        sortUnique(near);
+        for (uint64_t k : near) {
+            auto it = mTiles.find(k);
+            if (it == mTiles.end() || (it->second->multiFaces.empty() && it->second->splits.empty())) continue;
+            splitDelta -= int64_t(it->second->splits.size());
+            splitFaces(*it->second);
+            splitDelta += int64_t(it->second->splits.size());
+        }
+    }
+    if (++mRelaxStamp == 0) {  // wrapped: clear every mark
+        for (const auto& [key, tm] : mTiles)
+            for (Vertex& v : tm->vertices) v.relaxStamp = 0;
+        mRelaxStamp = 1;
+    }
+    std::vector<VertexRef> relax;
+    for (const std::vector<VertexRef>& list : made)
+        for (const VertexRef& r : list) {
+            const Vertex& v = r.tile->vertices[r.index];
+            for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+                const Crossing& x = *r.tile->incidences[j].x;
+                for (int q = 0; q < 4; ++q) {
+                    const VertexRef n = x.ringVertex[q];
+                    Vertex& w = n.tile->vertices[n.index];
+                    if (w.relaxStamp == mRelaxStamp) continue;
+                    w.relaxStamp = mRelaxStamp;
+                    relax.push_back(n);
+                }
+            }
+        }
+    // Each vertex is independent (reads neighbours' `projected`, writes its own position):
+    // blocks of vertices, not one pool hand-off each.
+    constexpr std::size_t kRelaxBlock = 512;
+    util::parallelFor(mPool, (relax.size() + kRelaxBlock - 1) / kRelaxBlock, [&](std::size_t b) {
+        const std::size_t end = std::min(relax.size(), (b + 1) * kRelaxBlock);
+        for (std::size_t i = b * kRelaxBlock; i < end; ++i) relaxVertex(*relax[i].tile, relax[i].tile->vertices[relax[i].index]);
+    });
+    st.verticesRelaxed = relax.size();
+
+    // Released crossings can be reused from the next update on. Gone tiles must be empty; they
+    // and tiles left empty (only a visited tile can become empty) are dropped.
+    for (std::size_t i = 0; i < scanTiles.size(); ++i)
+        for (uint32_t j : scans[i].released) scanTiles[i]->crossings.release(j);
+    std::vector<uint64_t> emptied;
+    for (uint64_t k : dirty) {
+        auto it = mTiles.find(k);
+        if (it == mTiles.end() || tileOfKey(a, k)) continue;
+        if (it->second->liveCrossings || it->second->liveVertices)
+            throw std::logic_error("surface nets: a tile that is gone still holds mesh");
+        emptied.push_back(k);
+    }
+    for (const std::vector<TileMesh*>* list : {&scanTiles, &meshTiles})
+        for (const TileMesh* tm : *list)
+            if (tm->liveCrossings == 0 && tm->liveVertices == 0) emptied.push_back(tm->key);
+    sortUnique(emptied);
+    for (uint64_t k : emptied) {
+        auto it = mTiles.find(k);
+        splitDelta -= int64_t(it->second->splits.size());
+        mTiles.erase(it);
+    }
+    const auto tPhase3 = std::chrono::steady_clock::now();
+    auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
+    st.crossingMs = ms(tStart, tPhase1);
+    st.vertexMs = ms(tPhase1, tPhase2);
+    st.relaxMs = ms(tPhase2, tPhase3);
+    st.crossings = std::size_t(int64_t(mStats.crossings) + crossingDelta);
+    st.vertices = std::size_t(int64_t(mStats.vertices) + vertexDelta);
+    st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
+    mStats = st;
+}
+
+}  // namespace kizamu::mesh
