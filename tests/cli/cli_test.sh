@@ -14,6 +14,10 @@ info=$("$kizamu" info "$tmp/p.kza") || fail "info exited non-zero"
 for field in "level       7" "tiles" "cells" "memory" "bounds"; do
     grep -q "$field" <<<"$info" || fail "info lacks '$field'"
 done
+breakdown=$("$kizamu" info --breakdown "$tmp/p.kza") || fail "info --breakdown exited non-zero"
+for field in "brick values" "lone-leaves" "cells by min|corner|"; do
+    grep -qF "$field" <<<"$breakdown" || fail "info --breakdown lacks '$field'"
+done
 
 # damaged files: exit code 2, one line on stderr naming the file, nothing on stdout
 check_bad() {

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: Apache-2.0
+// The memory breakdown (`kizamu info --breakdown`) accounts for every cell and byte the
+// snapshot's own statistics count.
+#include "adf/adf_breakdown.h"
+
+#include "adf/generate.h"
+#include "adf/test_part.h"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+using namespace kizamu::adf;
+
+TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
+    const Domain d = testPartDomain(8);
+    const AdfPtr a = generate(*makeTestPart(d), d, testPartSettings());
+    const Adf::Stats stats = a->computeStats();
+    const AdfBreakdown b = computeBreakdown(*a);
+    std::size_t cells = 0, byType = 0, byDistance = 0, bricks = 0;
+    for (const AdfBreakdown::Level& l : b.levels) {
+        cells += l.loneLeaves + l.brickCells;
+        byType += std::accumulate(l.cellsByType.begin(), l.cellsByType.end(), std::size_t(0));
+        byDistance += std::accumulate(l.cellsByDistance.begin(), l.cellsByDistance.end(), std::size_t(0));
+        bricks += l.brickCells / 8;
+    }
+    EXPECT_EQ(cells, stats.cells);
+    EXPECT_EQ(byType, stats.cells);
+    EXPECT_EQ(byDistance, stats.cells);
+    EXPECT_EQ(bricks, stats.bricks);
+    EXPECT_EQ(b.narrowBricks + b.wideBricks, stats.bricks);
+    EXPECT_EQ(b.narrowBricks, stats.narrowBricks);
+    EXPECT_EQ(b.tiles, stats.tiles);
+    EXPECT_EQ(b.tableBytes, stats.tableBytes);
+    EXPECT_EQ(b.totalBytes(), stats.tileBytes + stats.tableBytes);
+    const std::string text = formatBreakdown(b, d.maxLevel);
+    EXPECT_NE(text.find("narrow"), std::string::npos) << text;
+}
