@@ -433,6 +433,28 @@ private:
         return a.x > hi.x || a.y > hi.y || a.z > hi.z || a.x + int(s) < lo.x || a.y + int(s) < lo.y || a.z + int(s) < lo.z;
     }
 
+    /// Where the old tile holds the cell at `o` (level `level`): its node word `word`, the
+    /// child `brickChild` of a brick (-1: the word itself), and whether that is a leaf coarser
+    /// than the cell (then the cell lies inside it).
+    struct OldCell {
+        uint32_t word;
+        int brickChild;
+        bool coarser;
+    };
+    OldCell findOld(glm::uvec3 o, int level) const {
+        const uint32_t* nodes = mOld->nodes();
+        uint32_t w = nodes[0];
+        for (int l = mDomain.tileLevel(); l < level; ++l) {
+            if (node::isInternal(w)) {
+                w = nodes[w + uint32_t(childAt(o, l))];
+                continue;
+            }
+            if (node::isLeaf(w)) return {w, -1, true};
+            return {w, childAt(o, l), l + 1 != level};  // a brick: the cell is (inside) one of its children
+        }
+        return {w, -1, false};
+    }
+
     /// Sub-tile regeneration: what a cell keeps of the old tile. `Copy`: the old tile's cells
     /// there. `Leaf`: the cell lies inside a coarser old leaf, whose trilinear field it
     /// inherits as one leaf on the parent's half-grid values (a fresh generation would find it
@@ -470,23 +492,18 @@ private:
             return true;
         };
         auto leafValues = [&](uint32_t leaf) { return [this, leaf](int c) { return mOld->corners()[8 * leaf + uint32_t(c)]; }; };
-        uint32_t w = nodes[0];
-        for (int l = mDomain.tileLevel(); l < level; ++l) {
-            if (node::isInternal(w)) {
-                w = nodes[w + uint32_t(childAt(o, l))];
-                continue;
-            }
-            if (node::isLeaf(w)) return inRange(8, leafValues(node::leafIndex(w))) ? Keep::Leaf : Keep::No;
-            const int child = childAt(o, l);  // a brick: the cell is (inside) one of its children
-            const uint32_t brick = node::brickIndex(w);
-            if (!inRange(8, [&](int c) { return mOld->brickValue(brick, brickPoint(child, c)); })) return Keep::No;
-            return l + 1 == level ? Keep::Copy : Keep::Leaf;
+        const OldCell cell = findOld(o, level);
+        if (cell.brickChild >= 0) {
+            const uint32_t brick = node::brickIndex(cell.word);
+            if (!inRange(8, [&](int c) { return mOld->brickValue(brick, brickPoint(cell.brickChild, c)); })) return Keep::No;
+            return cell.coarser ? Keep::Leaf : Keep::Copy;
         }
+        if (cell.coarser) return inRange(8, leafValues(node::leafIndex(cell.word))) ? Keep::Leaf : Keep::No;
         uint32_t stack[8 * kMaxTileSpan + 8];  // depth-first: at most 7 pending siblings per level
         int top = 0;
-        stack[top++] = w;
+        stack[top++] = cell.word;
         while (top > 0) {
-            w = stack[--top];
+            const uint32_t w = stack[--top];
             if (node::isLeaf(w)) {
                 if (!inRange(8, leafValues(node::leafIndex(w)))) return Keep::No;
             } else if (node::isBrick(w)) {
@@ -510,21 +527,15 @@ private:
     /// the old field outside the region, so generating would only re-derive them, at the cost
     /// of every sample; copying also keeps their structure exactly. False: generate it.
     bool copyOld(uint32_t nodeIndex, glm::uvec3 o, int level) {
-        const uint32_t* nodes = mOld->nodes();
-        uint32_t w = nodes[0];
-        for (int l = mDomain.tileLevel(); l < level; ++l) {
-            if (node::isInternal(w)) {
-                w = nodes[w + uint32_t(childAt(o, l))];
-                continue;
-            }
-            if (!node::isBrick(w) || l + 1 != level) return false;  // the old leaf is coarser
-            const int child = childAt(o, l);
+        const OldCell cell = findOld(o, level);
+        if (cell.coarser) return false;
+        if (cell.brickChild >= 0) {
             float corners[8];
-            for (int c = 0; c < 8; ++c) corners[c] = mOld->brickCorner(node::brickIndex(w), child, c);
+            for (int c = 0; c < 8; ++c) corners[c] = mOld->brickCorner(node::brickIndex(cell.word), cell.brickChild, c);
             makeLeaf(nodeIndex, corners);
             return true;
         }
-        copySubtree(nodeIndex, w);
+        copySubtree(nodeIndex, cell.word);
         return true;
     }
 
