@@ -49,28 +49,24 @@ public:
 
     /// Where the tool cannot reach, the old field stands: carving changes only points deeper
     /// in the material than the tool's distance, adding only points farther out, the gradual
-    /// tools only points inside the tool. An exact swept distance is 1-Lipschitz, so its value
-    /// at the centre less the radius bounds it over the ball; masks and limits only ever take
-    /// away from what the tool does. The slack covers neighbouring tiles storing a shared
-    /// corner at different scales (the generator also allows for the old tile's own rounding).
+    /// tools only points inside the tool. The true swept distance is 1-Lipschitz and the tool's
+    /// answer never below it, so a lower bound of it at the centre, less the radius, bounds the
+    /// tool over the ball (SweptTool::lowerBound: exact for spheres, a box bound otherwise, no
+    /// search per cell). Masks and limits only ever take away from what the tool does. The
+    /// slack covers neighbouring tiles storing a shared corner at different scales (the
+    /// generator also allows for the old tile's own rounding).
     Range unchangedRange(const glm::dvec3& c, double radius) const override {
         constexpr double kInf = std::numeric_limits<double>::infinity();
-        if (!mTool->exact()) return {};  // a turning cube or cylinder: no Lipschitz bound to lean on
         const double slack = 0.05 * mFinestCell;
         const double reach = radius + slack;
         const glm::dvec3 q = mirrored(c);
+        // Searched only up to well past the band: beyond, the limit itself is a lower bound.
+        const double far = reach + 32.0 * mFinestCell;
         switch (mOp) {
-        case ToolOp::Carve: {
-            // unchanged where old >= -tool, i.e. old >= reach - tool(c)
-            const double t = mTool->distanceBelow(q, kInf);
-            return {reach - t, kInf};
-        }
-        case ToolOp::Add: {
-            const double t = mTool->distanceBelow(q, kInf);
-            return {-kInf, t - reach};
-        }
+        case ToolOp::Carve: return {reach - mTool->lowerBound(q, far), kInf};  // unchanged where old >= -tool
+        case ToolOp::Add: return {-kInf, mTool->lowerBound(q, far) - reach};   // unchanged where old <= tool
         default:
-            if (mTool->distanceBelow(q, reach) >= reach) return {-kInf, kInf};  // the weight is 0
+            if (mTool->lowerBound(q, reach) >= reach) return {-kInf, kInf};  // the weight is 0
             return {};
         }
     }

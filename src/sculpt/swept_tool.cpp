@@ -77,7 +77,6 @@ SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(
         if (sinHalf > 0.0) s.axis = glm::dvec3(r.x, r.y, r.z) / sinHalf;
         s.fixedOrientation = s.angle < 1e-9;
         s.angleSteps = std::max(8, int(std::ceil(s.angle / kMaxStepRadians)) + 1);
-        if (!s.fixedOrientation && tool.shape != ToolShape::Sphere) mExact = false;
         mSegments.push_back(s);
     }
     mNodes.reserve(2 * mSegments.size());
@@ -143,7 +142,8 @@ double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
     return std::min(bestValue, goldenMinimum(at, lo, hi));
 }
 
-double SweptTool::distanceBelow(const glm::dvec3& p, double limit) const {
+template <class SegmentDistance>
+double SweptTool::search(const glm::dvec3& p, double limit, const SegmentDistance& segment) const {
     double best = limit;
     const double r = mTool.boundingRadius();
     // Lower bound of a node: distance to its box minus nothing (the box already holds the tool);
@@ -156,17 +156,37 @@ double SweptTool::distanceBelow(const glm::dvec3& p, double limit) const {
         const double bound = boxDistance(p, n.lo, n.hi) - (glm::all(glm::lessThanEqual(n.lo, p)) && glm::all(glm::lessThanEqual(p, n.hi)) ? r : 0.0);
         if (bound >= best) continue;
         if (n.count > 0) {
-            for (uint32_t i = n.first; i < n.first + n.count; ++i) best = std::min(best, segmentDistance(mSegments[i], p));
+            for (uint32_t i = n.first; i < n.first + n.count; ++i) best = std::min(best, segment(mSegments[i]));
             continue;
         }
         if (top + 2 > 64) {  // deep trees are impossible for 2^32 segments, but stay safe
-            for (uint32_t i = 0; i < mSegments.size(); ++i) best = std::min(best, segmentDistance(mSegments[i], p));
+            for (uint32_t i = 0; i < mSegments.size(); ++i) best = std::min(best, segment(mSegments[i]));
             return best;
         }
         stack[top++] = n.right;
         stack[top++] = n.left;
     }
     return best;
+}
+
+double SweptTool::distanceBelow(const glm::dvec3& p, double limit) const {
+    return search(p, limit, [&](const Segment& s) { return segmentDistance(s, p); });
+}
+
+double SweptTool::lowerBound(const glm::dvec3& p, double limit) const {
+    const double r = mTool.boundingRadius();
+    return search(p, limit, [&](const Segment& s) {
+        if (mTool.shape == ToolShape::Sphere) {
+            // A sphere turns into itself: the capsule distance, whatever the orientations.
+            const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.inverseA * (s.b.position - s.a.position);
+            const double len2 = glm::dot(w, w);
+            const double t = len2 > 0.0 ? std::clamp(glm::dot(q, w) / len2, 0.0, 1.0) : 0.0;
+            return toolDistance(mTool, q - t * w);
+        }
+        // The segment's swept volume lies in the box of its ends grown by the bounding radius.
+        const glm::dvec3 lo = glm::min(s.a.position, s.b.position) - r, hi = glm::max(s.a.position, s.b.position) + r;
+        return boxDistance(p, lo, hi) - (glm::all(glm::lessThanEqual(lo, p)) && glm::all(glm::lessThanEqual(p, hi)) ? r : 0.0);
+    });
 }
 
 double SweptTool::featureSize(const glm::dvec3& centre, double radius) const {

@@ -36,6 +36,11 @@ public:
     /// stroke that cannot come closer than the limit are not searched (what an edit needs:
     /// far from the tool the old field wins the CSG anyway).
     double distanceBelow(const glm::dvec3& p, double limit) const;
+    /// A lower bound of the true distance to the swept volume where below `limit` (otherwise
+    /// `limit`), without searching: exact for a sphere (a capsule per segment), a box bound per
+    /// segment for the other shapes. distance() never falls below it (its search only misses
+    /// minima, never invents them). What an edit needs to say where it cannot reach.
+    double lowerBound(const glm::dvec3& p, double limit) const;
     double featureSize(const glm::dvec3& centre, double radius) const override;
 
     /// Box (m) containing every point of the swept tool.
@@ -43,10 +48,6 @@ public:
     const Tool& tool() const { return mTool; }
     /// The stroke's first pose (orientation unit).
     const ToolSample& firstSample() const { return mSegments.front().a; }
-    /// True when distance() is the exact (so 1-Lipschitz) distance to the swept volume: a
-    /// sphere, or a stroke that never turns. A turning cube or cylinder is found by a sampled
-    /// search that may overestimate by a fraction of the tool's size.
-    bool exact() const { return mExact; }
 
 private:
     struct Segment {
@@ -62,13 +63,15 @@ private:
         uint32_t first, count, left, right;
     };
     double segmentDistance(const Segment& s, const glm::dvec3& p) const;
+    /// Nearest segment by `segment(s)`, visiting only BVH nodes whose box could beat `limit`.
+    template <class SegmentDistance>
+    double search(const glm::dvec3& p, double limit, const SegmentDistance& segment) const;
     uint32_t build(uint32_t first, uint32_t count);
 
     Tool mTool;
     std::vector<Segment> mSegments;
     std::vector<Node> mNodes;
     adf::BoxWorld mBounds;
-    bool mExact = true;
 };
 
 std::shared_ptr<const SweptTool> makeSweptTool(const Tool& tool, std::vector<ToolSample> samples);

@@ -72,7 +72,7 @@ TEST(StrokeEdit, AnswersTheOldFieldWhereverItSaysItStands) {
     }
     EXPECT_GT(kept, 2000);
     EXPECT_GT(checked, 20000);
-    EXPECT_EQ(turningKept, 0) << "a turning cube or cylinder has no Lipschitz bound: nothing is kept";
+    EXPECT_GT(turningKept, 100) << "turning cubes and cylinders keep cells too (a box bound, no search)";
 }
 
 }  // namespace
