@@ -680,13 +680,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         computeVertices(a, mTiles, *meshTiles[i], nbrs, meshStats[i]);
     });
     st.tilesMeshed = meshTiles.size();
-    for (const SurfaceNetsStats& s : meshStats) {
-        st.multiSheetCells += s.multiSheetCells;
-        st.multiCrossingFaces += s.multiCrossingFaces;
-        st.oddFaces += s.oddFaces;
-        st.signlessCells += s.signlessCells;
-        st.verticesComputed += s.verticesComputed;
-    }
+    for (const SurfaceNetsStats& s : meshStats) addVertexCounters(st, s);
 
     const auto tPhase2 = std::chrono::steady_clock::now();
     // 3. Relaxation reads neighbours' projected vertices.

@@ -212,6 +212,15 @@ void splitFaces(TileMesh& tm);
 /// `projected`, writes the vertex's `position` and `normal`).
 void relaxVertex(TileMesh& tm, Vertex& v);
 
+/// Adds one tile's vertex-phase counters (the same in a build and an update) to `total`.
+inline void addVertexCounters(SurfaceNetsStats& total, const SurfaceNetsStats& tile) {
+    total.multiSheetCells += tile.multiSheetCells;
+    total.multiCrossingFaces += tile.multiCrossingFaces;
+    total.oddFaces += tile.oddFaces;
+    total.signlessCells += tile.signlessCells;
+    total.verticesComputed += tile.verticesComputed;
+}
+
 }  // namespace detail
 
 }  // namespace kizamu::mesh

@@ -485,11 +485,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.tilesMeshed = meshTiles.size();
     for (const SurfaceNetsStats& s : meshStats) {
         st.cellsMeshed += s.cellsMeshed;
-        st.multiSheetCells += s.multiSheetCells;
-        st.multiCrossingFaces += s.multiCrossingFaces;
-        st.oddFaces += s.oddFaces;
-        st.signlessCells += s.signlessCells;
-        st.verticesComputed += s.verticesComputed;
+        addVertexCounters(st, s);
     }
 
     const auto tPhase2 = std::chrono::steady_clock::now();
