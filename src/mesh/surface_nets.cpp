@@ -331,8 +331,9 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
     end = lo + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
 }
 
-void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves,
-                      std::vector<Crossing>& out, SurfaceNetsStats& st, StartFilter filter) {
+template <class Out>
+void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves, Out& out,
+                      SurfaceNetsStats& st, StartFilter filter) {
     const uint32_t top = adf.domain().latticeSize();
     LeafLocator locator(adf);
     for (const BoundaryCell& leaf : leaves) {
@@ -380,7 +381,7 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                     continue;
                 }
                 if (skip) continue;
-                Crossing x;
+                Crossing& x = out.emplace_back();
                 x.start = p;
                 x.length = leaf.size;
                 x.axis = uint8_t(k);
@@ -407,12 +408,16 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                 x.point[k] += t * float(leaf.size);
                 x.alive = 1;
                 ++st.crossingsComputed;
-                out.push_back(x);
             }
         }
     }
 }
 
+
+template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, std::vector<Crossing>&,
+                               SurfaceNetsStats&, StartFilter);
+template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, PoolAppender&,
+                               SurfaceNetsStats&, StartFilter);
 
 void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
     uint8_t mask = 0;
@@ -441,34 +446,20 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = {};
         if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = {};
     }
-    // Most faces carry exactly two crossings: pair those directly, sort only the rest.
-    {
-        const std::size_t m = faces.size();
-        uint32_t partner[64];
-        if (m <= 64) {
-            for (std::size_t a = 0; a < m; ++a) {
-                std::size_t match = SIZE_MAX, matches = 0;
-                for (std::size_t b = 0; b < m; ++b)
-                    if (b != a && faces[b].neighbour == faces[a].neighbour) {
-                        match = b;
-                        ++matches;
-                    }
-                partner[a] = matches == 1 ? uint32_t(match) : UINT32_MAX;
-            }
-            std::size_t keep = 0;
-            for (std::size_t a = 0; a < m; ++a) {
-                if (partner[a] == UINT32_MAX) {
-                    faces[keep++] = faces[a];
-                } else if (partner[a] > a) {
-                    uf.unite(faces[a].local, faces[partner[a]].local);
-                }
-            }
-            faces.resize(keep);
+    // Group the entries by face (a handful: insertion sort); most faces carry two crossings.
+    auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) {
+        return l.neighbour != r.neighbour ? l.neighbour < r.neighbour : l.local < r.local;
+    };
+    if (faces.size() > 32) {
+        std::sort(faces.begin(), faces.end(), before);
+    } else {
+        for (std::size_t i = 1; i < faces.size(); ++i) {
+            const CellScratch::FaceEntry v = faces[i];
+            std::size_t j = i;
+            for (; j > 0 && before(v, faces[j - 1]); --j) faces[j] = faces[j - 1];
+            faces[j] = v;
         }
     }
-    std::sort(faces.begin(), faces.end(), [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) {
-        return l.neighbour != r.neighbour ? l.neighbour < r.neighbour : l.local < r.local;
-    });
     for (std::size_t f0 = 0; f0 < faces.size();) {
         std::size_t f1 = f0;
         while (f1 < faces.size() && faces[f1].neighbour == faces[f0].neighbour) ++f1;
@@ -637,16 +628,11 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         TileMesh& tm = *scanTiles[i];
         scanLeaves(a, tm);
         scanStats[i].boundaryLeaves = tm.leaves.size();
-        std::vector<Crossing> fresh;
-        computeCrossings(a, tm.key, tm.leaves, fresh, scanStats[i]);
-        for (const Crossing& x : fresh) {
-            const uint32_t j = tm.crossings.append();
-            tm.crossings[j] = x;
-            tm.crossings[j].slot = j;
-        }
-        tm.liveCrossings = uint32_t(fresh.size());
-        for (uint32_t j = 0; j < fresh.size(); ++j) {
-            const Crossing& x = fresh[j];
+        PoolAppender appender{tm.crossings};
+        computeCrossings(a, tm.key, tm.leaves, appender, scanStats[i]);
+        tm.liveCrossings = tm.crossings.size();
+        for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
+            const Crossing& x = tm.crossings[j];
             for (int q = 0; q < 4; ++q)
                 if (x.ringOwner[q] != tm.key && std::find(x.ringOwner, x.ringOwner + q, x.ringOwner[q]) == x.ringOwner + q)
                     tm.border.push_back({x.ringOwner[q], j});
@@ -738,6 +724,30 @@ void SurfaceMesher::totals(SurfaceNetsStats& st) const {
     }
 }
 
+namespace {
+
+/// Triangles a crossing's dual polygon becomes, and whether it is fanned around a new centre
+/// vertex (a split vertex on one of its sides).
+struct PolygonShape {
+    uint32_t triangles;
+    bool fan;
+};
+inline PolygonShape polygonShape(const Crossing& x) {
+    uint32_t corners = 0;
+    bool split = false;
+    for (int q = 0; q < 4; ++q) {
+        corners += x.ringCell[q] != x.ringCell[(q + 3) % 4];
+        if (x.split[q].tile && x.ringCell[q] != x.ringCell[(q + 1) % 4]) {
+            ++corners;
+            split = true;
+        }
+    }
+    if (split) return {corners, true};
+    return {corners == 3 ? 1u : 2u, false};
+}
+
+}  // namespace
+
 MeshBuffers SurfaceMesher::mesh() const {
     MeshBuffers m;
     if (!mAdf) return m;
@@ -745,92 +755,122 @@ MeshBuffers SurfaceMesher::mesh() const {
     order.reserve(mTiles.size());
     for (const auto& [key, tm] : mTiles) order.push_back(tm.get());
     std::sort(order.begin(), order.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
-    // Output numbering: live vertices in slot order, then split vertices, tile by tile.
-    std::unordered_map<const TileMesh*, std::vector<uint32_t>> number;
-    std::size_t vertices = 0, crossings = 0;
-    for (TileMesh* tm : order) {
-        tm->offset = uint32_t(vertices);
-        std::vector<uint32_t>& num = number[tm];
-        num.resize(tm->vertices.size() + tm->splits.size(), UINT32_MAX);
+    // Output numbering: live vertices in slot order, then split vertices, tile by tile; then
+    // the centres of fanned polygons and the triangles, in crossing order, tile by tile. Each
+    // tile counts its share, then writes it at its offsets: the same buffers as a serial pass.
+    struct Share {
+        uint32_t vertices = 0, triangles = 0, centres = 0;
+        uint32_t centreOffset = 0;
+        std::size_t triangleOffset = 0;
+    };
+    std::vector<Share> share(order.size());
+    util::parallelFor(mPool, order.size(), [&](std::size_t t) {
+        TileMesh& tm = *order[t];
+        tm.outNumber.assign(tm.vertices.size() + tm.splits.size(), UINT32_MAX);
         uint32_t next = 0;
-        for (uint32_t i = 0; i < tm->vertices.size(); ++i)
-            if (tm->vertices[i].alive) num[i] = next++;
-        for (uint32_t i = 0; i < tm->splits.size(); ++i) num[tm->vertices.size() + i] = next++;
-        vertices += next;
-        crossings += tm->liveCrossings;
+        for (uint32_t i = 0; i < tm.vertices.size(); ++i)
+            if (tm.vertices[i].alive) tm.outNumber[i] = next++;
+        for (uint32_t i = 0; i < tm.splits.size(); ++i) tm.outNumber[tm.vertices.size() + i] = next++;
+        Share& sh = share[t];
+        sh.vertices = next;
+        for (uint32_t xi = 0; xi < tm.crossings.size(); ++xi) {
+            const Crossing& x = tm.crossings[xi];
+            if (!x.alive) continue;
+            const PolygonShape ps = polygonShape(x);
+            sh.triangles += ps.triangles;
+            sh.centres += ps.fan;
+        }
+    });
+    std::size_t vertices = 0, triangles = 0;
+    for (std::size_t t = 0; t < order.size(); ++t) {
+        order[t]->offset = uint32_t(vertices);
+        vertices += share[t].vertices;
     }
-    m.positions.reserve(vertices);
-    m.normals.reserve(vertices);
-    m.indices.reserve(crossings * 6);
+    std::size_t centres = vertices;
+    for (Share& sh : share) {
+        sh.centreOffset = uint32_t(centres);
+        sh.triangleOffset = triangles;
+        centres += sh.centres;
+        triangles += sh.triangles;
+    }
+    m.positions.resize(centres);
+    m.normals.resize(centres);
+    m.indices.resize(3 * triangles);
     const glm::dvec3 origin = mAdf->domain().originWorld;
     const double h = mAdf->domain().finestCellSize();
     auto world = [&](const glm::vec3& lattice) { return glm::vec3(origin + glm::dvec3(lattice) * h); };
-    for (const TileMesh* tm : order) {
-        for (const Vertex& v : tm->vertices) {
+    util::parallelFor(mPool, order.size(), [&](std::size_t t) {
+        const TileMesh& tm = *order[t];
+        uint32_t out = tm.offset;
+        for (const Vertex& v : tm.vertices) {
             if (!v.alive) continue;
-            m.positions.push_back(world(v.position));
-            m.normals.push_back(v.normal);
+            m.positions[out] = world(v.position);
+            m.normals[out++] = v.normal;
         }
-        for (const SplitVertex& sv : tm->splits) {
+        for (const SplitVertex& sv : tm.splits) {
             const Vertex& a = sv.a.tile->vertices[sv.a.index];
             const Vertex& b = sv.b.tile->vertices[sv.b.index];
-            m.positions.push_back(world(0.5f * (a.position + b.position)));
+            m.positions[out] = world(0.5f * (a.position + b.position));
             const glm::vec3 n = a.normal + b.normal;
-            m.normals.push_back(glm::dot(n, n) > 0.0f ? glm::normalize(n) : a.normal);
+            m.normals[out++] = glm::dot(n, n) > 0.0f ? glm::normalize(n) : a.normal;
         }
-    }
-    auto index = [&](const VertexRef& r) {
+    });
+    auto index = [](const VertexRef& r) {
         if (!r.tile) throw std::logic_error("surface nets: a crossing has no vertex");
-        const std::vector<uint32_t>& num = number.at(r.tile);
+        const std::vector<uint32_t>& num = r.tile->outNumber;
         if (r.index >= num.size() || num[r.index] == UINT32_MAX)
             throw std::logic_error("surface nets: a crossing refers to a released vertex");
         return r.tile->offset + num[r.index];
     };
-    std::vector<uint32_t> polygon;
-    for (const TileMesh* tm : order)
-        for (uint32_t xi = 0; xi < tm->crossings.size(); ++xi) {
-            const Crossing& x = tm->crossings[xi];
+    util::parallelFor(mPool, order.size(), [&](std::size_t t) {
+        const TileMesh& tm = *order[t];
+        uint32_t* tri = m.indices.data() + 3 * share[t].triangleOffset;
+        uint32_t centre = share[t].centreOffset;
+        uint32_t polygon[8];
+        for (uint32_t xi = 0; xi < tm.crossings.size(); ++xi) {
+            const Crossing& x = tm.crossings[xi];
             if (!x.alive) continue;
             auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
-                if (x.startInside) {
-                    m.indices.insert(m.indices.end(), {a, b, c});
-                } else {
-                    m.indices.insert(m.indices.end(), {a, c, b});
-                }
+                tri[0] = a;
+                tri[1] = x.startInside ? b : c;
+                tri[2] = x.startInside ? c : b;
+                tri += 3;
             };
-            // The dual polygon in ring order, with any split vertices on its sides.
-            polygon.clear();
-            bool split = false;
-            for (int q = 0; q < 4; ++q) {
-                if (x.ringCell[q] != x.ringCell[(q + 3) % 4]) polygon.push_back(index(x.ringVertex[q]));
-                if (x.split[q].tile && x.ringCell[q] != x.ringCell[(q + 1) % 4]) {
-                    polygon.push_back(index(x.split[q]));
-                    split = true;
+            if (!polygonShape(x).fan) {
+                // Split along the diagonal through the smallest leaf (the emitter), or one
+                // triangle where two ring cells are the same leaf.
+                uint32_t n = 0;
+                for (int q = 0; q < 4; ++q)
+                    if (x.ringCell[q] != x.ringCell[(q + 3) % 4]) polygon[n++] = index(x.ringVertex[q]);
+                if (n == 3) {
+                    emit(polygon[0], polygon[1], polygon[2]);
+                    continue;
                 }
-            }
-            if (split) {
-                // Fan around a new centre: its edges cannot coincide with any other.
-                glm::vec3 c(0.0f), n(0.0f);
-                for (uint32_t v : polygon) {
-                    c += m.positions[v];
-                    n += m.normals[v];
-                }
-                const uint32_t centre = uint32_t(m.positions.size());
-                m.positions.push_back(c / float(polygon.size()));
-                m.normals.push_back(glm::dot(n, n) > 0.0f ? glm::normalize(n) : glm::vec3(0.0f, 0.0f, 1.0f));
-                for (std::size_t i = 0; i < polygon.size(); ++i)
-                    emit(centre, polygon[i], polygon[(i + 1) % polygon.size()]);
-            } else if (polygon.size() == 3) {
-                emit(polygon[0], polygon[1], polygon[2]);
-            } else {
-                // Split along the diagonal through the smallest leaf (the emitter).
                 const int e = x.emitter;
                 const uint32_t i0 = index(x.ringVertex[e]), i1 = index(x.ringVertex[(e + 1) % 4]),
                                i2 = index(x.ringVertex[(e + 2) % 4]), i3 = index(x.ringVertex[(e + 3) % 4]);
                 emit(i0, i1, i2);
                 emit(i0, i2, i3);
+                continue;
             }
+            // The dual polygon in ring order with the split vertices on its sides, fanned
+            // around a new centre: its edges cannot coincide with any other.
+            uint32_t n = 0;
+            for (int q = 0; q < 4; ++q) {
+                if (x.ringCell[q] != x.ringCell[(q + 3) % 4]) polygon[n++] = index(x.ringVertex[q]);
+                if (x.split[q].tile && x.ringCell[q] != x.ringCell[(q + 1) % 4]) polygon[n++] = index(x.split[q]);
+            }
+            glm::vec3 c(0.0f), nsum(0.0f);
+            for (uint32_t i = 0; i < n; ++i) {
+                c += m.positions[polygon[i]];
+                nsum += m.normals[polygon[i]];
+            }
+            m.positions[centre] = c / float(n);
+            m.normals[centre] = glm::dot(nsum, nsum) > 0.0f ? glm::normalize(nsum) : glm::vec3(0.0f, 0.0f, 1.0f);
+            for (uint32_t i = 0; i < n; ++i) emit(centre, polygon[i], polygon[(i + 1) % n]);
+            ++centre;
         }
+    });
     // Paint: one colour per vertex from its position, so an incremental mesh gets the same
     // colours as a full one; nothing at all (not even a branch per vertex) when unpainted.
     if (mAdf->colours()) colourPoints(*mAdf->colours(), m.positions, m.colours, mPool);

@@ -138,6 +138,7 @@ struct SurfaceMesher::TileMesh {
     /// updates): an update reaches the vertices and crossings around a changed cell through it.
     FlatMap64 cellVertex;
     uint32_t offset = 0;  ///< first vertex in the assembled mesh
+    std::vector<uint32_t> outNumber;  ///< vertex slot (then split) -> number within the tile's share of the mesh
 
     uint32_t allocateVertex() {
         ++liveVertices;
@@ -170,10 +171,25 @@ struct StartFilter {
     const void* context = nullptr;
 };
 
-/// The crossings emitted by `leaves` of the tile `tileKey` (any order), appended to `out`;
-/// with a filter, only those whose start point it keeps (others are not looked at).
-void computeCrossings(const adf::Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves,
-                      std::vector<Crossing>& out, SurfaceNetsStats& st, StartFilter filter = {});
+/// Appends default records to a tile's crossing pool, numbering their slots (what a build
+/// writes computeCrossings into: no intermediate copy of the large records).
+struct PoolAppender {
+    SlotPool<Crossing>& pool;
+    Crossing& emplace_back() {
+        const uint32_t j = pool.append();
+        Crossing& x = pool[j];
+        x = Crossing{};
+        x.slot = j;
+        return x;
+    }
+};
+
+/// The crossings emitted by `leaves` of the tile `tileKey` (any order), appended to `out`
+/// (a std::vector<Crossing> or a PoolAppender); with a filter, only those whose start point it
+/// keeps (others are not looked at).
+template <class Out>
+void computeCrossings(const adf::Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves, Out& out,
+                      SurfaceNetsStats& st, StartFilter filter = {});
 
 /// The run of quadrants that ring cell q fills (a larger leaf fills two when the edge lies in
 /// its face), as Incidence::first/last.
