@@ -79,8 +79,27 @@ int runMeshBench(const MeshBenchOptions& opt) {
 
     out.progress("full mesh");
     mesh::MeshBuffers full;
-    const double fullMs = medianMs(opt.repeats, [&] { full = mesh::meshAdf(part, &pool); });
+    // meshAdf's two steps, so the phases can be reported from the same runs.
+    std::vector<double> crossingMs, vertexMs, relaxMs, assemblyMs;
+    const double fullMs = medianMs(opt.repeats, [&] {
+        mesh::SurfaceMesher mesher(&pool);
+        mesher.build(part);
+        const double t0 = nowSeconds();
+        full = mesher.mesh();
+        assemblyMs.push_back((nowSeconds() - t0) * 1e3);
+        crossingMs.push_back(mesher.stats().crossingMs);
+        vertexMs.push_back(mesher.stats().vertexMs);
+        relaxMs.push_back(mesher.stats().relaxMs);
+    });
     out.add("mesh.full_ms" + L, fullMs, "ms", "SurfaceNets of every boundary cell, into flat buffers");
+    auto timed = [](std::vector<double> v) {  // the first run was medianMs's warm-up
+        v.erase(v.begin());
+        return median(std::move(v));
+    };
+    out.add("mesh.full_phase_ms.crossings" + L, timed(crossingMs), "ms", "boundary leaves and crossings (median)");
+    out.add("mesh.full_phase_ms.vertices" + L, timed(vertexMs), "ms", "cycles, vertices, first projection");
+    out.add("mesh.full_phase_ms.relax" + L, timed(relaxMs), "ms", "split edges, relaxation, normals");
+    out.add("mesh.full_phase_ms.assembly" + L, timed(assemblyMs), "ms", "numbering and flat buffers (mesh())");
     out.add("mesh.full_triangles" + L, double(full.triangleCount()), "triangles");
     out.add("mesh.full_vertices" + L, double(full.vertexCount()), "vertices");
     out.add("mesh.triangles_per_s", double(full.triangleCount()) / (fullMs * 1e-3), "triangles/s", "test part" + L);
