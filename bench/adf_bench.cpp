@@ -197,11 +197,15 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.add("adf.tiles" + L, double(st.tiles), "tiles", std::to_string(st.coarseTiles) + " of them coarse");
         out.add("adf.samples" + L, double(gen.samples), "samples", "distance evaluations");
         out.add("adf.bytes" + L, double(st.bytes()), "B", fmt("%.1f MB", double(st.bytes()) / 1e6));
-        out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B", "16-bit corners, one scale per tile; narrow bricks 8-bit steps");
-        // float32 would add 2 bytes per value: 8 per lone leaf, 27 per wide brick; a narrow brick
-        // (29 bytes) would take 108.
-        const double floatBytes = double(st.bytes() + 16 * (st.cells - 8 * st.bricks) + 54 * (st.bricks - st.narrowBricks) +
-                                         79 * st.narrowBricks);
+        out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B",
+                "16-bit corners, one scale per tile; narrow bricks and leaves 8-bit steps");
+        const std::size_t loneLeaves = st.cells - 8 * st.bricks;
+        out.add("adf.narrow_leaf_fraction" + L, loneLeaves ? double(st.narrowLeaves) / double(loneLeaves) : 0.0, "",
+                "lone leaves stored narrow (9 bytes instead of 16)");
+        // float32 would add 2 bytes per value: 8 per wide lone leaf, 27 per wide brick; a narrow
+        // leaf (9 bytes) would take 32, a narrow brick (29 bytes) 108.
+        const double floatBytes = double(st.bytes() + 16 * (loneLeaves - st.narrowLeaves) + 23 * st.narrowLeaves +
+                                         54 * (st.bricks - st.narrowBricks) + 79 * st.narrowBricks);
         out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
         out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
         float maxStep = 0.0f;

@@ -49,13 +49,17 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         if (t.level() < d.tileLevel()) ++b.coarseTiles;
         const std::size_t total = t.bytes();
         b.nodeBytes += (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8;
-        b.cornerBytes += std::size_t(t.leafCount()) * 16;
+        const std::size_t leafBytes = std::size_t(t.narrowLeafCount()) * 9 + std::size_t(t.leafCount() - t.narrowLeafCount()) * 16;
+        b.cornerBytes += leafBytes;
+        b.narrowLeafBytes += std::size_t(t.narrowLeafCount()) * 9;
+        b.narrowLeaves += t.narrowLeafCount();
+        b.wideLeaves += t.leafCount() - t.narrowLeafCount();
         const std::size_t brickBytes = std::size_t(t.narrowBrickCount()) * 29 +
                                        std::size_t(t.brickCount() - t.narrowBrickCount()) * 54;
         b.brickBytes += brickBytes;
         b.narrowBricks += t.narrowBrickCount();
         b.wideBricks += t.brickCount() - t.narrowBrickCount();
-        b.headerBytes += total - (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8 - std::size_t(t.leafCount()) * 16 - brickBytes;
+        b.headerBytes += total - (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8 - leafBytes - brickBytes;
         struct Item {
             uint32_t node;
             int level;
@@ -105,9 +109,10 @@ std::string formatBreakdown(const AdfBreakdown& b, int maxLevel) {
     char line[512];
     auto mb = [](std::size_t n) { return double(n) / 1e6; };
     std::snprintf(line, sizeof line,
-                  "  bytes       %.2f MB: headers %.2f (%zu tiles, %zu coarse), node words %.2f, lone-leaf corners %.2f, "
-                  "brick values %.2f (%zu narrow, %zu wide), table %.2f\n",
+                  "  bytes       %.2f MB: headers %.2f (%zu tiles, %zu coarse), node words %.2f, lone-leaf corners %.2f "
+                  "(%zu narrow %.2f, %zu wide %.2f), brick values %.2f (%zu narrow, %zu wide), table %.2f\n",
                   mb(b.totalBytes()), mb(b.headerBytes), b.tiles, b.coarseTiles, mb(b.nodeBytes), mb(b.cornerBytes),
+                  b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes),
                   mb(b.brickBytes), b.narrowBricks, b.wideBricks, mb(b.tableBytes));
     out += line;
     out += "  level  lone-leaves  brick-cells  internal   ext/int/boundary cells          cells by min|corner| (finest cells) "

@@ -33,7 +33,9 @@ struct AdfBreakdown {
     std::size_t tiles = 0, coarseTiles = 0;
     std::size_t headerBytes = 0;      ///< Tile headers
     std::size_t nodeBytes = 0;        ///< node words (with alignment)
-    std::size_t cornerBytes = 0;      ///< lone leaves' corner values
+    std::size_t cornerBytes = 0;      ///< lone leaves' corner values (narrow and wide)
+    std::size_t narrowLeafBytes = 0;  ///< of them, narrow leaves' (9 each: corner 0, 7 steps)
+    std::size_t narrowLeaves = 0, wideLeaves = 0;
     std::size_t brickBytes = 0;       ///< brick values (and narrow bricks' centres, header padding aside)
     std::size_t narrowBricks = 0, wideBricks = 0;
     std::size_t tableBytes = 0;       ///< root array and chunks
