@@ -209,11 +209,15 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
         out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
         float maxStep = 0.0f;
+        double maxLeafStep = 0.0;
         adf->forEachTile([&](const Tile& t) {
             if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
+            if (t.narrowLeafCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
         });
         out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
                 "largest 16-bit step in any stored tile");
+        out.add("adf.leaf_step_max_cells" + L, maxLeafStep / d.finestCellSize(), "cells",
+                "largest narrow-leaf step in any tile with narrow leaves (a narrow corner is within one)");
 
         out.progress("level " + std::to_string(level) + ": query points");
         const double h = d.finestCellSize();

@@ -78,6 +78,7 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
             }
             if (node::isLeaf(w)) {
                 ++L.loneLeaves;
+                if (node::leafIndex(w) < t.narrowLeafCount()) ++L.narrowLoneLeaves;
                 float m = INFINITY;
                 for (int c = 0; c < 8; ++c) m = std::min(m, std::abs(t.corner(node::leafIndex(w), c)));
                 ++L.cellsByType[int(node::leafType(w))];
@@ -115,13 +116,13 @@ std::string formatBreakdown(const AdfBreakdown& b, int maxLevel) {
                   b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes),
                   mb(b.brickBytes), b.narrowBricks, b.wideBricks, mb(b.tableBytes));
     out += line;
-    out += "  level  lone-leaves  brick-cells  internal   ext/int/boundary cells          cells by min|corner| (finest cells) "
-           "<1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
+    out += "  level  lone-leaves (narrow)  brick-cells  internal   ext/int/boundary cells          cells by min|corner| (finest "
+           "cells) <1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
     for (int l = 0; l <= maxLevel; ++l) {
         const AdfBreakdown::Level& L = b.levels[std::size_t(l)];
         if (L.loneLeaves + L.brickCells + L.internalNodes == 0) continue;
-        std::snprintf(line, sizeof line, "  %5d %12zu %12zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves, L.brickCells,
-                      L.internalNodes, L.cellsByType[0], L.cellsByType[1], L.cellsByType[2]);
+        std::snprintf(line, sizeof line, "  %5d %12zu %9zu %12zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves, L.narrowLoneLeaves,
+                      L.brickCells, L.internalNodes, L.cellsByType[0], L.cellsByType[1], L.cellsByType[2]);
         out += line;
         for (int i = 0; i < AdfBreakdown::kDistanceBins; ++i) {
             std::snprintf(line, sizeof line, " %zu[%zu]", L.cellsByDistance[std::size_t(i)], L.creasedBrickCells[std::size_t(i)]);

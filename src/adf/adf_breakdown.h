@@ -23,6 +23,7 @@ struct AdfBreakdown {
     static constexpr std::array<const char*, kDistanceBins> kBinNames{"<1", "1-2", "2-4", "4-8", "8-16", ">=16"};
     struct Level {
         std::size_t loneLeaves = 0;     ///< leaves with their own 8 corners
+        std::size_t narrowLoneLeaves = 0;  ///< of them stored narrow (tile.h)
         std::size_t brickCells = 0;     ///< leaves stored as brick children (8 per brick)
         std::size_t internalNodes = 0;  ///< node words that point at children
         std::array<std::size_t, 3> cellsByType{};           ///< Exterior, Interior, Boundary
