@@ -83,9 +83,10 @@ public:
     ///                        passes the old tile's, so cells it copies keep their bits and
     ///                        the mesher sees them unchanged.
     /// Brick and leaf indices in `nodes` are renumbered (narrow ones first); the field is
-    /// unchanged but for narrow bricks' and leaves' rounding to their step (a brick value within
-    /// one brick step, 2/127 finest cell; a leaf corner within one leaf step, 4/127 finest cell;
-    /// half that but where keeping the sign takes a step more).
+    /// unchanged but for narrow bricks' and leaves' rounding to their step: a brick value within
+    /// one brick step (2/127 finest cell, rounded up to whole quantisation steps), a leaf corner
+    /// but corner 0 within one leaf step (twice that); half a step but where keeping the sign
+    /// takes the step on the value's own side.
     /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
     static std::shared_ptr<const Tile> create(int level, glm::uvec3 latticeOrigin,
                                               std::span<const uint32_t> nodes,
