@@ -197,19 +197,27 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.add("adf.tiles" + L, double(st.tiles), "tiles", std::to_string(st.coarseTiles) + " of them coarse");
         out.add("adf.samples" + L, double(gen.samples), "samples", "distance evaluations");
         out.add("adf.bytes" + L, double(st.bytes()), "B", fmt("%.1f MB", double(st.bytes()) / 1e6));
-        out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B", "16-bit corners, one scale per tile; narrow bricks 8-bit steps");
-        // float32 would add 2 bytes per value: 8 per lone leaf, 27 per wide brick; a narrow brick
-        // (29 bytes) would take 108.
-        const double floatBytes = double(st.bytes() + 16 * (st.cells - 8 * st.bricks) + 54 * (st.bricks - st.narrowBricks) +
-                                         79 * st.narrowBricks);
+        out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B",
+                "16-bit corners, one scale per tile; narrow bricks and leaves 8-bit steps");
+        const std::size_t loneLeaves = st.cells - 8 * st.bricks;
+        out.add("adf.narrow_leaf_fraction" + L, loneLeaves ? double(st.narrowLeaves) / double(loneLeaves) : 0.0, "",
+                "lone leaves stored narrow (9 bytes instead of 16)");
+        // float32 would add 2 bytes per value: 8 per wide lone leaf, 27 per wide brick; a narrow
+        // leaf (9 bytes) would take 32, a narrow brick (29 bytes) 108.
+        const double floatBytes = double(st.bytes() + 16 * (loneLeaves - st.narrowLeaves) + 23 * st.narrowLeaves +
+                                         54 * (st.bricks - st.narrowBricks) + 79 * st.narrowBricks);
         out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
         out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
         float maxStep = 0.0f;
+        double maxLeafStep = 0.0;
         adf->forEachTile([&](const Tile& t) {
             if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
+            if (t.narrowLeafCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
         });
         out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
                 "largest 16-bit step in any stored tile");
+        out.add("adf.leaf_step_max_cells" + L, maxLeafStep / d.finestCellSize(), "cells",
+                "largest narrow-leaf step in any tile with narrow leaves (a narrow corner is within one)");
 
         out.progress("level " + std::to_string(level) + ": query points");
         const double h = d.finestCellSize();

@@ -50,8 +50,7 @@ LeafRef Adf::findLeaf(glm::uvec3 p) const noexcept {
     r.tile = tile;
     const float scale = tile->scale();
     if (node::isLeaf(w)) {
-        const int16_t* q = tile->corners() + 8 * node::leafIndex(w);
-        for (int c = 0; c < 8; ++c) r.corners[c] = float(q[c]) * scale;
+        tile->leafCorners(node::leafIndex(w), r.corners);
     } else {
         r.brickChild = childAt(level);
         for (int c = 0; c < 8; ++c) r.corners[c] = float(tile->brickValue(node::brickIndex(w), brickPoint(r.brickChild, c))) * scale;
@@ -103,8 +102,7 @@ void AdfAccessor::descend(glm::uvec3 p) noexcept {
         }
         const float scale = mTile->scale();
         if (node::isLeaf(cell.word)) {
-            const int16_t* q = mTile->corners() + 8 * node::leafIndex(cell.word);
-            for (int k = 0; k < 8; ++k) mCorners[k] = float(q[k]) * scale;
+            mTile->leafCorners(node::leafIndex(cell.word), mCorners);
             mOrigin = cell.origin;
             mSize = cell.size;
         } else {
@@ -146,6 +144,7 @@ Adf::Stats Adf::computeStats() const {
         s.cells += t.cellCount();
         s.bricks += t.brickCount();
         s.narrowBricks += t.narrowBrickCount();
+        s.narrowLeaves += t.narrowLeafCount();
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();
     });

@@ -97,6 +97,7 @@ public:
         std::size_t cells = 0;        ///< leaf cells (lone leaves and 8 per brick)
         std::size_t bricks = 0;       ///< bricks (each holds 8 of the leaf cells)
         std::size_t narrowBricks = 0; ///< of them stored narrow (8-bit steps, tile.h)
+        std::size_t narrowLeaves = 0; ///< lone leaves stored narrow (8-bit steps, tile.h)
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks
         std::size_t tableBytes = 0;   ///< root array and chunks

@@ -49,13 +49,17 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         if (t.level() < d.tileLevel()) ++b.coarseTiles;
         const std::size_t total = t.bytes();
         b.nodeBytes += (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8;
-        b.cornerBytes += std::size_t(t.leafCount()) * 16;
+        const std::size_t leafBytes = std::size_t(t.narrowLeafCount()) * 9 + std::size_t(t.leafCount() - t.narrowLeafCount()) * 16;
+        b.cornerBytes += leafBytes;
+        b.narrowLeafBytes += std::size_t(t.narrowLeafCount()) * 9;
+        b.narrowLeaves += t.narrowLeafCount();
+        b.wideLeaves += t.leafCount() - t.narrowLeafCount();
         const std::size_t brickBytes = std::size_t(t.narrowBrickCount()) * 29 +
                                        std::size_t(t.brickCount() - t.narrowBrickCount()) * 54;
         b.brickBytes += brickBytes;
         b.narrowBricks += t.narrowBrickCount();
         b.wideBricks += t.brickCount() - t.narrowBrickCount();
-        b.headerBytes += total - (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8 - std::size_t(t.leafCount()) * 16 - brickBytes;
+        b.headerBytes += total - (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8 - leafBytes - brickBytes;
         struct Item {
             uint32_t node;
             int level;
@@ -74,6 +78,7 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
             }
             if (node::isLeaf(w)) {
                 ++L.loneLeaves;
+                if (node::leafIndex(w) < t.narrowLeafCount()) ++L.narrowLoneLeaves;
                 float m = INFINITY;
                 for (int c = 0; c < 8; ++c) m = std::min(m, std::abs(t.corner(node::leafIndex(w), c)));
                 ++L.cellsByType[int(node::leafType(w))];
@@ -105,18 +110,19 @@ std::string formatBreakdown(const AdfBreakdown& b, int maxLevel) {
     char line[512];
     auto mb = [](std::size_t n) { return double(n) / 1e6; };
     std::snprintf(line, sizeof line,
-                  "  bytes       %.2f MB: headers %.2f (%zu tiles, %zu coarse), node words %.2f, lone-leaf corners %.2f, "
-                  "brick values %.2f (%zu narrow, %zu wide), table %.2f\n",
+                  "  bytes       %.2f MB: headers %.2f (%zu tiles, %zu coarse), node words %.2f, lone-leaf corners %.2f "
+                  "(%zu narrow %.2f, %zu wide %.2f), brick values %.2f (%zu narrow, %zu wide), table %.2f\n",
                   mb(b.totalBytes()), mb(b.headerBytes), b.tiles, b.coarseTiles, mb(b.nodeBytes), mb(b.cornerBytes),
+                  b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes),
                   mb(b.brickBytes), b.narrowBricks, b.wideBricks, mb(b.tableBytes));
     out += line;
-    out += "  level  lone-leaves  brick-cells  internal   ext/int/boundary cells          cells by min|corner| (finest cells) "
-           "<1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
+    out += "  level  lone-leaves (narrow)  brick-cells  internal   ext/int/boundary cells          cells by min|corner| (finest "
+           "cells) <1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
     for (int l = 0; l <= maxLevel; ++l) {
         const AdfBreakdown::Level& L = b.levels[std::size_t(l)];
         if (L.loneLeaves + L.brickCells + L.internalNodes == 0) continue;
-        std::snprintf(line, sizeof line, "  %5d %12zu %12zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves, L.brickCells,
-                      L.internalNodes, L.cellsByType[0], L.cellsByType[1], L.cellsByType[2]);
+        std::snprintf(line, sizeof line, "  %5d %12zu %9zu %12zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves, L.narrowLoneLeaves,
+                      L.brickCells, L.internalNodes, L.cellsByType[0], L.cellsByType[1], L.cellsByType[2]);
         out += line;
         for (int i = 0; i < AdfBreakdown::kDistanceBins; ++i) {
             std::snprintf(line, sizeof line, " %zu[%zu]", L.cellsByDistance[std::size_t(i)], L.creasedBrickCells[std::size_t(i)]);

@@ -23,6 +23,7 @@ struct AdfBreakdown {
     static constexpr std::array<const char*, kDistanceBins> kBinNames{"<1", "1-2", "2-4", "4-8", "8-16", ">=16"};
     struct Level {
         std::size_t loneLeaves = 0;     ///< leaves with their own 8 corners
+        std::size_t narrowLoneLeaves = 0;  ///< of them stored narrow (tile.h)
         std::size_t brickCells = 0;     ///< leaves stored as brick children (8 per brick)
         std::size_t internalNodes = 0;  ///< node words that point at children
         std::array<std::size_t, 3> cellsByType{};           ///< Exterior, Interior, Boundary
@@ -33,7 +34,9 @@ struct AdfBreakdown {
     std::size_t tiles = 0, coarseTiles = 0;
     std::size_t headerBytes = 0;      ///< Tile headers
     std::size_t nodeBytes = 0;        ///< node words (with alignment)
-    std::size_t cornerBytes = 0;      ///< lone leaves' corner values
+    std::size_t cornerBytes = 0;      ///< lone leaves' corner values (narrow and wide)
+    std::size_t narrowLeafBytes = 0;  ///< of them, narrow leaves' (9 each: corner 0, 7 steps)
+    std::size_t narrowLeaves = 0, wideLeaves = 0;
     std::size_t brickBytes = 0;       ///< brick values (and narrow bricks' centres, header padding aside)
     std::size_t narrowBricks = 0, wideBricks = 0;
     std::size_t tableBytes = 0;       ///< root array and chunks

@@ -201,9 +201,11 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.put(t.leafCount());
         w.put(t.brickCount());
         w.putRaw(t.nodes(), std::size_t(t.nodeCount()) * 4);
-        w.putRaw(t.corners(), std::size_t(t.leafCount()) * 16);
-        // Bricks as 16-bit values (narrow ones decoded): the format predates narrow bricks, and
-        // loading packs them again to the same bits.
+        // Leaves and bricks as 16-bit values (narrow ones decoded): the format predates narrow
+        // leaves and bricks, and loading packs them again to the same bits.
+        std::vector<int16_t> corners(std::size_t(t.leafCount()) * 8);
+        for (uint32_t l = 0; l < t.leafCount(); ++l) t.leafValues(l, corners.data() + 8 * std::size_t(l));
+        w.putRaw(corners.data(), corners.size() * 2);
         std::vector<int16_t> bricks(std::size_t(t.brickCount()) * 27);
         for (uint32_t b = 0; b < t.brickCount(); ++b)
             for (int g = 0; g < 27; ++g) bricks[27 * std::size_t(b) + std::size_t(g)] = t.brickValue(b, g);

@@ -30,7 +30,7 @@ struct LeafCell {
         return rel.x < size && rel.y < size && rel.z < size;
     }
     float corner(int c) const {
-        const int16_t q = brickChild < 0 ? tile->corners()[8 * node::leafIndex(word) + uint32_t(c)]
+        const int16_t q = brickChild < 0 ? tile->leafValue(node::leafIndex(word), c)
                                          : tile->brickValue(node::brickIndex(word), brickPoint(brickChild, c));
         return float(q) * tile->scale();
     }

@@ -468,9 +468,9 @@ private:
         const double size = double(s) * mDomain.finestCellSize();
         const glm::dvec3 centre = mDomain.originWorld + (glm::dvec3(mBase + o) + 0.5 * double(s)) * mDomain.finestCellSize();
         DistanceSource::Range range = mSource.unchangedRange(centre, size * kHalfDiagonal);
-        // The old tile's values are rounded (16-bit steps, narrow-brick steps): stay clear of
-        // the range's ends by that much.
-        const double rounding = double(mOld->scale()) * double(std::max(1, mOld->brickStep()) + 1);
+        // The old tile's values are rounded (16-bit steps, narrow-brick and narrow-leaf steps):
+        // stay clear of the range's ends by that much (a leaf step is the larger).
+        const double rounding = double(mOld->scale()) * double(std::max(1, mOld->leafStep()) + 1);
         range.lo += rounding;
         range.hi -= rounding;
         if (range.lo > range.hi || mRule.hidesFeature(mSource, mBase + o, level)) return Keep::No;
@@ -491,7 +491,7 @@ private:
             }
             return true;
         };
-        auto leafValues = [&](uint32_t leaf) { return [this, leaf](int c) { return mOld->corners()[8 * leaf + uint32_t(c)]; }; };
+        auto leafValues = [&](uint32_t leaf) { return [this, leaf](int c) { return mOld->leafValue(leaf, c); }; };
         const OldCell cell = findOld(o, level);
         if (cell.brickChild >= 0) {
             const uint32_t brick = node::brickIndex(cell.word);
@@ -542,9 +542,8 @@ private:
     void copySubtree(uint32_t nodeIndex, uint32_t w) {
         const float scale = mOld->scale();
         if (node::isLeaf(w)) {
-            const int16_t* q = mOld->corners() + 8 * node::leafIndex(w);
             float corners[8];
-            for (int c = 0; c < 8; ++c) corners[c] = float(q[c]) * scale;
+            mOld->leafCorners(node::leafIndex(w), corners);
             makeLeaf(nodeIndex, corners);
         } else if (node::isBrick(w)) {
             const uint32_t brick = node::brickIndex(w);

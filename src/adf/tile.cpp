@@ -44,33 +44,41 @@ uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
 }  // namespace
 
 namespace {
-/// Narrow bricks: a 16-bit centre each, then 27 signed bytes each; wide bricks after, 2-aligned.
+/// 16-bit arrays first (wide leaves' corners, narrow leaves' corner 0, narrow bricks' centres),
+/// then the signed bytes (7 per narrow leaf, 27 per narrow brick), then wide bricks, 2-aligned.
 struct Layout {
-    std::size_t corners, bases, deltas, wide, total;
+    std::size_t wideLeaves, leafBases, brickBases, leafDeltas, brickDeltas, wide, total;
 };
-Layout layoutOf(uint32_t nodeCount, uint32_t leafCount, uint32_t narrowCount, uint32_t wideCount) {
+Layout layoutOf(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
+                uint32_t wideCount) {
     Layout l;
-    l.corners = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
-    l.bases = l.corners + std::size_t(leafCount) * 16;
-    l.deltas = l.bases + std::size_t(narrowCount) * 2;
-    l.wide = alignUp(l.deltas + std::size_t(narrowCount) * 27, 2);
+    l.wideLeaves = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
+    l.leafBases = l.wideLeaves + std::size_t(wideLeafCount) * 16;
+    l.brickBases = l.leafBases + std::size_t(narrowLeafCount) * 2;
+    l.leafDeltas = l.brickBases + std::size_t(narrowCount) * 2;
+    l.brickDeltas = l.leafDeltas + std::size_t(narrowLeafCount) * 7;
+    l.wide = alignUp(l.brickDeltas + std::size_t(narrowCount) * 27, 2);
     l.total = l.wide + std::size_t(wideCount) * 54;
     return l;
 }
 }  // namespace
 
-Tile* Tile::allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t narrowCount, uint32_t wideCount) {
-    const Layout l = layoutOf(nodeCount, leafCount, narrowCount, wideCount);
+Tile* Tile::allocate(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
+                     uint32_t wideCount) {
+    const Layout l = layoutOf(nodeCount, narrowLeafCount, wideLeafCount, narrowCount, wideCount);
     void* mem = ::operator new(l.total);
     Tile* t = new (mem) Tile();
     auto* base = static_cast<unsigned char*>(mem);
     t->mNodes = reinterpret_cast<const uint32_t*>(base + kHeaderBytes);
-    t->mCorners = reinterpret_cast<const int16_t*>(base + l.corners);
-    t->mBrickBases = reinterpret_cast<const int16_t*>(base + l.bases);
-    t->mBrickDeltas = reinterpret_cast<const int8_t*>(base + l.deltas);
+    t->mWideLeaves = reinterpret_cast<const int16_t*>(base + l.wideLeaves);
+    t->mLeafBases = reinterpret_cast<const int16_t*>(base + l.leafBases);
+    t->mLeafDeltas = reinterpret_cast<const int8_t*>(base + l.leafDeltas);
+    t->mBrickBases = reinterpret_cast<const int16_t*>(base + l.brickBases);
+    t->mBrickDeltas = reinterpret_cast<const int8_t*>(base + l.brickDeltas);
     t->mWideBricks = reinterpret_cast<const int16_t*>(base + l.wide);
     t->mNodeCount = nodeCount;
-    t->mLeafCount = leafCount;
+    t->mLeafCount = narrowLeafCount + wideLeafCount;
+    t->mNarrowLeafCount = narrowLeafCount;
     t->mBrickCount = narrowCount + wideCount;
     t->mNarrowCount = narrowCount;
     return t;
@@ -84,7 +92,8 @@ void Tile::Deleter::operator()(const Tile* t) const {
 Tile::~Tile() { mMagic = 0xdeadbeefdeadbeefull; }
 
 std::size_t Tile::bytes() const {
-    return layoutOf(mNodeCount, mLeafCount, mNarrowCount, mBrickCount - mNarrowCount).total;
+    return layoutOf(mNodeCount, mNarrowLeafCount, mLeafCount - mNarrowLeafCount, mNarrowCount, mBrickCount - mNarrowCount)
+        .total;
 }
 
 uint64_t Tile::computeChecksum() const {
@@ -93,8 +102,11 @@ uint64_t Tile::computeChecksum() const {
     h = fnv1a(h, &mOrigin, sizeof mOrigin);
     h = fnv1a(h, &mScale, sizeof mScale);
     h = fnv1a(h, mNodes, std::size_t(mNodeCount) * 4);
-    h = fnv1a(h, mCorners, std::size_t(mLeafCount) * 16);
     h = fnv1a(h, &mStep, sizeof mStep);
+    h = fnv1a(h, &mNarrowLeafCount, sizeof mNarrowLeafCount);
+    h = fnv1a(h, mLeafBases, std::size_t(mNarrowLeafCount) * 2);
+    h = fnv1a(h, mLeafDeltas, std::size_t(mNarrowLeafCount) * 7);
+    h = fnv1a(h, mWideLeaves, std::size_t(mLeafCount - mNarrowLeafCount) * 16);
     h = fnv1a(h, mBrickBases, std::size_t(mNarrowCount) * 2);
     h = fnv1a(h, mBrickDeltas, std::size_t(mNarrowCount) * 27);
     h = fnv1a(h, mWideBricks, std::size_t(mBrickCount - mNarrowCount) * 54);
@@ -102,11 +114,6 @@ uint64_t Tile::computeChecksum() const {
 }
 
 namespace {
-/// memcpy that accepts the null data() of an empty span.
-void copyBytes(const void* dst, const void* src, std::size_t n) {
-    if (n) std::memcpy(const_cast<void*>(dst), src, n);
-}
-
 /// Round half away from zero into [-32767, 32767], keeping negative values negative (inside
 /// stays inside even when a tiny distance rounds to zero).
 int16_t quantise(float v, float scale) {
@@ -120,7 +127,7 @@ int16_t quantise(float v, float scale) {
 /// Quantisation steps per narrow-brick step: 127 of them span twice a finest cell, which holds
 /// every value of a brick of finest cells (at most sqrt(3) cells from its centre) in a
 /// 1-Lipschitz field. Depends only on the scale and the cell size, never on the values, so a
-/// decoded tile re-encodes to the same bits.
+/// decoded tile re-encodes to the same bits. Lone leaves use twice this step (Tile::leafStep).
 int32_t narrowStep(float scale, double finestCell) {
     const double steps = std::ceil(2.0 * finestCell / (127.0 * double(scale)));
     return steps >= 1.0 ? int32_t(std::min(steps, 32767.0)) : 1;
@@ -188,14 +195,47 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     std::vector<uint32_t> renumber(brickCount);
     for (uint32_t b = 0, n = 0, w = narrowCount; b < brickCount; ++b) renumber[b] = narrow[b] ? n++ : w++;
 
-    Tile* t = allocate(uint32_t(nodes.size()), uint32_t(leafCorners.size() / 8), narrowCount, brickCount - narrowCount);
+    // Lone leaves likewise: corner 0 exact, the others in leaf steps from it.
+    const auto leafCount = uint32_t(leafCorners.size() / 8);
+    const int32_t leafStep = 2 * step;
+    std::vector<int8_t> leafDeltas(std::size_t(leafCount) * 7);
+    std::vector<uint8_t> narrowLeaf(leafCount, 1);
+    uint32_t narrowLeafCount = 0;
+    for (uint32_t l = 0; l < leafCount; ++l) {
+        const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
+        for (int c = 1; c < 8 && narrowLeaf[l]; ++c)
+            narrowLeaf[l] = narrowDelta(q[c], q[0], leafStep, leafDeltas[7 * std::size_t(l) + std::size_t(c - 1)]);
+        narrowLeafCount += narrowLeaf[l];
+    }
+    std::vector<uint32_t> renumberLeaf(leafCount);
+    for (uint32_t l = 0, n = 0, w = narrowLeafCount; l < leafCount; ++l) renumberLeaf[l] = narrowLeaf[l] ? n++ : w++;
+
+    Tile* t = allocate(uint32_t(nodes.size()), narrowLeafCount, leafCount - narrowLeafCount, narrowCount,
+                       brickCount - narrowCount);
     t->mStep = step;
     auto* words = const_cast<uint32_t*>(t->mNodes);
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         const uint32_t w = nodes[i];
-        words[i] = node::isBrick(w) && node::brickIndex(w) < brickCount ? node::makeBrick(renumber[node::brickIndex(w)]) : w;
+        if (node::isBrick(w) && node::brickIndex(w) < brickCount)
+            words[i] = node::makeBrick(renumber[node::brickIndex(w)]);
+        else if (node::isLeaf(w) && node::leafIndex(w) < leafCount)
+            words[i] = node::makeLeaf(renumberLeaf[node::leafIndex(w)], node::leafType(w));
+        else
+            words[i] = w;
     }
-    copyBytes(t->mCorners, leafCorners.data(), leafCorners.size() * 2);
+    auto* leafBases = const_cast<int16_t*>(t->mLeafBases);
+    auto* leafPacked = const_cast<int8_t*>(t->mLeafDeltas);
+    auto* wideLeaves = const_cast<int16_t*>(t->mWideLeaves);
+    for (uint32_t l = 0; l < leafCount; ++l) {
+        const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
+        const uint32_t n = renumberLeaf[l];
+        if (narrowLeaf[l]) {
+            leafBases[n] = q[0];
+            std::memcpy(leafPacked + 7 * std::size_t(n), leafDeltas.data() + 7 * std::size_t(l), 7);
+        } else {
+            std::memcpy(wideLeaves + 8 * std::size_t(n - narrowLeafCount), q, 16);
+        }
+    }
     auto* bases = const_cast<int16_t*>(t->mBrickBases);
     auto* packed = const_cast<int8_t*>(t->mBrickDeltas);
     auto* wide = const_cast<int16_t*>(t->mWideBricks);

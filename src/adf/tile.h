@@ -13,6 +13,12 @@
 /// counting brick steps from it (29 bytes instead of 54); the step is fixed per tile from its
 /// scale and the finest cell size, so the encoding is idempotent (decode, re-encode: same bits).
 /// Other bricks stay *wide* (27 x 16 bits). Narrow bricks come first in the brick numbering.
+/// Lone leaves are packed the same way: a leaf whose corners all lie within 127 *leaf steps*
+/// (twice the brick step: 127 of them span four finest cells, which holds every leaf of two
+/// finest cells in a 1-Lipschitz field) of its corner 0 is stored *narrow*: corner 0 as 16
+/// bits, the other 7 as signed bytes counting leaf steps from it (9 bytes instead of 16). Other
+/// leaves stay wide (8 x 16 bits); narrow leaves come first in the leaf numbering. Both packings
+/// keep the sign of every value (inside stays inside, outside outside) and are idempotent.
 /// A tile never changes after `create`; any number of threads may read it. Edits build new
 /// tiles; old ones are freed through epochs once no reader can see them (snapshot_store.h).
 #pragma once
@@ -76,8 +82,11 @@ public:
     ///                        what the values need (0: none). Regeneration
     ///                        passes the old tile's, so cells it copies keep their bits and
     ///                        the mesher sees them unchanged.
-    /// Brick indices in `nodes` are renumbered (narrow bricks first); the field is unchanged
-    /// but for narrow bricks' rounding to their step (under 0.008 finest cells).
+    /// Brick and leaf indices in `nodes` are renumbered (narrow ones first); the field is
+    /// unchanged but for narrow bricks' and leaves' rounding to their step: a brick value within
+    /// one brick step (2/127 finest cell, rounded up to whole quantisation steps), a leaf corner
+    /// but corner 0 within one leaf step (twice that); half a step but where keeping the sign
+    /// takes the step on the value's own side.
     /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
     static std::shared_ptr<const Tile> create(int level, glm::uvec3 latticeOrigin,
                                               std::span<const uint32_t> nodes,
@@ -85,7 +94,8 @@ public:
                                               std::span<const float> brickValues, uint64_t version,
                                               double finestCell, float keepScale = 0.0f);
     /// Builds a tile from already quantised data (file loading). Checksum is recomputed. Brick
-    /// words with an index out of range are left as they are (the file validation rejects them).
+    /// and leaf words with an index out of range are left as they are (the file validation
+    /// rejects them).
     static std::shared_ptr<const Tile> createQuantised(int level, glm::uvec3 latticeOrigin,
                                                        std::span<const uint32_t> nodes,
                                                        std::span<const int16_t> leafCorners,
@@ -95,14 +105,41 @@ public:
     int level() const { return mLevel; }
     glm::uvec3 latticeOrigin() const { return mOrigin; }
     uint32_t nodeCount() const { return mNodeCount; }
-    uint32_t leafCount() const { return mLeafCount; }    ///< lone leaves (not in bricks)
+    uint32_t leafCount() const { return mLeafCount; }    ///< lone leaves (not in bricks), narrow and wide
+    uint32_t narrowLeafCount() const { return mNarrowLeafCount; }  ///< leaves 0 .. this - 1 are narrow
+    int32_t leafStep() const { return 2 * mStep; }       ///< quantisation steps per narrow-leaf step
     uint32_t brickCount() const { return mBrickCount; }   ///< narrow and wide
     uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow
     int32_t brickStep() const { return mStep; }           ///< quantisation steps per narrow-brick step
     /// Leaf cells: lone leaves plus 8 per brick.
     std::size_t cellCount() const { return mLeafCount + 8 * std::size_t(mBrickCount); }
     const uint32_t* nodes() const { return mNodes; }
-    const int16_t* corners() const { return mCorners; }  ///< 8 per lone leaf
+    /// Quantised corner `c` of lone leaf `leaf`.
+    int16_t leafValue(uint32_t leaf, int c) const {
+        if (leaf < mNarrowLeafCount) {
+            const int32_t base = mLeafBases[leaf];
+            return c == 0 ? int16_t(base) : int16_t(base + int32_t(mLeafDeltas[7 * leaf + uint32_t(c - 1)]) * 2 * mStep);
+        }
+        return mWideLeaves[8 * (leaf - mNarrowLeafCount) + uint32_t(c)];
+    }
+    /// The 8 quantised corners of lone leaf `leaf` (one branch for all of them: the haptic path).
+    void leafValues(uint32_t leaf, int16_t out[8]) const {
+        if (leaf < mNarrowLeafCount) {
+            const int32_t base = mLeafBases[leaf], step = 2 * mStep;
+            const int8_t* d = mLeafDeltas + 7 * std::size_t(leaf);
+            out[0] = int16_t(base);
+            for (int c = 1; c < 8; ++c) out[c] = int16_t(base + int32_t(d[c - 1]) * step);
+        } else {
+            const int16_t* q = mWideLeaves + 8 * std::size_t(leaf - mNarrowLeafCount);
+            for (int c = 0; c < 8; ++c) out[c] = q[c];
+        }
+    }
+    /// The 8 decoded corners of lone leaf `leaf`, m (float(value) * scale, as corner() gives).
+    void leafCorners(uint32_t leaf, float out[8]) const {
+        int16_t q[8];
+        leafValues(leaf, q);
+        for (int c = 0; c < 8; ++c) out[c] = float(q[c]) * mScale;
+    }
     /// Quantised value of half-grid point g (tile.h's brickPoint order) of brick `brick`.
     int16_t brickValue(uint32_t brick, int g) const {
         if (brick < mNarrowCount) return int16_t(int32_t(mBrickBases[brick]) + int32_t(mBrickDeltas[27 * brick + uint32_t(g)]) * mStep);
@@ -121,7 +158,7 @@ public:
     /// Type of the root when singleLeaf().
     CellType rootType() const { return node::leafType(mNodes[0]); }
     /// Decoded corner `c` of lone leaf `leaf`, m.
-    float corner(uint32_t leaf, int c) const { return float(mCorners[8 * leaf + c]) * mScale; }
+    float corner(uint32_t leaf, int c) const { return float(leafValue(leaf, c)) * mScale; }
     /// Decoded corner `c` of child `child` of brick `brick`, m.
     float brickCorner(uint32_t brick, int child, int c) const {
         return float(brickValue(brick, brickPoint(child, c))) * mScale;
@@ -133,8 +170,9 @@ public:
 
 private:
     Tile() = default;
-    static Tile* allocate(uint32_t nodeCount, uint32_t leafCount, uint32_t narrowCount, uint32_t wideCount);
-    /// Shared tail of both create functions: quantised bricks in, narrow ones packed.
+    static Tile* allocate(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
+                          uint32_t wideCount);
+    /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed.
     static std::shared_ptr<const Tile> build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                                              std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues,
                                              float scale, uint64_t version, double finestCell);
@@ -149,13 +187,16 @@ private:
     uint64_t mVersion = 0;
     uint64_t mChecksum = 0;
     const uint32_t* mNodes = nullptr;
-    const int16_t* mCorners = nullptr;
+    const int16_t* mWideLeaves = nullptr;   ///< 8 per wide lone leaf
+    const int16_t* mLeafBases = nullptr;    ///< corner 0 of each narrow lone leaf
+    const int8_t* mLeafDeltas = nullptr;    ///< corners 1-7 of each narrow lone leaf, leaf steps from corner 0
     const int16_t* mBrickBases = nullptr;   ///< one per narrow brick
     const int8_t* mBrickDeltas = nullptr;   ///< 27 per narrow brick
     const int16_t* mWideBricks = nullptr;   ///< 27 per wide brick
     glm::uvec3 mOrigin{0};
     uint32_t mNodeCount = 0;
     uint32_t mLeafCount = 0;
+    uint32_t mNarrowLeafCount = 0;
     uint32_t mBrickCount = 0;
     uint32_t mNarrowCount = 0;
     int32_t mStep = 1;

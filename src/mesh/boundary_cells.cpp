@@ -38,7 +38,8 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
             for (int c = 7; c >= 0; --c)
                 stack[top++] = {w + uint32_t(c), it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, half};
         } else if (node::isLeaf(w)) {
-            const int16_t* q = t.corners() + 8 * node::leafIndex(w);
+            int16_t q[8];
+            t.leafValues(node::leafIndex(w), q);
             if (!signChange<8>(q)) continue;
             BoundaryCell b{it.origin, it.size, {}, false};
             for (int c = 0; c < 8; ++c) b.corners[c] = float(q[c]) * scale;

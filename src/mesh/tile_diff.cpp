@@ -33,8 +33,7 @@ struct Cursor {
     void raw(int16_t out[8]) const {
         const uint32_t w = tile->nodes()[node];
         if (brickChild < 0) {
-            const int16_t* q = tile->corners() + 8 * adf::node::leafIndex(w);
-            for (int c = 0; c < 8; ++c) out[c] = q[c];
+            tile->leafValues(adf::node::leafIndex(w), out);
         } else {
             const uint32_t brick = adf::node::brickIndex(w);
             for (int c = 0; c < 8; ++c) out[c] = tile->brickValue(brick, adf::brickPoint(brickChild, c));
@@ -45,8 +44,7 @@ struct Cursor {
         const uint32_t w = tile->nodes()[node];
         const float s = tile->scale();
         if (brickChild < 0) {
-            const int16_t* q = tile->corners() + 8 * adf::node::leafIndex(w);
-            for (int c = 0; c < 8; ++c) out[c] = float(q[c]) * s;
+            tile->leafCorners(adf::node::leafIndex(w), out);
         } else {
             const uint32_t brick = adf::node::brickIndex(w);
             for (int c = 0; c < 8; ++c) out[c] = float(tile->brickValue(brick, adf::brickPoint(brickChild, c))) * s;

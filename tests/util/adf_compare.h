@@ -39,10 +39,13 @@ inline ::testing::AssertionResult sameColours(const adf::Adf& a, const adf::Adf&
 }
 
 /// The same tree, and decoded values within the rounding of both tiles (half a quantisation
-/// step each, and half a narrow-brick step each where bricks are narrow).
+/// step each, and half a narrow-brick or narrow-leaf step each where they are narrow).
 inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
     auto brickTolerance = [](const adf::Tile& t, uint32_t brick) {
         return 0.5 * double(t.scale()) * (brick < t.narrowBrickCount() ? double(t.brickStep()) + 1.0 : 1.0);
+    };
+    auto leafTolerance = [](const adf::Tile& t, uint32_t leaf) {
+        return 0.5 * double(t.scale()) * (leaf < t.narrowLeafCount() ? double(t.leafStep()) + 1.0 : 1.0);
     };
     std::vector<std::pair<uint32_t, uint32_t>> stack{{a.nodes()[0], b.nodes()[0]}};
     while (!stack.empty()) {
@@ -63,9 +66,10 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
         } else {
             if (adf::node::leafType(wa) != adf::node::leafType(wb)) return false;
             // twice, as for bricks: a copied leaf may carry an older tile's rounding too
-            const double tolerance = (double(a.scale()) + double(b.scale())) * (1.0 + 1e-6);
+            const uint32_t la = adf::node::leafIndex(wa), lb = adf::node::leafIndex(wb);
+            const double tolerance = 2.0 * (leafTolerance(a, la) + leafTolerance(b, lb)) * (1.0 + 1e-6);
             for (int c = 0; c < 8; ++c)
-                if (std::abs(double(a.corner(adf::node::leafIndex(wa), c)) - double(b.corner(adf::node::leafIndex(wb), c))) > tolerance)
+                if (std::abs(double(a.corner(la, c)) - double(b.corner(lb, c))) > tolerance)
                     return false;
         }
     }
@@ -101,7 +105,10 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, 
                 if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
                 if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->brickStep() != tb->brickStep())
                     return fail("brick encoding");
-                if (std::memcmp(ta->corners(), tb->corners(), ta->leafCount() * 16) != 0) return fail("corner distances");
+                if (ta->narrowLeafCount() != tb->narrowLeafCount()) return fail("leaf encoding");
+                for (uint32_t k = 0; k < ta->leafCount(); ++k)
+                    for (int c = 0; c < 8; ++c)
+                        if (ta->leafValue(k, c) != tb->leafValue(k, c)) return fail("corner distances");
                 for (uint32_t k = 0; k < ta->brickCount(); ++k)
                     for (int g = 0; g < 27; ++g)
                         if (ta->brickValue(k, g) != tb->brickValue(k, g)) return fail("brick distances");

@@ -17,12 +17,14 @@ TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
     const AdfPtr a = generate(*makeTestPart(d), d, testPartSettings());
     const Adf::Stats stats = a->computeStats();
     const AdfBreakdown b = computeBreakdown(*a);
-    std::size_t cells = 0, byType = 0, byDistance = 0, bricks = 0;
+    std::size_t cells = 0, byType = 0, byDistance = 0, bricks = 0, leaves = 0, narrowLeaves = 0;
     for (const AdfBreakdown::Level& l : b.levels) {
         cells += l.loneLeaves + l.brickCells;
         byType += std::accumulate(l.cellsByType.begin(), l.cellsByType.end(), std::size_t(0));
         byDistance += std::accumulate(l.cellsByDistance.begin(), l.cellsByDistance.end(), std::size_t(0));
         bricks += l.brickCells / 8;
+        leaves += l.loneLeaves;
+        narrowLeaves += l.narrowLoneLeaves;
     }
     EXPECT_EQ(cells, stats.cells);
     EXPECT_EQ(byType, stats.cells);
@@ -30,6 +32,12 @@ TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
     EXPECT_EQ(bricks, stats.bricks);
     EXPECT_EQ(b.narrowBricks + b.wideBricks, stats.bricks);
     EXPECT_EQ(b.narrowBricks, stats.narrowBricks);
+    EXPECT_EQ(b.narrowLeaves + b.wideLeaves, leaves);
+    EXPECT_EQ(b.narrowLeaves, stats.narrowLeaves);
+    EXPECT_EQ(narrowLeaves, b.narrowLeaves);
+    EXPECT_GT(b.narrowLeaves, 0u) << "a typical field has narrow lone leaves";
+    EXPECT_EQ(b.cornerBytes, 9 * b.narrowLeaves + 16 * b.wideLeaves);
+    EXPECT_EQ(b.narrowLeafBytes, 9 * b.narrowLeaves);
     EXPECT_EQ(b.tiles, stats.tiles);
     EXPECT_EQ(b.tableBytes, stats.tableBytes);
     EXPECT_EQ(b.totalBytes(), stats.tileBytes + stats.tableBytes);

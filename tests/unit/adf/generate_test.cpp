@@ -327,9 +327,10 @@ TEST(Generate, SubTileRegenerationSamplesOnlyTheRegion) {
     EXPECT_GT(a->distance(glm::vec3(c + glm::dvec3(0, 0.005, 0))), 0.0f);
     const BoxWorld grown{region.min - 2.0 * d.finestCellSize(), region.max + 2.0 * d.finestCellSize()};
     const glm::uvec3 slot((tileMin - d.originWorld) / tileSize + 0.5);
-    // A copied narrow brick is rounded to the new tile's brick step when the scale changed.
+    // A copied narrow brick or leaf is rounded to the new tile's step when the scale changed
+    // (a leaf step is the larger).
     const Tile* ta = a->tileAtSlot(slot);
-    const double quanta = double(ta->scale()) * double(ta->brickStep() + 1) + double(base->tileAtSlot(slot)->scale());
+    const double quanta = double(ta->scale()) * double(ta->leafStep() + 1) + double(base->tileAtSlot(slot)->scale());
     ASSERT_NE(a->tileAtSlot(slot), base->tileAtSlot(slot));
     // The dab's values fit the old scale, so the rebuilt tile keeps it (and copied cells their bits).
     EXPECT_EQ(a->tileAtSlot(slot)->scale(), base->tileAtSlot(slot)->scale());

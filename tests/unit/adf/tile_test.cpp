@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file tile_test.cpp
-/// @brief Tile encoding: narrow bricks (8-bit steps from the centre) and the wide fallback.
+/// @brief Tile encoding: narrow bricks (8-bit steps from the centre), narrow lone leaves (8-bit
+/// steps from corner 0) and the wide fallback.
 #include "adf/tile.h"
 
 #include <gtest/gtest.h>
@@ -30,6 +31,38 @@ TilePtr tileOfBricks(const std::vector<float>& values, const std::vector<float>&
     std::vector<uint32_t> nodes{1};
     for (uint32_t b = 0; b < 8; ++b) nodes.push_back(node::makeBrick(b));
     return Tile::create(9, glm::uvec3(0), nodes, leafCorners, values, 1, kCell);
+}
+
+/// The 8 corners of a lone leaf of `size` finest cells at `origin` (lattice) for the sphere
+/// distance of sphereBrick.
+std::vector<float> sphereLeaf(glm::dvec3 origin, double size, glm::dvec3 c, double r) {
+    std::vector<float> v(8);
+    for (int k = 0; k < 8; ++k) {
+        const glm::dvec3 p = origin + glm::dvec3(k & 1, (k >> 1) & 1, k >> 2) * size;
+        v[std::size_t(k)] = float((std::sqrt((p.x - c.x) * (p.x - c.x) + (p.y - c.y) * (p.y - c.y) + (p.z - c.z) * (p.z - c.z)) - r) * kCell);
+    }
+    return v;
+}
+
+/// A tile whose root is internal with 8 lone-leaf children, leaf l holding corners 8l .. 8l + 7.
+std::vector<uint32_t> nodesOfLeaves(const std::vector<float>& corners) {
+    std::vector<uint32_t> nodes{1};
+    for (uint32_t l = 0; l < 8; ++l)
+        nodes.push_back(node::makeLeaf(l, cellTypeOf(std::span<const float, 8>(corners.data() + 8 * l, 8))));
+    return nodes;
+}
+/// Bytes of a tile block beyond its arrays: a single wide leaf (corners alternating between
+/// extremes, no 8-bit step reaches them) minus its node word (8-aligned) and 16 corner bytes.
+std::size_t headerBytes() {
+    const std::vector<float> alternating{1.0f, -1.0f, 1.0f, -1.0f, 1.0f, -1.0f, 1.0f, -1.0f};
+    const TilePtr t = Tile::create(9, glm::uvec3(0), std::vector<uint32_t>{node::makeLeaf(0, CellType::Boundary)},
+                                   alternating, {}, 1, kCell);
+    EXPECT_EQ(t->narrowLeafCount(), 0u);
+    return t->bytes() - 8 - 16;
+}
+
+TilePtr tileOfLeaves(const std::vector<float>& corners) {
+    return Tile::create(9, glm::uvec3(0), nodesOfLeaves(corners), corners, {}, 1, kCell);
 }
 
 }  // namespace
@@ -92,7 +125,128 @@ TEST(Tile, BricksOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
         EXPECT_NEAR(decoded, exact, b % 3 == 0 ? t->scale() : (t->brickStep() + 1) * t->scale());
     }
     // Memory by counter: 29 bytes a narrow brick (2 for its centre, 27 steps), 54 a wide one.
-    const std::size_t header = Tile::create(9, glm::uvec3(0), std::vector<uint32_t>{node::makeLeaf(0, CellType::Exterior)},
-                                            std::vector<float>(8, 1.0f), {}, 1, kCell)->bytes() - 8 - 16;
+    const std::size_t header = headerBytes();
     EXPECT_EQ(t->bytes(), header + 40 /* 9 node words, 8-aligned */ + 5 * 29 + 1 /* 2-alignment */ + 3 * 54);
+}
+
+TEST(Tile, LeavesOfTwoFinestCellsAreNarrowAndWithinALeafStep) {
+    // Leaves one level above the finest (most lone leaves of a sculpted slab), 1-Lipschitz.
+    std::vector<float> corners;
+    for (int l = 0; l < 8; ++l) {
+        const auto v = sphereLeaf(glm::dvec3(l & 1, (l >> 1) & 1, l >> 2) * 2.0, 2.0, {1.3, 2.1, 9.0}, 3.7 + 0.4 * l);
+        corners.insert(corners.end(), v.begin(), v.end());
+    }
+    const TilePtr t = tileOfLeaves(corners);
+    EXPECT_EQ(t->leafCount(), 8u);
+    EXPECT_EQ(t->narrowLeafCount(), 8u);
+    EXPECT_EQ(t->leafStep(), 2 * t->brickStep());
+    const double step = double(t->leafStep()) * double(t->scale());
+    EXPECT_LT(step, 0.04 * kCell) << "a leaf step must stay far under epsilon (0.25 cells)";
+    EXPECT_GE(127.0 * step, 2.0 * std::sqrt(3.0) * kCell) << "127 steps must span a 2-cell leaf's diagonal";
+    for (uint32_t l = 0; l < 8; ++l) {
+        const uint32_t w = t->nodes()[1 + l];
+        ASSERT_TRUE(node::isLeaf(w));
+        float decoded[8];
+        t->leafCorners(node::leafIndex(w), decoded);
+        for (int c = 0; c < 8; ++c) {
+            const float exact = corners[8 * l + uint32_t(c)];
+            EXPECT_EQ(decoded[c], t->corner(node::leafIndex(w), c));
+            EXPECT_EQ(t->leafValue(node::leafIndex(w), c), int16_t(std::lround(decoded[c] / t->scale())));
+            // corner 0 is stored exactly (16 bits); the others within a leaf step
+            EXPECT_LE(std::abs(double(decoded[c] - exact)), (c == 0 ? 0.0 : step) + double(t->scale()))
+                << "leaf " << l << " corner " << c;
+            EXPECT_EQ(decoded[c] < 0.0f, exact < 0.0f) << "inside must stay inside";
+        }
+        EXPECT_EQ(node::leafType(w), cellTypeOf(std::span<const float, 8>(decoded, 8)));
+    }
+    // 9 bytes per narrow leaf (16 wide): the same tile with every leaf too steep is wide.
+    std::vector<float> steep(corners);
+    for (uint32_t l = 0; l < 8; ++l) steep[8 * l + 7] += float(30.0 * kCell);
+    const TilePtr wide = tileOfLeaves(steep);
+    EXPECT_EQ(wide->narrowLeafCount(), 0u);
+    EXPECT_EQ(wide->bytes() - t->bytes(), 8u * (16 - 9));
+}
+
+TEST(Tile, NarrowLeafEncodingIsIdempotent) {
+    // Decode and re-encode (file loading, sub-tile copying): the same bits, leaves and bricks.
+    std::vector<float> corners;
+    for (int l = 0; l < 8; ++l) {
+        auto v = sphereLeaf(glm::dvec3(l & 1, (l >> 1) & 1, l >> 2) * 2.0, 2.0, {0.4, 0.9, 1.1}, 0.7 + 0.05 * l);
+        if (l % 3 == 1) v[5] -= float(12.0 * kCell);  // some wide ones among them
+        corners.insert(corners.end(), v.begin(), v.end());
+    }
+    std::vector<uint32_t> nodes = nodesOfLeaves(corners);
+    // and one brick child in place of leaf 7, so both numberings are exercised
+    const std::vector<float> bricks = sphereBrick(glm::dvec3(2.0), {0.4, 0.9, 1.1}, 0.7);
+    nodes[8] = node::makeBrick(0);
+    corners.resize(7 * 8);
+    const TilePtr t = Tile::create(9, glm::uvec3(0), nodes, corners, bricks, 1, kCell);
+    EXPECT_GT(t->narrowLeafCount(), 0u);
+    EXPECT_LT(t->narrowLeafCount(), t->leafCount());
+    std::vector<int16_t> leafValues(std::size_t(t->leafCount()) * 8), brickValues;
+    for (uint32_t l = 0; l < t->leafCount(); ++l) t->leafValues(l, leafValues.data() + 8 * l);
+    for (uint32_t b = 0; b < t->brickCount(); ++b)
+        for (int g = 0; g < 27; ++g) brickValues.push_back(t->brickValue(b, g));
+    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafValues,
+                                                brickValues, t->scale(), 1, kCell);
+    EXPECT_EQ(again->narrowLeafCount(), t->narrowLeafCount());
+    EXPECT_EQ(std::vector<uint32_t>(again->nodes(), again->nodes() + again->nodeCount()),
+              std::vector<uint32_t>(t->nodes(), t->nodes() + t->nodeCount()))
+        << "the leaf numbering is already narrow first: unchanged";
+    EXPECT_EQ(again->checksum(), t->checksum());
+    EXPECT_EQ(again->bytes(), t->bytes());
+    // and through floats at the kept scale (what regeneration's copy does)
+    std::vector<float> leafFloats(leafValues.size()), brickFloats(brickValues.size());
+    for (std::size_t i = 0; i < leafValues.size(); ++i) leafFloats[i] = float(leafValues[i]) * t->scale();
+    for (std::size_t i = 0; i < brickValues.size(); ++i) brickFloats[i] = float(brickValues[i]) * t->scale();
+    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafFloats,
+                                        brickFloats, 1, kCell, t->scale());
+    EXPECT_EQ(copied->checksum(), t->checksum());
+}
+
+TEST(Tile, LeavesOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
+    std::vector<float> corners;
+    for (int l = 0; l < 8; ++l) {
+        auto v = sphereLeaf(glm::dvec3(l & 1, (l >> 1) & 1, l >> 2) * 2.0, 2.0, {0.5, 0.5, 9.0}, 6.0);
+        if (l % 3 == 0) v[6] += float(20.0 * kCell);  // not 1-Lipschitz: no 8-bit leaf step reaches it
+        corners.insert(corners.end(), v.begin(), v.end());
+    }
+    const TilePtr t = tileOfLeaves(corners);
+    EXPECT_EQ(t->narrowLeafCount(), 5u);
+    for (uint32_t l = 0; l < 8; ++l) {
+        const uint32_t w = t->nodes()[1 + l];
+        const uint32_t stored = node::leafIndex(w);
+        EXPECT_EQ(stored >= t->narrowLeafCount(), l % 3 == 0) << "wide leaves come after the narrow ones";
+        EXPECT_EQ(node::leafType(w), cellTypeOf(std::span<const float, 8>(corners.data() + 8 * l, 8)));
+        for (int c = 0; c < 8; ++c) {
+            const float exact = corners[8 * l + uint32_t(c)];
+            // Wide: only the 16-bit rounding; narrow: within a leaf step. Either way the same leaf.
+            EXPECT_NEAR(t->corner(stored, c), exact, l % 3 == 0 ? 0.5f * t->scale() : float(t->leafStep() + 1) * t->scale());
+        }
+    }
+    // Memory by counter: 9 bytes a narrow leaf (2 for corner 0, 7 steps), 16 a wide one.
+    const std::size_t header = headerBytes();
+    EXPECT_EQ(t->bytes(), header + 40 /* 9 node words, 8-aligned */ + 3 * 16 + 5 * 9 + 1 /* 2-alignment */);
+}
+
+TEST(Tile, NarrowLeavesKeepTheSignOfEveryCorner) {
+    // Quantised values straddling zero by less than a leaf step: rounding to the nearest step
+    // would flip them; the encoding takes the step on the value's own side instead.
+    const float scale = float(kCell / 1000.0);  // brick step 16, leaf step 32
+    std::vector<int16_t> q = {0, -1, 1, -5, 3, -16, 16, -31,    // base 0 (outside)
+                              -1, 1, 0, -2, 2, 15, -15, 40};   // base -1 (inside)
+    const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), std::vector<uint32_t>{node::makeLeaf(0, CellType::Boundary)},
+                                            std::span<const int16_t>(q.data(), 8), {}, scale, 1, kCell);
+    const TilePtr u = Tile::createQuantised(12, glm::uvec3(0), std::vector<uint32_t>{node::makeLeaf(0, CellType::Boundary)},
+                                            std::span<const int16_t>(q.data() + 8, 8), {}, scale, 1, kCell);
+    for (const auto& [tile, values] : {std::pair{t, q.data()}, std::pair{u, q.data() + 8}}) {
+        ASSERT_EQ(tile->leafStep(), 32);
+        EXPECT_EQ(tile->narrowLeafCount(), 1u);
+        for (int c = 0; c < 8; ++c) {
+            const int16_t d = tile->leafValue(0, c);
+            EXPECT_EQ(d < 0, values[c] < 0) << "corner " << c << ": " << values[c] << " decoded " << d;
+            EXPECT_LE(std::abs(int(d) - int(values[c])), tile->leafStep()) << "within one leaf step";
+        }
+        EXPECT_EQ(tile->leafValue(0, 0), values[0]) << "corner 0 exact";
+    }
 }
