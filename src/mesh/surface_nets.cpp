@@ -413,7 +413,6 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
     }
 }
 
-
 template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, std::vector<Crossing>&,
                                SurfaceNetsStats&, StartFilter);
 template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, PoolAppender&,
