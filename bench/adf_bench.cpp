@@ -215,12 +215,12 @@ int runAdfBench(const AdfBenchOptions& opt) {
         double maxLeafStep = 0.0;
         adf->forEachTile([&](const Tile& t) {
             if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
-            if (t.narrowLeafCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
+            if (t.narrowLeafCount() > 0 || t.coarseBrickCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
         });
         out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
                 "largest 16-bit step in any stored tile");
         out.add("adf.leaf_step_max_cells" + L, maxLeafStep / d.finestCellSize(), "cells",
-                "largest narrow-leaf step in any tile with narrow leaves (a narrow corner is within one)");
+                "largest leaf step in any tile with narrow leaves or coarse-narrow bricks (their values are within one)");
 
         out.progress("level " + std::to_string(level) + ": query points");
         const double h = d.finestCellSize();
