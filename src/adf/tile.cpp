@@ -131,7 +131,8 @@ int16_t quantise(float v, float scale) {
 /// Quantisation steps per narrow-brick step: 127 of them span twice a finest cell, which holds
 /// every value of a brick of finest cells (at most sqrt(3) cells from its centre) in a
 /// 1-Lipschitz field. Depends only on the scale and the cell size, never on the values, so a
-/// decoded tile re-encodes to the same bits. Lone leaves use twice this step (Tile::leafStep).
+/// decoded tile re-encodes to the same bits. Lone leaves and coarse-narrow bricks use twice this
+/// step (Tile::leafStep).
 int32_t narrowStep(float scale, double finestCell) {
     const double steps = std::ceil(2.0 * finestCell / (127.0 * double(scale)));
     return steps >= 1.0 ? int32_t(std::min(steps, 32767.0)) : 1;
