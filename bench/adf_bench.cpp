@@ -202,22 +202,25 @@ int runAdfBench(const AdfBenchOptions& opt) {
         const std::size_t loneLeaves = st.cells - 8 * st.bricks;
         out.add("adf.narrow_leaf_fraction" + L, loneLeaves ? double(st.narrowLeaves) / double(loneLeaves) : 0.0, "",
                 "lone leaves stored narrow (9 bytes instead of 16)");
+        out.add("adf.coarse_brick_fraction" + L, st.bricks ? double(st.coarseBricks) / double(st.bricks) : 0.0, "",
+                "bricks stored coarse-narrow (29 bytes in leaf steps instead of 54)");
         // float32 would add 2 bytes per value: 8 per wide lone leaf, 27 per wide brick; a narrow
-        // leaf (9 bytes) would take 32, a narrow brick (29 bytes) 108.
+        // leaf (9 bytes) would take 32, a narrow or coarse-narrow brick (29 bytes) 108.
+        const std::size_t packedBricks = st.narrowBricks + st.coarseBricks;
         const double floatBytes = double(st.bytes() + 16 * (loneLeaves - st.narrowLeaves) + 23 * st.narrowLeaves +
-                                         54 * (st.bricks - st.narrowBricks) + 79 * st.narrowBricks);
+                                         54 * (st.bricks - packedBricks) + 79 * packedBricks);
         out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
         out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
         float maxStep = 0.0f;
         double maxLeafStep = 0.0;
         adf->forEachTile([&](const Tile& t) {
             if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
-            if (t.narrowLeafCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
+            if (t.narrowLeafCount() > 0 || t.coarseBrickCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
         });
         out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
                 "largest 16-bit step in any stored tile");
         out.add("adf.leaf_step_max_cells" + L, maxLeafStep / d.finestCellSize(), "cells",
-                "largest narrow-leaf step in any tile with narrow leaves (a narrow corner is within one)");
+                "largest leaf step in any tile with narrow leaves or coarse-narrow bricks (their values are within one)");
 
         out.progress("level " + std::to_string(level) + ": query points");
         const double h = d.finestCellSize();

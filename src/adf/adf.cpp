@@ -144,6 +144,7 @@ Adf::Stats Adf::computeStats() const {
         s.cells += t.cellCount();
         s.bricks += t.brickCount();
         s.narrowBricks += t.narrowBrickCount();
+        s.coarseBricks += t.coarseBrickCount();
         s.narrowLeaves += t.narrowLeafCount();
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();

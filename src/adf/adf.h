@@ -96,7 +96,8 @@ public:
         std::size_t coarseTiles = 0;  ///< tiles above the tile level
         std::size_t cells = 0;        ///< leaf cells (lone leaves and 8 per brick)
         std::size_t bricks = 0;       ///< bricks (each holds 8 of the leaf cells)
-        std::size_t narrowBricks = 0; ///< of them stored narrow (8-bit steps, tile.h)
+        std::size_t narrowBricks = 0; ///< of them stored narrow (8-bit brick steps, tile.h)
+        std::size_t coarseBricks = 0; ///< of them stored coarse-narrow (8-bit leaf steps, tile.h)
         std::size_t narrowLeaves = 0; ///< lone leaves stored narrow (8-bit steps, tile.h)
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks

@@ -54,11 +54,12 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         b.narrowLeafBytes += std::size_t(t.narrowLeafCount()) * 9;
         b.narrowLeaves += t.narrowLeafCount();
         b.wideLeaves += t.leafCount() - t.narrowLeafCount();
-        const std::size_t brickBytes = std::size_t(t.narrowBrickCount()) * 29 +
-                                       std::size_t(t.brickCount() - t.narrowBrickCount()) * 54;
+        const std::size_t brickBytes = std::size_t(t.packedBrickCount()) * 29 +
+                                       std::size_t(t.brickCount() - t.packedBrickCount()) * 54;
         b.brickBytes += brickBytes;
         b.narrowBricks += t.narrowBrickCount();
-        b.wideBricks += t.brickCount() - t.narrowBrickCount();
+        b.coarseBricks += t.coarseBrickCount();
+        b.wideBricks += t.brickCount() - t.packedBrickCount();
         b.headerBytes += total - (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8 - leafBytes - brickBytes;
         struct Item {
             uint32_t node;
@@ -86,6 +87,9 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
                 continue;
             }
             AdfBreakdown::Level& C = b.levels[std::size_t(it.level + 1)];
+            const uint32_t brick = node::brickIndex(w);
+            if (brick < t.narrowBrickCount()) ++C.narrowBricks;
+            else if (brick < t.packedBrickCount()) ++C.coarseBricks;
             float v[27];
             for (int g = 0; g < 27; ++g) v[g] = float(t.brickValue(node::brickIndex(w), g)) * t.scale();
             const float spacing = float(double(d.cellLattice(it.level + 1)) * h);
@@ -111,18 +115,22 @@ std::string formatBreakdown(const AdfBreakdown& b, int maxLevel) {
     auto mb = [](std::size_t n) { return double(n) / 1e6; };
     std::snprintf(line, sizeof line,
                   "  bytes       %.2f MB: headers %.2f (%zu tiles, %zu coarse), node words %.2f, lone-leaf corners %.2f "
-                  "(%zu narrow %.2f, %zu wide %.2f), brick values %.2f (%zu narrow, %zu wide), table %.2f\n",
+                  "(%zu narrow %.2f, %zu wide %.2f), brick values %.2f (%zu narrow %.2f, %zu coarse-narrow %.2f, %zu wide "
+                  "%.2f), table %.2f\n",
                   mb(b.totalBytes()), mb(b.headerBytes), b.tiles, b.coarseTiles, mb(b.nodeBytes), mb(b.cornerBytes),
                   b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes),
-                  mb(b.brickBytes), b.narrowBricks, b.wideBricks, mb(b.tableBytes));
+                  mb(b.brickBytes), b.narrowBricks, mb(29 * b.narrowBricks), b.coarseBricks, mb(29 * b.coarseBricks),
+                  b.wideBricks, mb(54 * b.wideBricks), mb(b.tableBytes));
     out += line;
-    out += "  level  lone-leaves (narrow)  brick-cells  internal   ext/int/boundary cells          cells by min|corner| (finest "
-           "cells) <1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
+    out += "  level  lone-leaves (narrow)  brick-cells  bricks narrow/coarse/wide  internal   ext/int/boundary cells          "
+           "cells by min|corner| (finest cells) <1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
     for (int l = 0; l <= maxLevel; ++l) {
         const AdfBreakdown::Level& L = b.levels[std::size_t(l)];
         if (L.loneLeaves + L.brickCells + L.internalNodes == 0) continue;
-        std::snprintf(line, sizeof line, "  %5d %12zu %9zu %12zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves, L.narrowLoneLeaves,
-                      L.brickCells, L.internalNodes, L.cellsByType[0], L.cellsByType[1], L.cellsByType[2]);
+        std::snprintf(line, sizeof line, "  %5d %12zu %9zu %12zu %9zu %7zu %7zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves,
+                      L.narrowLoneLeaves, L.brickCells, L.narrowBricks, L.coarseBricks,
+                      L.brickCells / 8 - L.narrowBricks - L.coarseBricks, L.internalNodes, L.cellsByType[0],
+                      L.cellsByType[1], L.cellsByType[2]);
         out += line;
         for (int i = 0; i < AdfBreakdown::kDistanceBins; ++i) {
             std::snprintf(line, sizeof line, " %zu[%zu]", L.cellsByDistance[std::size_t(i)], L.creasedBrickCells[std::size_t(i)]);

@@ -25,6 +25,8 @@ struct AdfBreakdown {
         std::size_t loneLeaves = 0;     ///< leaves with their own 8 corners
         std::size_t narrowLoneLeaves = 0;  ///< of them stored narrow (tile.h)
         std::size_t brickCells = 0;     ///< leaves stored as brick children (8 per brick)
+        std::size_t narrowBricks = 0;   ///< bricks whose children are at this level, stored narrow
+        std::size_t coarseBricks = 0;   ///< of them, coarse-narrow (the rest, brickCells / 8 less both, wide)
         std::size_t internalNodes = 0;  ///< node words that point at children
         std::array<std::size_t, 3> cellsByType{};           ///< Exterior, Interior, Boundary
         std::array<std::size_t, kDistanceBins> cellsByDistance{};
@@ -37,8 +39,8 @@ struct AdfBreakdown {
     std::size_t cornerBytes = 0;      ///< lone leaves' corner values (narrow and wide)
     std::size_t narrowLeafBytes = 0;  ///< of them, narrow leaves' (9 each: corner 0, 7 steps)
     std::size_t narrowLeaves = 0, wideLeaves = 0;
-    std::size_t brickBytes = 0;       ///< brick values (and narrow bricks' centres, header padding aside)
-    std::size_t narrowBricks = 0, wideBricks = 0;
+    std::size_t brickBytes = 0;       ///< brick values (and packed bricks' centres, header padding aside)
+    std::size_t narrowBricks = 0, coarseBricks = 0, wideBricks = 0;  ///< 29, 29 and 54 bytes each
     std::size_t tableBytes = 0;       ///< root array and chunks
     std::size_t totalBytes() const { return headerBytes + nodeBytes + cornerBytes + brickBytes + tableBytes; }
 };

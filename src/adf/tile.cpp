@@ -45,27 +45,28 @@ uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
 
 namespace {
 /// 16-bit arrays first (wide leaves' corners, narrow leaves' corner 0, narrow bricks' centres),
-/// then the signed bytes (7 per narrow leaf, 27 per narrow brick), then wide bricks, 2-aligned.
+/// then the signed bytes (7 per narrow leaf, 27 per narrow or coarse-narrow brick), then wide
+/// bricks, 2-aligned. `packedCount`: narrow and coarse-narrow bricks (one layout).
 struct Layout {
     std::size_t wideLeaves, leafBases, brickBases, leafDeltas, brickDeltas, wide, total;
 };
-Layout layoutOf(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
+Layout layoutOf(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t packedCount,
                 uint32_t wideCount) {
     Layout l;
     l.wideLeaves = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
     l.leafBases = l.wideLeaves + std::size_t(wideLeafCount) * 16;
     l.brickBases = l.leafBases + std::size_t(narrowLeafCount) * 2;
-    l.leafDeltas = l.brickBases + std::size_t(narrowCount) * 2;
+    l.leafDeltas = l.brickBases + std::size_t(packedCount) * 2;
     l.brickDeltas = l.leafDeltas + std::size_t(narrowLeafCount) * 7;
-    l.wide = alignUp(l.brickDeltas + std::size_t(narrowCount) * 27, 2);
+    l.wide = alignUp(l.brickDeltas + std::size_t(packedCount) * 27, 2);
     l.total = l.wide + std::size_t(wideCount) * 54;
     return l;
 }
 }  // namespace
 
 Tile* Tile::allocate(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
-                     uint32_t wideCount) {
-    const Layout l = layoutOf(nodeCount, narrowLeafCount, wideLeafCount, narrowCount, wideCount);
+                     uint32_t coarseCount, uint32_t wideCount) {
+    const Layout l = layoutOf(nodeCount, narrowLeafCount, wideLeafCount, narrowCount + coarseCount, wideCount);
     void* mem = ::operator new(l.total);
     Tile* t = new (mem) Tile();
     auto* base = static_cast<unsigned char*>(mem);
@@ -79,8 +80,9 @@ Tile* Tile::allocate(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wide
     t->mNodeCount = nodeCount;
     t->mLeafCount = narrowLeafCount + wideLeafCount;
     t->mNarrowLeafCount = narrowLeafCount;
-    t->mBrickCount = narrowCount + wideCount;
+    t->mBrickCount = narrowCount + coarseCount + wideCount;
     t->mNarrowCount = narrowCount;
+    t->mPackedCount = narrowCount + coarseCount;
     return t;
 }
 
@@ -92,7 +94,7 @@ void Tile::Deleter::operator()(const Tile* t) const {
 Tile::~Tile() { mMagic = 0xdeadbeefdeadbeefull; }
 
 std::size_t Tile::bytes() const {
-    return layoutOf(mNodeCount, mNarrowLeafCount, mLeafCount - mNarrowLeafCount, mNarrowCount, mBrickCount - mNarrowCount)
+    return layoutOf(mNodeCount, mNarrowLeafCount, mLeafCount - mNarrowLeafCount, mPackedCount, mBrickCount - mPackedCount)
         .total;
 }
 
@@ -107,9 +109,11 @@ uint64_t Tile::computeChecksum() const {
     h = fnv1a(h, mLeafBases, std::size_t(mNarrowLeafCount) * 2);
     h = fnv1a(h, mLeafDeltas, std::size_t(mNarrowLeafCount) * 7);
     h = fnv1a(h, mWideLeaves, std::size_t(mLeafCount - mNarrowLeafCount) * 16);
-    h = fnv1a(h, mBrickBases, std::size_t(mNarrowCount) * 2);
-    h = fnv1a(h, mBrickDeltas, std::size_t(mNarrowCount) * 27);
-    h = fnv1a(h, mWideBricks, std::size_t(mBrickCount - mNarrowCount) * 54);
+    h = fnv1a(h, &mNarrowCount, sizeof mNarrowCount);
+    h = fnv1a(h, &mPackedCount, sizeof mPackedCount);
+    h = fnv1a(h, mBrickBases, std::size_t(mPackedCount) * 2);
+    h = fnv1a(h, mBrickDeltas, std::size_t(mPackedCount) * 27);
+    h = fnv1a(h, mWideBricks, std::size_t(mBrickCount - mPackedCount) * 54);
     return h;
 }
 
@@ -127,7 +131,8 @@ int16_t quantise(float v, float scale) {
 /// Quantisation steps per narrow-brick step: 127 of them span twice a finest cell, which holds
 /// every value of a brick of finest cells (at most sqrt(3) cells from its centre) in a
 /// 1-Lipschitz field. Depends only on the scale and the cell size, never on the values, so a
-/// decoded tile re-encodes to the same bits. Lone leaves use twice this step (Tile::leafStep).
+/// decoded tile re-encodes to the same bits. Lone leaves and coarse-narrow bricks use twice this
+/// step (Tile::leafStep).
 int32_t narrowStep(float scale, double finestCell) {
     const double steps = std::ceil(2.0 * finestCell / (127.0 * double(scale)));
     return steps >= 1.0 ? int32_t(std::min(steps, 32767.0)) : 1;
@@ -182,22 +187,40 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
                     std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues, float scale,
                     uint64_t version, double finestCell) {
     const auto brickCount = uint32_t(brickValues.size() / 27);
-    const int32_t step = narrowStep(scale, finestCell);
-    // Which bricks fit narrow, and their new numbers (narrow first, each group in order).
+    const int32_t step = narrowStep(scale, finestCell), leafStep = 2 * step;
+    // Which form each brick takes (the brick step, else the leaf step, else wide), and their new
+    // numbers (narrow first, then coarse-narrow, then wide, each group in order).
+    // Idempotent: a coarse-narrow brick decodes to centre + k leaf steps = centre + 2k brick
+    // steps, which the brick step takes back exactly, so it would re-encode narrow only if every
+    // |k| were at most 63. The value q that missed the brick step rules that out: it lies beyond
+    // centre +-127 brick steps (within them, the nearest brick-step point with q's sign is too),
+    // say above. The nearest leaf-step point to it is then centre + 128 brick steps or higher,
+    // and so is the one taken unless centre + 128 has the other sign (q < 0 <= centre + 128);
+    // but then centre + 127 brick steps lies in [q - step, q) with q's sign, and the brick step
+    // would have taken it. Below likewise. (tile_test checks this over every 16-bit value.)
+    enum : uint8_t { kNarrow, kCoarse, kWide };
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
-    std::vector<uint8_t> narrow(brickCount, 1);
-    uint32_t narrowCount = 0;
+    std::vector<uint8_t> form(brickCount);
+    uint32_t narrowCount = 0, coarseCount = 0;
     for (uint32_t b = 0; b < brickCount; ++b) {
         const int16_t* q = brickValues.data() + 27 * std::size_t(b);
-        for (int g = 0; g < 27 && narrow[b]; ++g) narrow[b] = narrowDelta(q[g], q[13], step, deltas[27 * std::size_t(b) + g]);
-        narrowCount += narrow[b];
+        int8_t* d = deltas.data() + 27 * std::size_t(b);
+        auto fits = [&](int32_t s) {
+            for (int g = 0; g < 27; ++g)
+                if (!narrowDelta(q[g], q[13], s, d[g])) return false;
+            return true;
+        };
+        form[b] = fits(step) ? kNarrow : fits(leafStep) ? kCoarse : kWide;
+        narrowCount += form[b] == kNarrow;
+        coarseCount += form[b] == kCoarse;
     }
     std::vector<uint32_t> renumber(brickCount);
-    for (uint32_t b = 0, n = 0, w = narrowCount; b < brickCount; ++b) renumber[b] = narrow[b] ? n++ : w++;
+    for (uint32_t b = 0, n = 0, c = narrowCount, w = narrowCount + coarseCount; b < brickCount; ++b)
+        renumber[b] = form[b] == kNarrow ? n++ : form[b] == kCoarse ? c++ : w++;
+    const uint32_t packedCount = narrowCount + coarseCount;
 
     // Lone leaves likewise: corner 0 exact, the others in leaf steps from it.
     const auto leafCount = uint32_t(leafCorners.size() / 8);
-    const int32_t leafStep = 2 * step;
     std::vector<int8_t> leafDeltas(std::size_t(leafCount) * 7);
     std::vector<uint8_t> narrowLeaf(leafCount, 1);
     uint32_t narrowLeafCount = 0;
@@ -210,8 +233,8 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     std::vector<uint32_t> renumberLeaf(leafCount);
     for (uint32_t l = 0, n = 0, w = narrowLeafCount; l < leafCount; ++l) renumberLeaf[l] = narrowLeaf[l] ? n++ : w++;
 
-    Tile* t = allocate(uint32_t(nodes.size()), narrowLeafCount, leafCount - narrowLeafCount, narrowCount,
-                       brickCount - narrowCount);
+    Tile* t = allocate(uint32_t(nodes.size()), narrowLeafCount, leafCount - narrowLeafCount, narrowCount, coarseCount,
+                       brickCount - packedCount);
     t->mStep = step;
     auto* words = const_cast<uint32_t*>(t->mNodes);
     for (std::size_t i = 0; i < nodes.size(); ++i) {
@@ -242,11 +265,11 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     for (uint32_t b = 0; b < brickCount; ++b) {
         const int16_t* q = brickValues.data() + 27 * std::size_t(b);
         const uint32_t n = renumber[b];
-        if (narrow[b]) {
+        if (form[b] != kWide) {
             bases[n] = q[13];
             std::memcpy(packed + 27 * std::size_t(n), deltas.data() + 27 * std::size_t(b), 27);
         } else {
-            std::memcpy(wide + 27 * std::size_t(n - narrowCount), q, 54);
+            std::memcpy(wide + 27 * std::size_t(n - packedCount), q, 54);
         }
     }
     return finish(t, level, latticeOrigin, scale, version);

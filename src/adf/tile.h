@@ -12,7 +12,13 @@
 /// cells, in a 1-Lipschitz field) is stored *narrow*: its centre as 16 bits and 27 signed bytes
 /// counting brick steps from it (29 bytes instead of 54); the step is fixed per tile from its
 /// scale and the finest cell size, so the encoding is idempotent (decode, re-encode: same bits).
-/// Other bricks stay *wide* (27 x 16 bits). Narrow bricks come first in the brick numbering.
+/// A brick that does not fit the brick step but fits twice it (the *leaf step* below: 127 of
+/// them span four finest cells, which holds every brick of two-cell children) is stored
+/// *coarse-narrow*, the same 29 bytes with its bytes counting leaf steps. Other bricks stay
+/// *wide* (27 x 16 bits). The numbering is narrow bricks first, then coarse-narrow, then wide;
+/// readers tell the forms apart by index range. Encoding tries the brick step, then the leaf
+/// step, then wide: a coarse-narrow brick never re-encodes narrow (a value the brick step missed
+/// needs at least 64 leaf steps, 128 brick steps), so the encoding stays idempotent.
 /// Lone leaves are packed the same way: a leaf whose corners all lie within 127 *leaf steps*
 /// (twice the brick step: 127 of them span four finest cells, which holds every leaf of two
 /// finest cells in a 1-Lipschitz field) of its corner 0 is stored *narrow*: corner 0 as 16
@@ -82,11 +88,12 @@ public:
     ///                        what the values need (0: none). Regeneration
     ///                        passes the old tile's, so cells it copies keep their bits and
     ///                        the mesher sees them unchanged.
-    /// Brick and leaf indices in `nodes` are renumbered (narrow ones first); the field is
-    /// unchanged but for narrow bricks' and leaves' rounding to their step: a brick value within
-    /// one brick step (2/127 finest cell, rounded up to whole quantisation steps), a leaf corner
-    /// but corner 0 within one leaf step (twice that); half a step but where keeping the sign
-    /// takes the step on the value's own side.
+    /// Brick and leaf indices in `nodes` are renumbered (narrow ones first, then coarse-narrow
+    /// bricks); the field is unchanged but for narrow bricks' and leaves' rounding to their
+    /// step: a narrow brick value within one brick step (2/127 finest cell, rounded up to whole
+    /// quantisation steps), a coarse-narrow brick value and a leaf corner but corner 0 within
+    /// one leaf step (twice that); half a step but where keeping the sign takes the step on the
+    /// value's own side. A brick's centre is exact.
     /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
     static std::shared_ptr<const Tile> create(int level, glm::uvec3 latticeOrigin,
                                               std::span<const uint32_t> nodes,
@@ -108,8 +115,11 @@ public:
     uint32_t leafCount() const { return mLeafCount; }    ///< lone leaves (not in bricks), narrow and wide
     uint32_t narrowLeafCount() const { return mNarrowLeafCount; }  ///< leaves 0 .. this - 1 are narrow
     int32_t leafStep() const { return 2 * mStep; }       ///< quantisation steps per narrow-leaf step
-    uint32_t brickCount() const { return mBrickCount; }   ///< narrow and wide
-    uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow
+    uint32_t brickCount() const { return mBrickCount; }   ///< narrow, coarse-narrow and wide
+    uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow (brick step)
+    /// Bricks narrowBrickCount() .. packedBrickCount() - 1 are coarse-narrow (leaf step).
+    uint32_t coarseBrickCount() const { return mPackedCount - mNarrowCount; }
+    uint32_t packedBrickCount() const { return mPackedCount; }  ///< narrow and coarse-narrow: 29 bytes each
     int32_t brickStep() const { return mStep; }           ///< quantisation steps per narrow-brick step
     /// Leaf cells: lone leaves plus 8 per brick.
     std::size_t cellCount() const { return mLeafCount + 8 * std::size_t(mBrickCount); }
@@ -141,9 +151,13 @@ public:
         for (int c = 0; c < 8; ++c) out[c] = float(q[c]) * mScale;
     }
     /// Quantised value of half-grid point g (tile.h's brickPoint order) of brick `brick`.
+    /// Packed bricks share one layout; the step is a select on the index (no extra branch).
     int16_t brickValue(uint32_t brick, int g) const {
-        if (brick < mNarrowCount) return int16_t(int32_t(mBrickBases[brick]) + int32_t(mBrickDeltas[27 * brick + uint32_t(g)]) * mStep);
-        return mWideBricks[27 * (brick - mNarrowCount) + uint32_t(g)];
+        if (brick < mPackedCount) {
+            const int32_t step = brick < mNarrowCount ? mStep : 2 * mStep;
+            return int16_t(int32_t(mBrickBases[brick]) + int32_t(mBrickDeltas[27 * brick + uint32_t(g)]) * step);
+        }
+        return mWideBricks[27 * (brick - mPackedCount) + uint32_t(g)];
     }
     float scale() const { return mScale; }               ///< m per quantisation step
     uint64_t version() const { return mVersion; }
@@ -171,7 +185,7 @@ public:
 private:
     Tile() = default;
     static Tile* allocate(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
-                          uint32_t wideCount);
+                          uint32_t coarseCount, uint32_t wideCount);
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed.
     static std::shared_ptr<const Tile> build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                                              std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues,
@@ -190,8 +204,8 @@ private:
     const int16_t* mWideLeaves = nullptr;   ///< 8 per wide lone leaf
     const int16_t* mLeafBases = nullptr;    ///< corner 0 of each narrow lone leaf
     const int8_t* mLeafDeltas = nullptr;    ///< corners 1-7 of each narrow lone leaf, leaf steps from corner 0
-    const int16_t* mBrickBases = nullptr;   ///< one per narrow brick
-    const int8_t* mBrickDeltas = nullptr;   ///< 27 per narrow brick
+    const int16_t* mBrickBases = nullptr;   ///< one per narrow and coarse-narrow brick
+    const int8_t* mBrickDeltas = nullptr;   ///< 27 per narrow and coarse-narrow brick
     const int16_t* mWideBricks = nullptr;   ///< 27 per wide brick
     glm::uvec3 mOrigin{0};
     uint32_t mNodeCount = 0;
@@ -199,6 +213,7 @@ private:
     uint32_t mNarrowLeafCount = 0;
     uint32_t mBrickCount = 0;
     uint32_t mNarrowCount = 0;
+    uint32_t mPackedCount = 0;  ///< narrow and coarse-narrow bricks
     int32_t mStep = 1;
     float mScale = 0.0f;
     int mLevel = 0;

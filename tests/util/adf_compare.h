@@ -39,10 +39,14 @@ inline ::testing::AssertionResult sameColours(const adf::Adf& a, const adf::Adf&
 }
 
 /// The same tree, and decoded values within the rounding of both tiles (half a quantisation
-/// step each, and half a narrow-brick or narrow-leaf step each where they are narrow).
+/// step each, and half a narrow-brick or narrow-leaf step each where they are narrow, a leaf
+/// step for coarse-narrow bricks).
 inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
     auto brickTolerance = [](const adf::Tile& t, uint32_t brick) {
-        return 0.5 * double(t.scale()) * (brick < t.narrowBrickCount() ? double(t.brickStep()) + 1.0 : 1.0);
+        return 0.5 * double(t.scale()) *
+               (brick < t.narrowBrickCount()   ? double(t.brickStep()) + 1.0
+                : brick < t.packedBrickCount() ? double(t.leafStep()) + 1.0
+                                               : 1.0);
     };
     auto leafTolerance = [](const adf::Tile& t, uint32_t leaf) {
         return 0.5 * double(t.scale()) * (leaf < t.narrowLeafCount() ? double(t.leafStep()) + 1.0 : 1.0);
@@ -103,7 +107,8 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, 
                     continue;
                 }
                 if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
-                if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->brickStep() != tb->brickStep())
+                if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->coarseBrickCount() != tb->coarseBrickCount() ||
+                    ta->brickStep() != tb->brickStep())
                     return fail("brick encoding");
                 if (ta->narrowLeafCount() != tb->narrowLeafCount()) return fail("leaf encoding");
                 for (uint32_t k = 0; k < ta->leafCount(); ++k)

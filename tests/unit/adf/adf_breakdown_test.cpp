@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 // The memory breakdown (`kizamu info --breakdown`) accounts for every cell and byte the
-// snapshot's own statistics count.
+// snapshot's own statistics count, brick forms included.
 #include "adf/adf_breakdown.h"
 
 #include "adf/generate.h"
@@ -17,7 +17,8 @@ TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
     const AdfPtr a = generate(*makeTestPart(d), d, testPartSettings());
     const Adf::Stats stats = a->computeStats();
     const AdfBreakdown b = computeBreakdown(*a);
-    std::size_t cells = 0, byType = 0, byDistance = 0, bricks = 0, leaves = 0, narrowLeaves = 0;
+    std::size_t cells = 0, byType = 0, byDistance = 0, bricks = 0, leaves = 0, narrowLeaves = 0, narrowBricks = 0,
+                coarseBricks = 0;
     for (const AdfBreakdown::Level& l : b.levels) {
         cells += l.loneLeaves + l.brickCells;
         byType += std::accumulate(l.cellsByType.begin(), l.cellsByType.end(), std::size_t(0));
@@ -25,13 +26,21 @@ TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
         bricks += l.brickCells / 8;
         leaves += l.loneLeaves;
         narrowLeaves += l.narrowLoneLeaves;
+        narrowBricks += l.narrowBricks;
+        coarseBricks += l.coarseBricks;
+        EXPECT_LE(l.narrowBricks + l.coarseBricks, l.brickCells / 8);
     }
     EXPECT_EQ(cells, stats.cells);
     EXPECT_EQ(byType, stats.cells);
     EXPECT_EQ(byDistance, stats.cells);
     EXPECT_EQ(bricks, stats.bricks);
-    EXPECT_EQ(b.narrowBricks + b.wideBricks, stats.bricks);
+    EXPECT_EQ(b.narrowBricks + b.coarseBricks + b.wideBricks, stats.bricks);
     EXPECT_EQ(b.narrowBricks, stats.narrowBricks);
+    EXPECT_EQ(b.coarseBricks, stats.coarseBricks);
+    EXPECT_EQ(narrowBricks, b.narrowBricks);
+    EXPECT_EQ(coarseBricks, b.coarseBricks);
+    EXPECT_GT(b.coarseBricks, 0u) << "a typical field has bricks of 2-cell children";
+    EXPECT_EQ(b.brickBytes, 29 * (b.narrowBricks + b.coarseBricks) + 54 * b.wideBricks);
     EXPECT_EQ(b.narrowLeaves + b.wideLeaves, leaves);
     EXPECT_EQ(b.narrowLeaves, stats.narrowLeaves);
     EXPECT_EQ(narrowLeaves, b.narrowLeaves);
@@ -43,4 +52,5 @@ TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
     EXPECT_EQ(b.totalBytes(), stats.tileBytes + stats.tableBytes);
     const std::string text = formatBreakdown(b, d.maxLevel);
     EXPECT_NE(text.find("narrow"), std::string::npos) << text;
+    EXPECT_NE(text.find("coarse-narrow"), std::string::npos) << text;
 }

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file tile_test.cpp
-/// @brief Tile encoding: narrow bricks (8-bit steps from the centre), narrow lone leaves (8-bit
-/// steps from corner 0) and the wide fallback.
+/// @brief Tile encoding: narrow bricks (8-bit steps from the centre), coarse-narrow bricks (8-bit
+/// leaf steps), narrow lone leaves (8-bit steps from corner 0) and the wide fallback.
 #include "adf/tile.h"
 
 #include <gtest/gtest.h>
@@ -17,10 +17,11 @@ constexpr double kCell = 1.0 / 4096.0;  // finest cell, m (level 12 of a 1 m dom
 
 /// The 27 half-grid values of a brick of finest cells at `origin` (lattice) for the signed
 /// distance to a sphere of radius r around c (lattice units): a 1-Lipschitz field.
-std::vector<float> sphereBrick(glm::dvec3 origin, glm::dvec3 c, double r) {
+/// `spacing`: the half grid's spacing in finest cells (the children's size).
+std::vector<float> sphereBrick(glm::dvec3 origin, glm::dvec3 c, double r, double spacing = 1.0) {
     std::vector<float> v(27);
     for (int g = 0; g < 27; ++g) {
-        const glm::dvec3 p = origin + glm::dvec3(g % 3, (g / 3) % 3, g / 9);
+        const glm::dvec3 p = origin + glm::dvec3(g % 3, (g / 3) % 3, g / 9) * spacing;
         v[std::size_t(g)] = float((std::sqrt((p.x - c.x) * (p.x - c.x) + (p.y - c.y) * (p.y - c.y) + (p.z - c.z) * (p.z - c.z)) - r) * kCell);
     }
     return v;
@@ -248,5 +249,198 @@ TEST(Tile, NarrowLeavesKeepTheSignOfEveryCorner) {
             EXPECT_LE(std::abs(int(d) - int(values[c])), tile->leafStep()) << "within one leaf step";
         }
         EXPECT_EQ(tile->leafValue(0, 0), values[0]) << "corner 0 exact";
+    }
+}
+
+namespace {
+/// Which form brick word `w` of `t` points at: 0 narrow, 1 coarse-narrow, 2 wide.
+int brickForm(const Tile& t, uint32_t w) {
+    const uint32_t b = node::brickIndex(w);
+    return b < t.narrowBrickCount() ? 0 : b < t.packedBrickCount() ? 1 : 2;
+}
+/// A brick of 2-finest-cell children at `origin` (lattice), the field's gradient close to a
+/// diagonal so its corners lie about 2 sqrt(3) cells from the centre: beyond the brick step's
+/// reach (127 steps span 2 cells), within the leaf step's (4 cells).
+std::vector<float> diagonalBrick(glm::dvec3 origin, double r) {
+    return sphereBrick(origin, {-60.0, -61.0, -59.0}, r, 2.0);
+}
+}  // namespace
+
+TEST(Tile, BricksOfTwoCellChildrenAreCoarseNarrowAndWithinALeafStep) {
+    std::vector<float> values;
+    for (int b = 0; b < 8; ++b) {
+        const auto v = diagonalBrick(glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 4.0, 105.0 + 0.4 * b);
+        values.insert(values.end(), v.begin(), v.end());
+    }
+    const TilePtr t = tileOfBricks(values);
+    EXPECT_EQ(t->narrowBrickCount(), 0u) << "2-cell children reach past 127 brick steps";
+    EXPECT_EQ(t->coarseBrickCount(), 8u);
+    EXPECT_EQ(t->packedBrickCount(), 8u);
+    const double step = double(t->leafStep()) * double(t->scale());
+    EXPECT_LT(step, 0.04 * kCell) << "a leaf step must stay far under epsilon (0.25 cells)";
+    EXPECT_GE(127.0 * step, 2.0 * std::sqrt(3.0) * kCell) << "127 leaf steps must span a 2-cell brick's half diagonal";
+    bool beyondBrickStep = false;
+    for (uint32_t b = 0; b < 8; ++b) {
+        const uint32_t stored = node::brickIndex(t->nodes()[1 + b]);
+        for (int g = 0; g < 27; ++g) {
+            const float exact = values[27 * b + uint32_t(g)];
+            const float decoded = float(t->brickValue(stored, g)) * t->scale();
+            EXPECT_LE(std::abs(double(decoded - exact)), step + double(t->scale())) << "brick " << b << " point " << g;
+            EXPECT_EQ(decoded < 0.0f, exact < 0.0f) << "inside must stay inside";
+            if (g == 13) {
+                EXPECT_EQ(t->brickValue(stored, g), int16_t(std::lround(exact / t->scale()))) << "centre exact";
+            }
+            beyondBrickStep |= std::abs(double(exact - values[27 * b + 13])) > 127.0 * t->brickStep() * t->scale();
+        }
+    }
+    EXPECT_TRUE(beyondBrickStep) << "the test bricks must need the leaf step";
+    // 29 bytes a coarse-narrow brick, as a narrow one (54 wide).
+    std::vector<float> steep(values);
+    for (uint32_t b = 0; b < 8; ++b) steep[27 * b] += float(30.0 * kCell);
+    const TilePtr wide = tileOfBricks(steep);
+    EXPECT_EQ(wide->packedBrickCount(), 0u);
+    EXPECT_EQ(wide->bytes() - t->bytes(), 8u * (54 - 29));
+}
+
+TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExact) {
+    // b % 3 == 0: finest cells (narrow); 1: 2-cell children (coarse-narrow); 2: too steep (wide).
+    std::vector<float> values;
+    for (int b = 0; b < 8; ++b) {
+        const glm::dvec3 o = glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 4.0;
+        auto v = b % 3 == 0 ? sphereBrick(o, {0.5, 0.5, 9.0}, 6.0) : diagonalBrick(o, 105.0);
+        if (b % 3 == 2) v[26] -= float(20.0 * kCell);  // not 1-Lipschitz: no leaf step reaches it
+        values.insert(values.end(), v.begin(), v.end());
+    }
+    const TilePtr t = tileOfBricks(values);
+    EXPECT_EQ(t->narrowBrickCount(), 3u);
+    EXPECT_EQ(t->coarseBrickCount(), 3u);
+    EXPECT_EQ(t->packedBrickCount(), 6u);
+    EXPECT_EQ(t->brickCount(), 8u);
+    uint32_t next[3] = {0, t->narrowBrickCount(), t->packedBrickCount()};
+    for (uint32_t b = 0; b < 8; ++b) {
+        const uint32_t w = t->nodes()[1 + b];
+        const int form = int(b % 3);
+        EXPECT_EQ(brickForm(*t, w), form) << "brick " << b;
+        EXPECT_EQ(node::brickIndex(w), next[form]++) << "each form numbered in order, narrow, coarse-narrow, wide";
+        const double tolerance = form == 0 ? double(t->brickStep() + 1) * t->scale()
+                                 : form == 1 ? double(t->leafStep() + 1) * t->scale()
+                                             : 0.5 * double(t->scale()) * (1.0 + 1e-6);
+        for (int g = 0; g < 27; ++g)
+            EXPECT_LE(std::abs(double(t->brickValue(node::brickIndex(w), g)) * t->scale() - double(values[27 * b + uint32_t(g)])),
+                      tolerance)
+                << "brick " << b << " point " << g << (form == 2 ? ": wide is exact to 16 bits" : "");
+    }
+    // Memory by counter: 29 bytes a packed brick (narrow or coarse-narrow), 54 a wide one.
+    EXPECT_EQ(t->bytes(), headerBytes() + 40 /* 9 node words, 8-aligned */ + 6 * 29 + 2 * 54);
+}
+
+TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
+    // Decode and re-encode (file loading, sub-tile copying): the same bits and the same form
+    // for every brick, lone leaves alongside.
+    std::vector<float> values;
+    std::vector<uint32_t> nodes{1};
+    for (int b = 0; b < 8; ++b) {
+        const glm::dvec3 o = glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 4.0;
+        auto v = b % 3 == 0 ? sphereBrick(o, {0.4, 0.9, 1.1}, 0.7 + 0.05 * b) : diagonalBrick(o, 105.5 + 0.1 * b);
+        if (b % 3 == 2) v[3] += float(12.0 * kCell);
+        values.insert(values.end(), v.begin(), v.end());
+        nodes.push_back(node::makeBrick(uint32_t(b)));
+    }
+    const std::vector<float> corners = sphereLeaf(glm::dvec3(8.0), 2.0, {0.4, 0.9, 1.1}, 0.7);
+    nodes[5] = node::makeLeaf(0, cellTypeOf(std::span<const float, 8>(corners.data(), 8)));
+    values.erase(values.begin() + 4 * 27, values.begin() + 5 * 27);
+    for (std::size_t i = 6; i < nodes.size(); ++i) nodes[i] = node::makeBrick(node::brickIndex(nodes[i]) - 1);
+    const TilePtr t = Tile::create(9, glm::uvec3(0), nodes, corners, values, 1, kCell);
+    ASSERT_GT(t->narrowBrickCount(), 0u);
+    ASSERT_GT(t->coarseBrickCount(), 0u);
+    ASSERT_LT(t->packedBrickCount(), t->brickCount());
+    std::vector<int16_t> leafValues(8), brickValues;
+    t->leafValues(0, leafValues.data());
+    for (uint32_t b = 0; b < t->brickCount(); ++b)
+        for (int g = 0; g < 27; ++g) brickValues.push_back(t->brickValue(b, g));
+    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafValues,
+                                                brickValues, t->scale(), 1, kCell);
+    EXPECT_EQ(again->narrowBrickCount(), t->narrowBrickCount());
+    EXPECT_EQ(again->coarseBrickCount(), t->coarseBrickCount()) << "a coarse-narrow brick never becomes narrow";
+    EXPECT_EQ(std::vector<uint32_t>(again->nodes(), again->nodes() + again->nodeCount()),
+              std::vector<uint32_t>(t->nodes(), t->nodes() + t->nodeCount()))
+        << "already numbered narrow, coarse-narrow, wide: unchanged";
+    EXPECT_EQ(again->checksum(), t->checksum());
+    EXPECT_EQ(again->bytes(), t->bytes());
+    // and through floats at the kept scale (what regeneration's copy does)
+    std::vector<float> leafFloats(8), brickFloats(brickValues.size());
+    for (std::size_t i = 0; i < 8; ++i) leafFloats[i] = float(leafValues[i]) * t->scale();
+    for (std::size_t i = 0; i < brickValues.size(); ++i) brickFloats[i] = float(brickValues[i]) * t->scale();
+    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafFloats,
+                                        brickFloats, 1, kCell, t->scale());
+    EXPECT_EQ(copied->checksum(), t->checksum());
+}
+
+TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
+    // The argument in Tile::build, checked exhaustively: a brick whose one off-centre value q
+    // misses the brick step and takes the leaf step decodes to a value the brick step cannot
+    // reach either, so the re-encoded brick is coarse-narrow again (never narrow), with the same
+    // bits; and every form keeps q's sign, within one step of its own (wide: exact). Steps from
+    // 1 to the largest (32767, where the 16-bit range clamps), centres across the range.
+    for (const int32_t s : {1, 2, 3, 16, 17, 129, 1000, 32767}) {
+        const float scale = float(2.0 / (127.0 * (double(s) - 0.5)));  // finest cell 1: brick step s
+        for (const int16_t centre : {int16_t(-32767), int16_t(-3000), int16_t(-1), int16_t(0), int16_t(1), int16_t(2500),
+                                     int16_t(32767)}) {
+            std::vector<int16_t> values;
+            std::vector<uint32_t> nodes;
+            for (int32_t q = -32767; q <= 32767; ++q) {
+                nodes.push_back(node::makeBrick(uint32_t(nodes.size())));
+                for (int g = 0; g < 27; ++g) values.push_back(g == 4 ? int16_t(q) : centre);
+            }
+            const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), nodes, {}, values, scale, 1, 1.0);
+            ASSERT_EQ(t->brickStep(), s);
+            if (127 * s < 32767) {
+                ASSERT_GT(t->coarseBrickCount(), 0u) << "step " << s << " centre " << centre;
+            }
+            std::vector<int16_t> decoded;
+            decoded.reserve(values.size());
+            for (uint32_t b = 0; b < t->brickCount(); ++b)
+                for (int g = 0; g < 27; ++g) decoded.push_back(t->brickValue(b, g));
+            int failures = 0;
+            for (std::size_t i = 0; i < nodes.size() && failures < 5; ++i) {
+                const int32_t q = int32_t(i) - 32767;
+                const uint32_t b = node::brickIndex(t->nodes()[i]);
+                const int form = brickForm(*t, t->nodes()[i]);
+                const int32_t d = t->brickValue(b, 4);
+                const int32_t bound = form == 0 ? s : form == 1 ? 2 * s : 0;
+                if ((d < 0) != (q < 0) || std::abs(d - q) > bound || t->brickValue(b, 13) != centre) {
+                    ++failures;
+                    ADD_FAILURE() << "step " << s << " centre " << centre << " value " << q << " form " << form << " decoded " << d;
+                }
+            }
+            const TilePtr again = Tile::createQuantised(12, glm::uvec3(0), {t->nodes(), t->nodeCount()}, {}, decoded,
+                                                        scale, 1, 1.0);
+            EXPECT_EQ(again->narrowBrickCount(), t->narrowBrickCount()) << "step " << s << " centre " << centre;
+            EXPECT_EQ(again->coarseBrickCount(), t->coarseBrickCount()) << "step " << s << " centre " << centre;
+            EXPECT_TRUE(std::equal(t->nodes(), t->nodes() + t->nodeCount(), again->nodes())) << "step " << s << " centre " << centre;
+            EXPECT_EQ(again->checksum(), t->checksum()) << "step " << s << " centre " << centre;
+        }
+    }
+}
+
+TEST(Tile, CoarseNarrowBricksKeepTheSignOfEveryValue) {
+    // Values straddling zero by less than a leaf step, in a brick one value of which needs the
+    // leaf step: rounding to the nearest leaf step would flip them; the encoding takes the step
+    // on the value's own side instead.
+    const float scale = float(kCell / 1000.0);  // brick step 16, leaf step 32
+    for (const int16_t centre : {int16_t(0), int16_t(-1), int16_t(7), int16_t(-20)}) {
+        std::vector<int16_t> q = {-1, 1, -5, 3, -16, 16, -31, 31, -33, 17, -15, 15, 2, centre, -2,
+                                  40, -40, 63, -63, 64, -64, 0, -47, 47, 1, -1, 3200 /* 200 brick steps */};
+        ASSERT_EQ(q.size(), 27u);
+        const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), std::vector<uint32_t>{node::makeBrick(0)}, {}, q, scale, 1,
+                                                kCell);
+        ASSERT_EQ(t->brickStep(), 16);
+        ASSERT_EQ(t->coarseBrickCount(), 1u) << "centre " << centre;
+        for (int g = 0; g < 27; ++g) {
+            const int16_t d = t->brickValue(0, g);
+            EXPECT_EQ(d < 0, q[std::size_t(g)] < 0) << "point " << g << ": " << q[std::size_t(g)] << " decoded " << d;
+            EXPECT_LE(std::abs(int(d) - int(q[std::size_t(g)])), t->leafStep()) << "within one leaf step";
+        }
+        EXPECT_EQ(t->brickValue(0, 13), centre) << "the centre exact";
     }
 }
