@@ -4,6 +4,7 @@
 #include "adf/tile.h"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstring>
@@ -153,6 +154,26 @@ bool narrowDelta(int32_t q, int32_t base, int32_t step, int8_t& out) {
     out = int8_t(k);
     return true;
 }
+
+/// Packs `n` values as signed-byte steps from `base` (narrowDelta each); false if one misses.
+bool packs(const int16_t* q, int n, int32_t base, int32_t step, int8_t* out) {
+    for (int i = 0; i < n; ++i)
+        if (!narrowDelta(q[i], base, step, out[i])) return false;
+    return true;
+}
+
+/// New numbers that put the items of form 0 first, then form 1, and so on, each form in its old
+/// order; `counts[f]` gets the number of items of form f.
+template <std::size_t kForms>
+std::vector<uint32_t> numberByForm(const std::vector<uint8_t>& form, std::array<uint32_t, kForms>& counts) {
+    counts.fill(0);
+    for (uint8_t f : form) ++counts[f];
+    std::array<uint32_t, kForms> next{};
+    for (std::size_t f = 1; f < kForms; ++f) next[f] = next[f - 1] + counts[f - 1];
+    std::vector<uint32_t> number(form.size());
+    for (std::size_t i = 0; i < form.size(); ++i) number[i] = next[form[i]]++;
+    return number;
+}
 }  // namespace
 
 TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
@@ -201,37 +222,27 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     enum : uint8_t { kNarrow, kCoarse, kWide };
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
     std::vector<uint8_t> form(brickCount);
-    uint32_t narrowCount = 0, coarseCount = 0;
     for (uint32_t b = 0; b < brickCount; ++b) {
         const int16_t* q = brickValues.data() + 27 * std::size_t(b);
         int8_t* d = deltas.data() + 27 * std::size_t(b);
-        auto fits = [&](int32_t s) {
-            for (int g = 0; g < 27; ++g)
-                if (!narrowDelta(q[g], q[13], s, d[g])) return false;
-            return true;
-        };
-        form[b] = fits(step) ? kNarrow : fits(leafStep) ? kCoarse : kWide;
-        narrowCount += form[b] == kNarrow;
-        coarseCount += form[b] == kCoarse;
+        form[b] = packs(q, 27, q[13], step, d) ? kNarrow : packs(q, 27, q[13], leafStep, d) ? kCoarse : kWide;
     }
-    std::vector<uint32_t> renumber(brickCount);
-    for (uint32_t b = 0, n = 0, c = narrowCount, w = narrowCount + coarseCount; b < brickCount; ++b)
-        renumber[b] = form[b] == kNarrow ? n++ : form[b] == kCoarse ? c++ : w++;
+    std::array<uint32_t, 3> brickForms;
+    const std::vector<uint32_t> renumber = numberByForm(form, brickForms);
+    const uint32_t narrowCount = brickForms[kNarrow], coarseCount = brickForms[kCoarse];
     const uint32_t packedCount = narrowCount + coarseCount;
 
     // Lone leaves likewise: corner 0 exact, the others in leaf steps from it.
     const auto leafCount = uint32_t(leafCorners.size() / 8);
     std::vector<int8_t> leafDeltas(std::size_t(leafCount) * 7);
-    std::vector<uint8_t> narrowLeaf(leafCount, 1);
-    uint32_t narrowLeafCount = 0;
+    std::vector<uint8_t> leafForm(leafCount);
     for (uint32_t l = 0; l < leafCount; ++l) {
         const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
-        for (int c = 1; c < 8 && narrowLeaf[l]; ++c)
-            narrowLeaf[l] = narrowDelta(q[c], q[0], leafStep, leafDeltas[7 * std::size_t(l) + std::size_t(c - 1)]);
-        narrowLeafCount += narrowLeaf[l];
+        leafForm[l] = packs(q + 1, 7, q[0], leafStep, leafDeltas.data() + 7 * std::size_t(l)) ? kNarrow : kWide;
     }
-    std::vector<uint32_t> renumberLeaf(leafCount);
-    for (uint32_t l = 0, n = 0, w = narrowLeafCount; l < leafCount; ++l) renumberLeaf[l] = narrowLeaf[l] ? n++ : w++;
+    std::array<uint32_t, 3> leafForms;
+    const std::vector<uint32_t> renumberLeaf = numberByForm(leafForm, leafForms);
+    const uint32_t narrowLeafCount = leafForms[kNarrow];
 
     Tile* t = allocate(uint32_t(nodes.size()), narrowLeafCount, leafCount - narrowLeafCount, narrowCount, coarseCount,
                        brickCount - packedCount);
@@ -252,7 +263,7 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     for (uint32_t l = 0; l < leafCount; ++l) {
         const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
         const uint32_t n = renumberLeaf[l];
-        if (narrowLeaf[l]) {
+        if (leafForm[l] == kNarrow) {
             leafBases[n] = q[0];
             std::memcpy(leafPacked + 7 * std::size_t(n), leafDeltas.data() + 7 * std::size_t(l), 7);
         } else {

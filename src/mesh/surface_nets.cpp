@@ -835,39 +835,37 @@ MeshBuffers SurfaceMesher::mesh() const {
                 tri[2] = x.startInside ? c : b;
                 tri += 3;
             };
-            if (!polygonShape(x).fan) {
-                // Split along the diagonal through the smallest leaf (the emitter), or one
-                // triangle where two ring cells are the same leaf.
-                uint32_t n = 0;
-                for (int q = 0; q < 4; ++q)
-                    if (x.ringCell[q] != x.ringCell[(q + 3) % 4]) polygon[n++] = index(x.ringVertex[q]);
-                if (n == 3) {
-                    emit(polygon[0], polygon[1], polygon[2]);
-                    continue;
+            // The dual polygon in ring order, with any split vertices on its sides.
+            uint32_t n = 0;
+            bool fan = false;
+            for (int q = 0; q < 4; ++q) {
+                if (x.ringCell[q] != x.ringCell[(q + 3) % 4]) polygon[n++] = index(x.ringVertex[q]);
+                if (x.split[q].tile && x.ringCell[q] != x.ringCell[(q + 1) % 4]) {
+                    polygon[n++] = index(x.split[q]);
+                    fan = true;
                 }
+            }
+            if (fan) {
+                // Fan around a new centre: its edges cannot coincide with any other.
+                glm::vec3 c(0.0f), nsum(0.0f);
+                for (uint32_t i = 0; i < n; ++i) {
+                    c += m.positions[polygon[i]];
+                    nsum += m.normals[polygon[i]];
+                }
+                m.positions[centre] = c / float(n);
+                m.normals[centre] = glm::dot(nsum, nsum) > 0.0f ? glm::normalize(nsum) : glm::vec3(0.0f, 0.0f, 1.0f);
+                for (uint32_t i = 0; i < n; ++i) emit(centre, polygon[i], polygon[(i + 1) % n]);
+                ++centre;
+            } else if (n == 3) {
+                emit(polygon[0], polygon[1], polygon[2]);
+            } else {
+                // Split along the diagonal through the smallest leaf (the emitter).
                 const int e = x.emitter;
                 const uint32_t i0 = index(x.ringVertex[e]), i1 = index(x.ringVertex[(e + 1) % 4]),
                                i2 = index(x.ringVertex[(e + 2) % 4]), i3 = index(x.ringVertex[(e + 3) % 4]);
                 emit(i0, i1, i2);
                 emit(i0, i2, i3);
-                continue;
             }
-            // The dual polygon in ring order with the split vertices on its sides, fanned
-            // around a new centre: its edges cannot coincide with any other.
-            uint32_t n = 0;
-            for (int q = 0; q < 4; ++q) {
-                if (x.ringCell[q] != x.ringCell[(q + 3) % 4]) polygon[n++] = index(x.ringVertex[q]);
-                if (x.split[q].tile && x.ringCell[q] != x.ringCell[(q + 1) % 4]) polygon[n++] = index(x.split[q]);
-            }
-            glm::vec3 c(0.0f), nsum(0.0f);
-            for (uint32_t i = 0; i < n; ++i) {
-                c += m.positions[polygon[i]];
-                nsum += m.normals[polygon[i]];
-            }
-            m.positions[centre] = c / float(n);
-            m.normals[centre] = glm::dot(nsum, nsum) > 0.0f ? glm::normalize(nsum) : glm::vec3(0.0f, 0.0f, 1.0f);
-            for (uint32_t i = 0; i < n; ++i) emit(centre, polygon[i], polygon[(i + 1) % n]);
-            ++centre;
         }
     });
     // Paint: one colour per vertex from its position, so an incremental mesh gets the same
