@@ -49,13 +49,14 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         if (t.level() < d.tileLevel()) ++b.coarseTiles;
         const std::size_t total = t.bytes();
         b.nodeBytes += (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8;
-        const std::size_t leafBytes = std::size_t(t.narrowLeafCount()) * 9 + std::size_t(t.leafCount() - t.narrowLeafCount()) * 16;
+        const std::size_t leafBytes = std::size_t(t.narrowLeafCount()) * Tile::kNarrowLeafBytes +
+                                       std::size_t(t.leafCount() - t.narrowLeafCount()) * Tile::kWideLeafBytes;
         b.cornerBytes += leafBytes;
-        b.narrowLeafBytes += std::size_t(t.narrowLeafCount()) * 9;
+        b.narrowLeafBytes += std::size_t(t.narrowLeafCount()) * Tile::kNarrowLeafBytes;
         b.narrowLeaves += t.narrowLeafCount();
         b.wideLeaves += t.leafCount() - t.narrowLeafCount();
-        const std::size_t brickBytes = std::size_t(t.packedBrickCount()) * 29 +
-                                       std::size_t(t.brickCount() - t.packedBrickCount()) * 54;
+        const std::size_t brickBytes = std::size_t(t.packedBrickCount()) * Tile::kPackedBrickBytes +
+                                       std::size_t(t.brickCount() - t.packedBrickCount()) * Tile::kWideBrickBytes;
         b.brickBytes += brickBytes;
         b.narrowBricks += t.narrowBrickCount();
         b.coarseBricks += t.coarseBrickCount();
@@ -119,8 +120,8 @@ std::string formatBreakdown(const AdfBreakdown& b, int maxLevel) {
                   "%.2f), table %.2f\n",
                   mb(b.totalBytes()), mb(b.headerBytes), b.tiles, b.coarseTiles, mb(b.nodeBytes), mb(b.cornerBytes),
                   b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes),
-                  mb(b.brickBytes), b.narrowBricks, mb(29 * b.narrowBricks), b.coarseBricks, mb(29 * b.coarseBricks),
-                  b.wideBricks, mb(54 * b.wideBricks), mb(b.tableBytes));
+                  mb(b.brickBytes), b.narrowBricks, mb(Tile::kPackedBrickBytes * b.narrowBricks), b.coarseBricks, mb(Tile::kPackedBrickBytes * b.coarseBricks),
+                  b.wideBricks, mb(Tile::kWideBrickBytes * b.wideBricks), mb(b.tableBytes));
     out += line;
     out += "  level  lone-leaves (narrow)  brick-cells  bricks narrow/coarse/wide  internal   ext/int/boundary cells          "
            "cells by min|corner| (finest cells) <1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";

@@ -55,12 +55,12 @@ Layout layoutOf(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafC
                 uint32_t wideCount) {
     Layout l;
     l.wideLeaves = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
-    l.leafBases = l.wideLeaves + std::size_t(wideLeafCount) * 16;
+    l.leafBases = l.wideLeaves + std::size_t(wideLeafCount) * Tile::kWideLeafBytes;
     l.brickBases = l.leafBases + std::size_t(narrowLeafCount) * 2;
     l.leafDeltas = l.brickBases + std::size_t(packedCount) * 2;
     l.brickDeltas = l.leafDeltas + std::size_t(narrowLeafCount) * 7;
     l.wide = alignUp(l.brickDeltas + std::size_t(packedCount) * 27, 2);
-    l.total = l.wide + std::size_t(wideCount) * 54;
+    l.total = l.wide + std::size_t(wideCount) * Tile::kWideBrickBytes;
     return l;
 }
 }  // namespace

@@ -120,6 +120,9 @@ public:
     /// Bricks narrowBrickCount() .. packedBrickCount() - 1 are coarse-narrow (leaf step).
     uint32_t coarseBrickCount() const { return mPackedCount - mNarrowCount; }
     uint32_t packedBrickCount() const { return mPackedCount; }  ///< narrow and coarse-narrow: 29 bytes each
+    /// Bytes of one stored item of each form (the layout in tile.cpp), for accounting.
+    static constexpr std::size_t kNarrowLeafBytes = 2 + 7, kWideLeafBytes = 8 * 2;
+    static constexpr std::size_t kPackedBrickBytes = 2 + 27, kWideBrickBytes = 27 * 2;
     int32_t brickStep() const { return mStep; }           ///< quantisation steps per narrow-brick step
     /// Leaf cells: lone leaves plus 8 per brick.
     std::size_t cellCount() const { return mLeafCount + 8 * std::size_t(mBrickCount); }
