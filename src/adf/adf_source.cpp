@@ -8,6 +8,7 @@
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 
 #include <stdexcept>
@@ -27,7 +28,7 @@ struct LeafCell {
     uint32_t size = 0;     ///< lattice units
     bool contains(glm::uvec3 p) const {
         const glm::uvec3 rel = p - origin;  // wraps around below the origin
-        return rel.x < size && rel.y < size && rel.z < size;
+        return (rel.x | rel.y | rel.z) < size;  // size is a power of two
     }
     float corner(int c) const {
         const int16_t q = brickChild < 0 ? tile->leafValue(node::leafIndex(word), c)
@@ -46,30 +47,64 @@ public:
     explicit AdfSource(AdfPtr adf)
         : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld), mInvCell(1.0 / mAdf->domain().finestCellSize()),
           mTop(mAdf->domain().latticeSize()), mMaxLevel(mAdf->domain().maxLevel),
-          mTileShift(uint32_t(mAdf->domain().tileSpan())) {}
-    double distance(const glm::dvec3& p) const override {
-        Cache cache;
-        return value(p, cache);
-    }
+          mTileShift(uint32_t(mAdf->domain().tileSpan())), mSerial(gNextSerial.fetch_add(1, std::memory_order_relaxed)) {}
+    double distance(const glm::dvec3& p) const override { return value(p, threadCache()); }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
-        Cache cache;  // batches are coherent (one cell's points): keep the last leaves found
+        Cache& cache = threadCache();
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = value(p[i], cache);
     }
 
 private:
-    /// The last few leaves found. A leaf answers for the points of its half-open box, exactly
-    /// as a fresh descent would, so the cache changes no result.
-    struct Cache {
-        static constexpr int kSize = 4;
-        LeafCell cells[kSize];
-        int count = 0, next = 0;
+    /// A found leaf and, once asked for, its 8 decoded corners (most of a regeneration's points
+    /// fall inside a few larger old leaves and interpolate there).
+    struct CachedLeaf : LeafCell {
+        float values[8];
+        bool decoded = false;
+        const float* corners() {
+            if (!decoded) {
+                if (brickChild < 0) {
+                    tile->leafCorners(node::leafIndex(word), values);
+                } else {
+                    for (int c = 0; c < 8; ++c) values[c] = corner(c);
+                }
+                decoded = true;
+            }
+            return values;
+        }
     };
+    /// The last few leaves found, kept per thread across calls: a regeneration asks for a tile's
+    /// points in many small, coherent batches. A leaf answers for the points of its half-open
+    /// box exactly as a fresh descent would, so the cache changes no result. It is tagged with
+    /// the serial number of the source that filled it and emptied when another source uses the
+    /// thread, so no entry outlives the snapshot it points into.
+    struct Cache {
+        static constexpr int kSize = 8;
+        uint64_t owner = 0;
+        CachedLeaf cells[kSize];
+        int count = 0, next = 0;
+        int last = 0;  ///< the entry found last: asked first (consecutive points share leaves)
+    };
+    Cache& threadCache() const {
+        thread_local Cache cache;
+        if (cache.owner != mSerial) {
+            cache.owner = mSerial;
+            cache.count = cache.next = cache.last = 0;
+        }
+        return cache;
+    }
 
-    LeafCell locate(glm::uvec3 p, Cache& cache) const {
+    CachedLeaf& locate(glm::uvec3 p, Cache& cache) const {
+        if (cache.count > 0 && cache.cells[cache.last].contains(p)) return cache.cells[cache.last];
         for (int i = 0; i < cache.count; ++i)
-            if (cache.cells[i].contains(p)) return cache.cells[i];
-        LeafCell c;
+            if (cache.cells[i].contains(p)) {
+                cache.last = i;
+                return cache.cells[i];
+            }
+        cache.last = cache.next;
+        CachedLeaf& c = cache.cells[cache.next];
         c.tile = mAdf->tileAtSlot(p >> mTileShift);
+        c.brickChild = -1;
+        c.decoded = false;
         const uint32_t* nodes = c.tile->nodes();
         int level = c.tile->level();
         auto childAt = [&](int l) {
@@ -83,7 +118,6 @@ private:
         const uint32_t shift = uint32_t(mMaxLevel - level);
         c.origin = (p >> shift) << shift;
         c.size = 1u << shift;
-        cache.cells[cache.next] = c;
         cache.next = (cache.next + 1) % Cache::kSize;
         cache.count = std::min(cache.count + 1, Cache::kSize);
         return c;
@@ -92,17 +126,14 @@ private:
     /// Corner index of lattice point `pt` in `leaf`, or -1.
     static int cornerIndex(const LeafCell& leaf, glm::uvec3 pt) {
         const glm::uvec3 rel = pt - leaf.origin;
-        int c = 0;
-        for (int k = 0; k < 3; ++k) {
-            if (rel[k] == leaf.size) c |= 1 << k;
-            else if (rel[k] != 0) return -1;
-        }
-        return c;
+        // Each coordinate must be 0 or size: no bit of any below size, none above it.
+        if (((rel.x | rel.y | rel.z) & ~leaf.size) != 0) return -1;
+        return int((rel.x != 0) | ((rel.y != 0) << 1) | ((rel.z != 0) << 2));
     }
 
     double value(const glm::dvec3& p, Cache& cache) const {
         const glm::dvec3 u = (p - mOrigin) * mInvCell;
-        const glm::dvec3 r = glm::round(u);
+        const glm::dvec3 r = glm::floor(u + 0.5);  // the nearest integer (ties only fail the test below)
         const bool lattice = glm::all(glm::lessThan(glm::abs(u - r), glm::dvec3(1e-4))) &&
                              glm::all(glm::greaterThanEqual(r, glm::dvec3(0.0))) && glm::all(glm::lessThanEqual(r, glm::dvec3(mTop)));
         if (!lattice) return mAdf->sample(glm::vec3(p)).distance;
@@ -111,14 +142,17 @@ private:
         // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
         // octant order wins (their values differ only by quantisation).
         uint32_t onFace = 7;
-        LeafCell first;
+        CachedLeaf first;  // a copy: the lookups below may reuse its cache entry
         if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
-            first = locate(pt, cache);
-            const int c = cornerIndex(first, pt);
-            if (c >= 0) return first.corner(c);
+            CachedLeaf& found = locate(pt, cache);
+            const int c = cornerIndex(found, pt);
+            if (c >= 0) return found.corner(c);
             onFace = 0;
             for (int k = 0; k < 3; ++k)
-                if (pt[k] == first.origin[k]) onFace |= 1u << k;
+                if (pt[k] == found.origin[k]) onFace |= 1u << k;
+            const glm::vec3 f = (glm::vec3(pt) - glm::vec3(found.origin)) / float(found.size);
+            if (onFace == 0) return trilinear(found.corners(), f).distance;  // strictly inside it
+            first = found;
         }
         for (uint32_t o = 1; o < 8; ++o) {
             if ((o & onFace) == 0) continue;  // moves only along axes where p is inside the first leaf
@@ -126,23 +160,23 @@ private:
             if (glm::any(glm::lessThan(pt, off))) continue;
             const glm::uvec3 cube = pt - off;
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
-            const LeafCell leaf = locate(cube, cache);
+            const CachedLeaf& leaf = locate(cube, cache);
             const int c = cornerIndex(leaf, pt);
             if (c >= 0) return leaf.corner(c);
         }
         if (!first.tile) return mAdf->sample(glm::vec3(p)).distance;  // on the domain's upper faces
-        // Inside the first leaf (or on its faces, corner of no leaf): interpolate there.
-        float corners[8];
-        for (int c = 0; c < 8; ++c) corners[c] = first.corner(c);
-        return trilinear(corners, (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
+        // On the first leaf's faces but a corner of no leaf: interpolate there.
+        return trilinear(first.corners(), (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
     }
 
+    static inline std::atomic<uint64_t> gNextSerial{1};
     AdfPtr mAdf;
     glm::dvec3 mOrigin;
     double mInvCell;
     uint32_t mTop;
     int mMaxLevel;
     uint32_t mTileShift;
+    uint64_t mSerial;  ///< tags this source's entries in the per-thread leaf caches
 };
 
 class RegionLimited final : public DistanceSource {

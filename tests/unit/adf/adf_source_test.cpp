@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: Apache-2.0
+// AdfSource: a snapshot read as a distance source answers, at every lattice point, the stored
+// corner of the first leaf (octant order) that has the point as a corner, and elsewhere the
+// trilinear field of the leaf holding the point; its per-thread leaf cache never lets one
+// source's leaves answer for another's. The reference below maps every finest cube to its leaf
+// by walking all tiles, sharing no lookup code with the source.
+#include "adf/adf_source.h"
+#include "adf/generate.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+#include <vector>
+
+using namespace kizamu;
+using namespace kizamu::adf;
+
+namespace {
+
+Domain smallDomain() {
+    Domain d;
+    d.originWorld = glm::dvec3(-0.5);
+    d.maxLevel = 5;
+    d.tileSpanLevels = 3;
+    return d;
+}
+
+/// A box with a ball bitten out of one corner and a ball on top: leaves of every size, bricks
+/// and lone leaves, and tiles of several depths side by side.
+AdfPtr makeShape(double ballRadius) {
+    const SourcePtr box = makeBox(glm::dvec3(0.27, 0.22, 0.19));
+    const SourcePtr bite = makeTranslated(makeSphere(ballRadius), glm::dvec3(0.25, 0.2, 0.2));
+    const SourcePtr top = makeTranslated(makeSphere(0.13), glm::dvec3(-0.05, 0.0, 0.2));
+    GenerationSettings s;
+    s.bandCells = 3.0;
+    return generate(*makeCsg(CsgOp::Union, makeCsg(CsgOp::Difference, box, bite), top), smallDomain(), s);
+}
+
+/// Every finest cube's leaf, by walking all tiles.
+class CubeLeaves {
+public:
+    explicit CubeLeaves(const Adf& adf) : mTop(adf.domain().latticeSize()), mLeaves(std::size_t(mTop) * mTop * mTop) {
+        adf.forEachTile([&](const Tile& t) {
+            forEachLeaf(t, adf.domain().maxLevel, [&](const LeafRef& r) {
+                for (uint32_t z = 0; z < r.latticeSize; ++z)
+                    for (uint32_t y = 0; y < r.latticeSize; ++y)
+                        for (uint32_t x = 0; x < r.latticeSize; ++x) at(r.latticeOrigin + glm::uvec3(x, y, z)) = r;
+            });
+        });
+    }
+    /// The field AdfSource must answer at lattice point p.
+    float expected(glm::uvec3 p) const {
+        for (uint32_t o = 0; o < 8; ++o) {
+            const glm::uvec3 off(o & 1, (o >> 1) & 1, o >> 2);
+            if (glm::any(glm::lessThan(p, off))) continue;
+            const glm::uvec3 cube = p - off;
+            if (glm::any(glm::greaterThanEqual(cube, glm::uvec3(mTop)))) continue;
+            const LeafRef& r = at(cube);
+            const glm::uvec3 rel = p - r.latticeOrigin;
+            int corner = 0;
+            bool isCorner = true;
+            for (int k = 0; k < 3; ++k) {
+                if (rel[k] == r.latticeSize) corner |= 1 << k;
+                else if (rel[k] != 0) isCorner = false;
+            }
+            if (isCorner) return r.corners[corner];
+        }
+        const LeafRef& r = at(p);  // a corner of no leaf: inside the leaf holding it
+        return trilinear(r.corners, (glm::vec3(p) - glm::vec3(r.latticeOrigin)) / float(r.latticeSize)).distance;
+    }
+    uint32_t top() const { return mTop; }
+
+private:
+    LeafRef& at(glm::uvec3 c) { return mLeaves[(std::size_t(c.z) * mTop + c.y) * mTop + c.x]; }
+    const LeafRef& at(glm::uvec3 c) const { return mLeaves[(std::size_t(c.z) * mTop + c.y) * mTop + c.x]; }
+    uint32_t mTop;
+    std::vector<LeafRef> mLeaves;
+};
+
+}  // namespace
+
+TEST(AdfSource, AnswersTheFirstStoredCornerOrTheHoldingLeafAtEveryLatticePoint) {
+    const AdfPtr adf = makeShape(0.12);
+    const CubeLeaves ref(*adf);
+    const SourcePtr src = makeAdfSource(adf);
+    const Domain& d = adf->domain();
+    // Interior points only (the upper domain faces take the clamped Adf::sample path), in
+    // batches along x as the generator asks, and one at a time in reverse.
+    std::vector<glm::dvec3> row(ref.top());
+    std::vector<double> out(ref.top());
+    int mismatches = 0;
+    for (uint32_t z = 0; z < ref.top(); ++z)
+        for (uint32_t y = 0; y < ref.top(); ++y) {
+            for (uint32_t x = 0; x < ref.top(); ++x) row[x] = d.latticeToWorld(x, y, z);
+            src->distances(row, out);
+            for (uint32_t x = 0; x < ref.top(); ++x) mismatches += out[x] != double(ref.expected({x, y, z}));
+        }
+    for (uint32_t z = ref.top(); z-- > 0;)
+        for (uint32_t y = ref.top(); y-- > 0;)
+            for (uint32_t x = ref.top(); x-- > 0;)
+                mismatches += src->distance(d.latticeToWorld(x, y, z)) != double(ref.expected({x, y, z}));
+    EXPECT_EQ(mismatches, 0);
+}
+
+TEST(AdfSource, OffTheLatticeItIsTheSnapshotsOwnField) {
+    const AdfPtr adf = makeShape(0.12);
+    const SourcePtr src = makeAdfSource(adf);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> u(-0.49, 0.49);
+    for (int i = 0; i < 20000; ++i) {
+        const glm::dvec3 p(u(rng), u(rng), u(rng));
+        ASSERT_EQ(src->distance(p), double(adf->sample(glm::vec3(p)).distance)) << i;
+    }
+}
+
+TEST(AdfSource, SourcesSharingAThreadNeverAnswerForEachOther) {
+    // Two snapshots of different shapes, asked alternately on one thread, then a third
+    // source made after one is gone: each answers its own field at every point.
+    const AdfPtr a = makeShape(0.12), b = makeShape(0.2);
+    const CubeLeaves refA(*a), refB(*b);
+    const Domain& d = a->domain();
+    int differing = 0, mismatches = 0;
+    auto check = [&](const SourcePtr& src, const CubeLeaves& ref, glm::uvec3 p) {
+        mismatches += src->distance(d.latticeToWorld(p.x, p.y, p.z)) != double(ref.expected(p));
+    };
+    SourcePtr srcA = makeAdfSource(a);
+    const SourcePtr srcB = makeAdfSource(b);
+    for (uint32_t z = 0; z < refA.top(); ++z)
+        for (uint32_t y = 0; y < refA.top(); ++y)
+            for (uint32_t x = 0; x < refA.top(); ++x) {
+                differing += refA.expected({x, y, z}) != refB.expected({x, y, z});
+                check(srcA, refA, {x, y, z});
+                check(srcB, refB, {x, y, z});
+            }
+    srcA.reset();
+    const SourcePtr again = makeAdfSource(b);
+    for (uint32_t z = 0; z < refB.top(); ++z)
+        for (uint32_t y = 0; y < refB.top(); ++y)
+            for (uint32_t x = 0; x < refB.top(); ++x) check(again, refB, {x, y, z});
+    EXPECT_GT(differing, 1000);  // the shapes really differ
+    EXPECT_EQ(mismatches, 0);
+}
