@@ -47,6 +47,21 @@ TEST(Lod, ErrorForATriangleCountHitsIt) {
     EXPECT_THROW(mesh::meshLod(fine, 0.0), std::invalid_argument);
 }
 
+TEST(Lod, SameBytesOnAnyThreadCount) {
+    util::ThreadPool two(2), three(3);
+    const Domain d = testPartDomain(9);
+    const AdfPtr fine = generate(*makeTestPart(d), d, testPartSettings(), &two);
+    for (double cells : {2.0, 17.0}) {
+        const mesh::MeshBuffers serial = mesh::meshLod(fine, cells * d.finestCellSize(), nullptr);
+        for (util::ThreadPool* pool : {&two, &three}) {
+            const mesh::MeshBuffers m = mesh::meshLod(fine, cells * d.finestCellSize(), pool);
+            EXPECT_EQ(m.positions, serial.positions) << cells;
+            EXPECT_EQ(m.normals, serial.normals) << cells;
+            EXPECT_EQ(m.indices, serial.indices) << cells;
+        }
+    }
+}
+
 TEST(PointCloud, PointsLieOnTheSurfaceWithNormalsAndFollowTheArea) {
     util::ThreadPool pool;
     Domain d;
