@@ -32,18 +32,17 @@ LeafRef Adf::findLeaf(glm::uvec3 p) const noexcept {
            "findLeaf needs a point inside the domain");
     const int tileShift = mDomain.maxLevel - mDomain.tileLevel();
     const Tile* tile = tileAtSlot(p >> uint32_t(tileShift));
-    const uint32_t* nodes = tile->nodes();
     const int maxLevel = mDomain.maxLevel;
     auto childAt = [&](int level) {
         const int shift = maxLevel - level - 1;
         return int(((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2));
     };
     uint32_t at = 0;
-    uint32_t w = nodes[0];
+    uint32_t w = tile->node(0);
     int level = tile->level();
     while (node::isInternal(w)) {
         at = w + uint32_t(childAt(level));
-        w = nodes[at];
+        w = tile->node(at);
         ++level;
     }
     LeafRef r;
@@ -85,10 +84,9 @@ void AdfAccessor::descend(glm::uvec3 p) noexcept {
     const Domain& d = mAdf->domain();
     if (mDepth == 0) {
         mTile = mAdf->tileAtSlot(p >> uint32_t(d.tileSpan()));
-        mPath[0] = {mTile->latticeOrigin(), d.cellLattice(mTile->level()), mTile->nodes()[0]};
+        mPath[0] = {mTile->latticeOrigin(), d.cellLattice(mTile->level()), mTile->node(0)};
         mDepth = 1;
     }
-    const uint32_t* nodes = mTile->nodes();
     for (;;) {
         const PathCell cell = mPath[mDepth - 1];
         const uint32_t half = cell.size >> 1;
@@ -97,7 +95,7 @@ void AdfAccessor::descend(glm::uvec3 p) noexcept {
         const int child = int(cx | (cy << 1) | (cz << 2));
         const glm::uvec3 childOrigin = cell.origin + glm::uvec3(cx, cy, cz) * half;
         if (node::isInternal(cell.word)) {
-            mPath[mDepth++] = {childOrigin, half, nodes[cell.word + uint32_t(child)]};
+            mPath[mDepth++] = {childOrigin, half, mTile->node(cell.word + uint32_t(child))};
             continue;
         }
         const float scale = mTile->scale();

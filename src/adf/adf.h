@@ -277,7 +277,7 @@ void forEachLeaf(const Tile& t, int maxLevel, Fn&& fn) {
     r.tile = &t;
     while (top > 0) {
         const Item it = stack[--top];
-        const uint32_t w = t.nodes()[it.node];
+        const uint32_t w = t.node(it.node);
         if (node::isInternal(w)) {
             const uint32_t half = 1u << (maxLevel - it.level - 1);
             for (int c = 7; c >= 0; --c)

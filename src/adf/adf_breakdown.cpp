@@ -48,7 +48,7 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         ++b.tiles;
         if (t.level() < d.tileLevel()) ++b.coarseTiles;
         const std::size_t total = t.bytes();
-        b.nodeBytes += (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8;
+        b.nodeBytes += (t.nodeBytes() + 7) / 8 * 8;
         const std::size_t leafBytes = std::size_t(t.narrowLeafCount()) * Tile::kNarrowLeafBytes +
                                        std::size_t(t.leafCount() - t.narrowLeafCount()) * Tile::kWideLeafBytes;
         b.cornerBytes += leafBytes;
@@ -61,7 +61,7 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         b.narrowBricks += t.narrowBrickCount();
         b.coarseBricks += t.coarseBrickCount();
         b.wideBricks += t.brickCount() - t.packedBrickCount();
-        b.headerBytes += total - (std::size_t(t.nodeCount()) * 4 + 7) / 8 * 8 - leafBytes - brickBytes;
+        b.headerBytes += total - (t.nodeBytes() + 7) / 8 * 8 - leafBytes - brickBytes;
         struct Item {
             uint32_t node;
             int level;
@@ -71,7 +71,7 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         stack[top++] = {0, t.level()};
         while (top > 0) {
             const Item it = stack[--top];
-            const uint32_t w = t.nodes()[it.node];
+            const uint32_t w = t.node(it.node);
             AdfBreakdown::Level& L = b.levels[std::size_t(it.level)];
             if (node::isInternal(w)) {
                 ++L.internalNodes;

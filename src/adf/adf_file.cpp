@@ -64,7 +64,7 @@ bool validTree(const Tile& t, int maxDepth, std::string& why) {
         const Item it = stack.back();
         stack.pop_back();
         if (++visited > t.nodeCount()) return why = "a node is reachable twice", false;
-        const uint32_t w = t.nodes()[it.node];
+        const uint32_t w = t.node(it.node);
         if (node::isLeaf(w)) {
             const uint32_t leaf = node::leafIndex(w);
             if (leaf >= t.leafCount()) return why = "leaf index out of range", false;
@@ -200,9 +200,10 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.put(t.nodeCount());
         w.put(t.leafCount());
         w.put(t.brickCount());
-        w.putRaw(t.nodes(), std::size_t(t.nodeCount()) * 4);
-        // Leaves and bricks as 16-bit values (narrow ones decoded): the format predates narrow
-        // leaves and bricks, and loading packs them again to the same bits.
+        // Node words as 32 bits, leaves and bricks as 16-bit values (narrow ones decoded): the
+        // format predates the narrow forms, and loading packs them again to the same bits.
+        const std::vector<uint32_t> words = t.nodeWords();
+        w.putRaw(words.data(), words.size() * 4);
         std::vector<int16_t> corners(std::size_t(t.leafCount()) * 8);
         for (uint32_t l = 0; l < t.leafCount(); ++l) t.leafValues(l, corners.data() + 8 * std::size_t(l));
         w.putRaw(corners.data(), corners.size() * 2);

@@ -105,14 +105,13 @@ private:
         c.tile = mAdf->tileAtSlot(p >> mTileShift);
         c.brickChild = -1;
         c.decoded = false;
-        const uint32_t* nodes = c.tile->nodes();
         int level = c.tile->level();
         auto childAt = [&](int l) {
             const uint32_t shift = uint32_t(mMaxLevel - l - 1);
             return ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
         };
-        uint32_t w = nodes[0];
-        while (node::isInternal(w)) w = nodes[w + childAt(level++)];
+        uint32_t w = c.tile->node(0);
+        while (node::isInternal(w)) w = c.tile->node(w + childAt(level++));
         if (node::isBrick(w)) c.brickChild = int(childAt(level++));
         c.word = w;
         const uint32_t shift = uint32_t(mMaxLevel - level);

@@ -468,11 +468,10 @@ private:
         bool coarser;
     };
     OldCell findOld(glm::uvec3 o, int level) const {
-        const uint32_t* nodes = mOld->nodes();
-        uint32_t w = nodes[0];
+        uint32_t w = mOld->node(0);
         for (int l = mDomain.tileLevel(); l < level; ++l) {
             if (node::isInternal(w)) {
-                w = nodes[w + uint32_t(childAt(o, l))];
+                w = mOld->node(w + uint32_t(childAt(o, l)));
                 continue;
             }
             if (node::isLeaf(w)) return {w, -1, true};
@@ -508,7 +507,6 @@ private:
     /// leaf holding it) lies in `range`: then so does the old field over the cell, which is
     /// trilinear between them. Says which way the cell can be kept.
     Keep oldValuesWithin(glm::uvec3 o, int level, const DistanceSource::Range& range) const {
-        const uint32_t* nodes = mOld->nodes();
         const float scale = mOld->scale();
         // value(k) is a quantised value; all n must decode into the range
         auto inRange = [&](int n, const auto& value) {
@@ -537,7 +535,7 @@ private:
                 const uint32_t brick = node::brickIndex(w);
                 if (!inRange(27, [&](int g) { return mOld->brickValue(brick, g); })) return Keep::No;
             } else {
-                for (uint32_t c = 0; c < 8; ++c) stack[top++] = nodes[w + c];
+                for (uint32_t c = 0; c < 8; ++c) stack[top++] = mOld->node(w + c);
             }
         }
         return Keep::Copy;
@@ -579,7 +577,7 @@ private:
         } else {
             const auto first = uint32_t(mNodes.size());
             mNodes.resize(first + 8);
-            for (int c = 0; c < 8; ++c) copySubtree(first + uint32_t(c), mOld->nodes()[w + uint32_t(c)]);
+            for (int c = 0; c < 8; ++c) copySubtree(first + uint32_t(c), mOld->node(w + uint32_t(c)));
             mNodes[nodeIndex] = first;
         }
     }

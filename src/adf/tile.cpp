@@ -51,10 +51,10 @@ namespace {
 struct Layout {
     std::size_t wideLeaves, leafBases, brickBases, leafDeltas, brickDeltas, wide, total;
 };
-Layout layoutOf(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t packedCount,
-                uint32_t wideCount) {
+Layout layoutOf(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount,
+                uint32_t packedCount, uint32_t wideCount) {
     Layout l;
-    l.wideLeaves = kHeaderBytes + alignUp(std::size_t(nodeCount) * 4, 8);
+    l.wideLeaves = kHeaderBytes + alignUp(std::size_t(nodeCount) * (narrowNodes ? 2 : 4), 8);
     l.leafBases = l.wideLeaves + std::size_t(wideLeafCount) * Tile::kWideLeafBytes;
     l.brickBases = l.leafBases + std::size_t(narrowLeafCount) * 2;
     l.leafDeltas = l.brickBases + std::size_t(packedCount) * 2;
@@ -65,13 +65,17 @@ Layout layoutOf(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafC
 }
 }  // namespace
 
-Tile* Tile::allocate(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
-                     uint32_t coarseCount, uint32_t wideCount) {
-    const Layout l = layoutOf(nodeCount, narrowLeafCount, wideLeafCount, narrowCount + coarseCount, wideCount);
+Tile* Tile::allocate(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount,
+                     uint32_t narrowCount, uint32_t coarseCount, uint32_t wideCount) {
+    const Layout l = layoutOf(nodeCount, narrowNodes, narrowLeafCount, wideLeafCount, narrowCount + coarseCount, wideCount);
     void* mem = ::operator new(l.total);
     Tile* t = new (mem) Tile();
     auto* base = static_cast<unsigned char*>(mem);
-    t->mNodes = reinterpret_cast<const uint32_t*>(base + kHeaderBytes);
+    t->mNarrowNodes = narrowNodes;
+    if (narrowNodes)
+        t->mNarrowNodeWords = reinterpret_cast<const uint16_t*>(base + kHeaderBytes);
+    else
+        t->mNodes = reinterpret_cast<const uint32_t*>(base + kHeaderBytes);
     t->mWideLeaves = reinterpret_cast<const int16_t*>(base + l.wideLeaves);
     t->mLeafBases = reinterpret_cast<const int16_t*>(base + l.leafBases);
     t->mLeafDeltas = reinterpret_cast<const int8_t*>(base + l.leafDeltas);
@@ -95,8 +99,15 @@ void Tile::Deleter::operator()(const Tile* t) const {
 Tile::~Tile() { mMagic = 0xdeadbeefdeadbeefull; }
 
 std::size_t Tile::bytes() const {
-    return layoutOf(mNodeCount, mNarrowLeafCount, mLeafCount - mNarrowLeafCount, mPackedCount, mBrickCount - mPackedCount)
+    return layoutOf(mNodeCount, mNarrowNodes, mNarrowLeafCount, mLeafCount - mNarrowLeafCount, mPackedCount,
+                    mBrickCount - mPackedCount)
         .total;
+}
+
+std::vector<uint32_t> Tile::nodeWords() const {
+    std::vector<uint32_t> out(mNodeCount);
+    for (uint32_t i = 0; i < mNodeCount; ++i) out[i] = node(i);
+    return out;
 }
 
 uint64_t Tile::computeChecksum() const {
@@ -104,7 +115,8 @@ uint64_t Tile::computeChecksum() const {
     h = fnv1a(h, &mLevel, sizeof mLevel);
     h = fnv1a(h, &mOrigin, sizeof mOrigin);
     h = fnv1a(h, &mScale, sizeof mScale);
-    h = fnv1a(h, mNodes, std::size_t(mNodeCount) * 4);
+    h = fnv1a(h, &mNarrowNodes, sizeof mNarrowNodes);
+    h = fnv1a(h, mNarrowNodes ? static_cast<const void*>(mNarrowNodeWords) : mNodes, nodeBytes());
     h = fnv1a(h, &mStep, sizeof mStep);
     h = fnv1a(h, &mNarrowLeafCount, sizeof mNarrowLeafCount);
     h = fnv1a(h, mLeafBases, std::size_t(mNarrowLeafCount) * 2);
@@ -244,10 +256,9 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     const std::vector<uint32_t> renumberLeaf = numberByForm(leafForm, leafForms);
     const uint32_t narrowLeafCount = leafForms[kNarrow];
 
-    Tile* t = allocate(uint32_t(nodes.size()), narrowLeafCount, leafCount - narrowLeafCount, narrowCount, coarseCount,
-                       brickCount - packedCount);
-    t->mStep = step;
-    auto* words = const_cast<uint32_t*>(t->mNodes);
+    // Node words with the new numbers; 16 bits each when every one fits (node::narrow).
+    std::vector<uint32_t> words(nodes.size());
+    bool narrowNodes = true;
     for (std::size_t i = 0; i < nodes.size(); ++i) {
         const uint32_t w = nodes[i];
         if (node::isBrick(w) && node::brickIndex(w) < brickCount)
@@ -256,6 +267,17 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             words[i] = node::makeLeaf(renumberLeaf[node::leafIndex(w)], node::leafType(w));
         else
             words[i] = w;
+        narrowNodes = narrowNodes && node::fitsNarrow(words[i]);
+    }
+
+    Tile* t = allocate(uint32_t(nodes.size()), narrowNodes, narrowLeafCount, leafCount - narrowLeafCount, narrowCount,
+                       coarseCount, brickCount - packedCount);
+    t->mStep = step;
+    if (narrowNodes) {
+        auto* out = const_cast<uint16_t*>(t->mNarrowNodeWords);
+        for (std::size_t i = 0; i < words.size(); ++i) out[i] = node::narrow(words[i]);
+    } else {
+        std::copy(words.begin(), words.end(), const_cast<uint32_t*>(t->mNodes));
     }
     auto* leafBases = const_cast<int16_t*>(t->mLeafBases);
     auto* leafPacked = const_cast<int8_t*>(t->mLeafDeltas);
@@ -287,7 +309,7 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
 }
 
 TilePtr Tile::finish(Tile* t, int level, glm::uvec3 latticeOrigin, float scale, uint64_t version) {
-    t->mLevel = level;
+    t->mLevel = int16_t(level);
     t->mOrigin = latticeOrigin;
     t->mScale = scale;
     t->mVersion = version;

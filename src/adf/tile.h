@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <vector>
 
 namespace kizamu::adf {
 
@@ -62,6 +63,23 @@ inline constexpr uint32_t makeLeaf(uint32_t index, CellType t) {
     return kLeafBit | (uint32_t(t) << 29) | index;
 }
 inline constexpr uint32_t makeBrick(uint32_t index) { return kBrickBit | index; }
+
+/// The 16-bit form a tile uses when all its words fit (most do: a tile holds a few thousand
+/// nodes): leaf bit 15, CellType in bits 13-14 and index in 0-12; brick bit 14 and index in
+/// 0-13; an internal node's first child below 2^14. Readers see the 32-bit words only.
+inline constexpr bool fitsNarrow(uint32_t w) {
+    if (isLeaf(w)) return leafIndex(w) < (1u << 13);
+    return (w & kBrickMask) < (1u << 14);  // a brick's index or an internal node's first child
+}
+inline constexpr uint16_t narrow(uint32_t w) {
+    if (isLeaf(w)) return uint16_t(0x8000u | ((w >> 16) & 0x6000u) | leafIndex(w));
+    return uint16_t((isBrick(w) ? 0x4000u : 0u) | (w & kBrickMask));
+}
+inline constexpr uint32_t widen(uint16_t w) {
+    if (w & 0x8000u) return kLeafBit | (uint32_t(w & 0x6000u) << 16) | (w & 0x1fffu);
+    if (w & 0x4000u) return kBrickBit | (w & 0x3fffu);
+    return w;
+}
 }  // namespace node
 
 /// Half-grid point g = i + 3j + 9k (i, j, k in 0..2) of a brick holding corner `c` of child `child`.
@@ -112,6 +130,10 @@ public:
     int level() const { return mLevel; }
     glm::uvec3 latticeOrigin() const { return mOrigin; }
     uint32_t nodeCount() const { return mNodeCount; }
+    /// True when the node words are stored in 16 bits (node::narrow), half the bytes.
+    bool narrowNodes() const { return mNarrowNodes; }
+    /// Bytes of the node words as stored.
+    std::size_t nodeBytes() const { return std::size_t(mNodeCount) * (mNarrowNodes ? 2 : 4); }
     uint32_t leafCount() const { return mLeafCount; }    ///< lone leaves (not in bricks), narrow and wide
     uint32_t narrowLeafCount() const { return mNarrowLeafCount; }  ///< leaves 0 .. this - 1 are narrow
     int32_t leafStep() const { return 2 * mStep; }       ///< quantisation steps per narrow-leaf step
@@ -126,7 +148,10 @@ public:
     int32_t brickStep() const { return mStep; }           ///< quantisation steps per narrow-brick step
     /// Leaf cells: lone leaves plus 8 per brick.
     std::size_t cellCount() const { return mLeafCount + 8 * std::size_t(mBrickCount); }
-    const uint32_t* nodes() const { return mNodes; }
+    /// Node word `i` in the 32-bit encoding of node::, whichever width the tile stores.
+    uint32_t node(uint32_t i) const { return mNarrowNodes ? node::widen(mNarrowNodeWords[i]) : mNodes[i]; }
+    /// Every node word in the 32-bit encoding (files, copies, tests).
+    std::vector<uint32_t> nodeWords() const;
     /// Quantised corner `c` of lone leaf `leaf`.
     int16_t leafValue(uint32_t leaf, int c) const {
         if (leaf < mNarrowLeafCount) {
@@ -171,9 +196,9 @@ public:
     /// is bad.
     uint64_t computeChecksum() const;
     /// True when the whole tile is one leaf cell.
-    bool singleLeaf() const { return mNodeCount == 1 && node::isLeaf(mNodes[0]); }
+    bool singleLeaf() const { return mNodeCount == 1 && node::isLeaf(node(0)); }
     /// Type of the root when singleLeaf().
-    CellType rootType() const { return node::leafType(mNodes[0]); }
+    CellType rootType() const { return node::leafType(node(0)); }
     /// Decoded corner `c` of lone leaf `leaf`, m.
     float corner(uint32_t leaf, int c) const { return float(leafValue(leaf, c)) * mScale; }
     /// Decoded corner `c` of child `child` of brick `brick`, m.
@@ -187,7 +212,7 @@ public:
 
 private:
     Tile() = default;
-    static Tile* allocate(uint32_t nodeCount, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
+    static Tile* allocate(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
                           uint32_t coarseCount, uint32_t wideCount);
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed.
     static std::shared_ptr<const Tile> build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
@@ -203,7 +228,10 @@ private:
     uint64_t mMagic = 0;  ///< kAlive while valid; poisoned by the destructor
     uint64_t mVersion = 0;
     uint64_t mChecksum = 0;
-    const uint32_t* mNodes = nullptr;
+    union {
+        const uint32_t* mNodes = nullptr;    ///< 32-bit node words, unless mNarrowNodes
+        const uint16_t* mNarrowNodeWords;    ///< 16-bit node words (node::narrow), if mNarrowNodes
+    };
     const int16_t* mWideLeaves = nullptr;   ///< 8 per wide lone leaf
     const int16_t* mLeafBases = nullptr;    ///< corner 0 of each narrow lone leaf
     const int8_t* mLeafDeltas = nullptr;    ///< corners 1-7 of each narrow lone leaf, leaf steps from corner 0
@@ -219,7 +247,8 @@ private:
     uint32_t mPackedCount = 0;  ///< narrow and coarse-narrow bricks
     int32_t mStep = 1;
     float mScale = 0.0f;
-    int mLevel = 0;
+    int16_t mLevel = 0;  // with the flag below, keeps the header at 128 bytes
+    bool mNarrowNodes = false;
 
 public:
     static constexpr uint64_t kAlive = 0x4b5a54494c45a11eull;

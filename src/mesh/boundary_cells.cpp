@@ -32,7 +32,7 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
     while (top > 0) {
         const Item it = stack[--top];
         if (!keep(it.origin, it.size)) continue;
-        const uint32_t w = t.nodes()[it.node];
+        const uint32_t w = t.node(it.node);
         const uint32_t half = it.size >> 1;
         if (node::isInternal(w)) {
             for (int c = 7; c >= 0; --c)

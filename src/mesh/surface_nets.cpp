@@ -48,16 +48,15 @@ public:
             mPath[0] = {mTile->latticeOrigin(), 1u << uint32_t(mMaxLevel - mTile->level()), 0, mTile->level()};
             mDepth = 1;
         }
-        const uint32_t* nodes = mTile->nodes();
         Entry e = mPath[mDepth - 1];
-        uint32_t w = nodes[e.node];
+        uint32_t w = mTile->node(e.node);
         // Sizes are powers of two: shifts and masks, no divisions.
         while (adf::node::isInternal(w)) {
             const uint32_t shift = uint32_t(mMaxLevel - e.level - 1), half = 1u << shift;
             const glm::uvec3 bit = ((p - e.origin) >> shift) & 1u;
             e = {e.origin + (bit << shift), half, w + (bit.x | (bit.y << 1) | (bit.z << 2)), e.level + 1};
             mPath[mDepth++] = e;
-            w = nodes[e.node];
+            w = mTile->node(e.node);
         }
         if (adf::node::isBrick(w)) {
             const uint32_t shift = uint32_t(mMaxLevel - e.level - 1);

@@ -17,21 +17,21 @@ struct Cursor {
     int brickChild;  ///< -1: the node word itself
 
     bool isLeaf() const {
-        return brickChild >= 0 || adf::node::isLeaf(tile->nodes()[node]);
+        return brickChild >= 0 || adf::node::isLeaf(tile->node(node));
     }
     Cursor child(int c) const {
-        const uint32_t w = tile->nodes()[node];
+        const uint32_t w = tile->node(node);
         return adf::node::isInternal(w) ? Cursor{tile, w + uint32_t(c), -1} : Cursor{tile, node, c};
     }
-    bool isBrick() const { return brickChild < 0 && adf::node::isBrick(tile->nodes()[node]); }
+    bool isBrick() const { return brickChild < 0 && adf::node::isBrick(tile->node(node)); }
     /// The 27 quantised values of a brick node (narrow or wide: tile.h decodes either).
     void brickValues(int16_t out[27]) const {
-        const uint32_t brick = adf::node::brickIndex(tile->nodes()[node]);
+        const uint32_t brick = adf::node::brickIndex(tile->node(node));
         for (int g = 0; g < 27; ++g) out[g] = tile->brickValue(brick, g);
     }
     /// The 8 quantised corners of a leaf.
     void raw(int16_t out[8]) const {
-        const uint32_t w = tile->nodes()[node];
+        const uint32_t w = tile->node(node);
         if (brickChild < 0) {
             tile->leafValues(adf::node::leafIndex(w), out);
         } else {
@@ -41,7 +41,7 @@ struct Cursor {
     }
     /// Decoded exactly as the mesher decodes them (float(q) * scale).
     void corners(float out[8]) const {
-        const uint32_t w = tile->nodes()[node];
+        const uint32_t w = tile->node(node);
         const float s = tile->scale();
         if (brickChild < 0) {
             tile->leafCorners(adf::node::leafIndex(w), out);

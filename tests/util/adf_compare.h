@@ -51,7 +51,7 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
     auto leafTolerance = [](const adf::Tile& t, uint32_t leaf) {
         return 0.5 * double(t.scale()) * (leaf < t.narrowLeafCount() ? double(t.leafStep()) + 1.0 : 1.0);
     };
-    std::vector<std::pair<uint32_t, uint32_t>> stack{{a.nodes()[0], b.nodes()[0]}};
+    std::vector<std::pair<uint32_t, uint32_t>> stack{{a.node(0), b.node(0)}};
     while (!stack.empty()) {
         const auto [wa, wb] = stack.back();
         stack.pop_back();
@@ -59,7 +59,7 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
             adf::node::isLeaf(wa) != adf::node::isLeaf(wb))
             return false;
         if (adf::node::isInternal(wa)) {
-            for (uint32_t c = 0; c < 8; ++c) stack.emplace_back(a.nodes()[wa + c], b.nodes()[wb + c]);
+            for (uint32_t c = 0; c < 8; ++c) stack.emplace_back(a.node(wa + c), b.node(wb + c));
         } else if (adf::node::isBrick(wa)) {
             const uint32_t ka = adf::node::brickIndex(wa), kb = adf::node::brickIndex(wb);
             // twice: a copied cell may carry the rounding of the tile it was copied from too
@@ -106,7 +106,7 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, 
                     if (!sameUpToQuantisation(*ta, *tb)) return fail("tree or distances (beyond quantisation)");
                     continue;
                 }
-                if (std::memcmp(ta->nodes(), tb->nodes(), ta->nodeCount() * 4) != 0) return fail("node words");
+                if (ta->nodeWords() != tb->nodeWords()) return fail("node words");
                 if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->coarseBrickCount() != tb->coarseBrickCount() ||
                     ta->brickStep() != tb->brickStep())
                     return fail("brick encoding");

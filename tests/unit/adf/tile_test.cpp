@@ -85,7 +85,7 @@ TEST(Tile, BricksOfFinestCellsAreNarrowAndWithinAStep) {
     for (uint32_t b = 0; b < 8; ++b)
         for (int g = 0; g < 27; ++g) {
             const float exact = values[27 * b + uint32_t(g)];
-            const float decoded = float(t->brickValue(t->nodes()[1 + b] & node::kBrickMask, g)) * t->scale();
+            const float decoded = float(t->brickValue(t->node(1 + b) & node::kBrickMask, g)) * t->scale();
             EXPECT_LE(std::abs(double(decoded - exact)), step + double(t->scale())) << "brick " << b << " point " << g;
             EXPECT_EQ(decoded < 0.0f, exact < 0.0f) << "inside must stay inside";
         }
@@ -102,7 +102,7 @@ TEST(Tile, NarrowEncodingIsIdempotent) {
     std::vector<int16_t> decoded;
     for (uint32_t b = 0; b < t->brickCount(); ++b)
         for (int g = 0; g < 27; ++g) decoded.push_back(t->brickValue(b, g));
-    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, {},
+    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), {},
                                                 decoded, t->scale(), 1, kCell);
     EXPECT_EQ(again->checksum(), t->checksum());
     EXPECT_EQ(again->bytes(), t->bytes());
@@ -118,7 +118,7 @@ TEST(Tile, BricksOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
     const TilePtr t = tileOfBricks(values);
     EXPECT_EQ(t->narrowBrickCount(), 5u);
     for (uint32_t b = 0; b < 8; ++b) {
-        const uint32_t stored = t->nodes()[1 + b] & node::kBrickMask;
+        const uint32_t stored = t->node(1 + b) & node::kBrickMask;
         EXPECT_EQ(stored >= t->narrowBrickCount(), b % 3 == 0) << "wide bricks come after the narrow ones";
         const float exact = values[27 * b];
         const float decoded = float(t->brickValue(stored, 0)) * t->scale();
@@ -127,7 +127,7 @@ TEST(Tile, BricksOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
     }
     // Memory by counter: 29 bytes a narrow brick (2 for its centre, 27 steps), 54 a wide one.
     const std::size_t header = headerBytes();
-    EXPECT_EQ(t->bytes(), header + 40 /* 9 node words, 8-aligned */ + 5 * 29 + 1 /* 2-alignment */ + 3 * 54);
+    EXPECT_EQ(t->bytes(), header + 24 /* 9 16-bit node words, 8-aligned */ + 5 * 29 + 1 /* 2-alignment */ + 3 * 54);
 }
 
 TEST(Tile, LeavesOfTwoFinestCellsAreNarrowAndWithinALeafStep) {
@@ -145,7 +145,7 @@ TEST(Tile, LeavesOfTwoFinestCellsAreNarrowAndWithinALeafStep) {
     EXPECT_LT(step, 0.04 * kCell) << "a leaf step must stay far under epsilon (0.25 cells)";
     EXPECT_GE(127.0 * step, 2.0 * std::sqrt(3.0) * kCell) << "127 steps must span a 2-cell leaf's diagonal";
     for (uint32_t l = 0; l < 8; ++l) {
-        const uint32_t w = t->nodes()[1 + l];
+        const uint32_t w = t->node(1 + l);
         ASSERT_TRUE(node::isLeaf(w));
         float decoded[8];
         t->leafCorners(node::leafIndex(w), decoded);
@@ -188,11 +188,11 @@ TEST(Tile, NarrowLeafEncodingIsIdempotent) {
     for (uint32_t l = 0; l < t->leafCount(); ++l) t->leafValues(l, leafValues.data() + 8 * l);
     for (uint32_t b = 0; b < t->brickCount(); ++b)
         for (int g = 0; g < 27; ++g) brickValues.push_back(t->brickValue(b, g));
-    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafValues,
+    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), leafValues,
                                                 brickValues, t->scale(), 1, kCell);
     EXPECT_EQ(again->narrowLeafCount(), t->narrowLeafCount());
-    EXPECT_EQ(std::vector<uint32_t>(again->nodes(), again->nodes() + again->nodeCount()),
-              std::vector<uint32_t>(t->nodes(), t->nodes() + t->nodeCount()))
+    EXPECT_EQ(again->nodeWords(),
+              t->nodeWords())
         << "the leaf numbering is already narrow first: unchanged";
     EXPECT_EQ(again->checksum(), t->checksum());
     EXPECT_EQ(again->bytes(), t->bytes());
@@ -200,7 +200,7 @@ TEST(Tile, NarrowLeafEncodingIsIdempotent) {
     std::vector<float> leafFloats(leafValues.size()), brickFloats(brickValues.size());
     for (std::size_t i = 0; i < leafValues.size(); ++i) leafFloats[i] = float(leafValues[i]) * t->scale();
     for (std::size_t i = 0; i < brickValues.size(); ++i) brickFloats[i] = float(brickValues[i]) * t->scale();
-    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafFloats,
+    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), t->nodeWords(), leafFloats,
                                         brickFloats, 1, kCell, t->scale());
     EXPECT_EQ(copied->checksum(), t->checksum());
 }
@@ -215,7 +215,7 @@ TEST(Tile, LeavesOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
     const TilePtr t = tileOfLeaves(corners);
     EXPECT_EQ(t->narrowLeafCount(), 5u);
     for (uint32_t l = 0; l < 8; ++l) {
-        const uint32_t w = t->nodes()[1 + l];
+        const uint32_t w = t->node(1 + l);
         const uint32_t stored = node::leafIndex(w);
         EXPECT_EQ(stored >= t->narrowLeafCount(), l % 3 == 0) << "wide leaves come after the narrow ones";
         EXPECT_EQ(node::leafType(w), cellTypeOf(std::span<const float, 8>(corners.data() + 8 * l, 8)));
@@ -227,7 +227,7 @@ TEST(Tile, LeavesOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
     }
     // Memory by counter: 9 bytes a narrow leaf (2 for corner 0, 7 steps), 16 a wide one.
     const std::size_t header = headerBytes();
-    EXPECT_EQ(t->bytes(), header + 40 /* 9 node words, 8-aligned */ + 3 * 16 + 5 * 9 + 1 /* 2-alignment */);
+    EXPECT_EQ(t->bytes(), header + 24 /* 9 16-bit node words, 8-aligned */ + 3 * 16 + 5 * 9 + 1 /* 2-alignment */);
 }
 
 TEST(Tile, NarrowLeavesKeepTheSignOfEveryCorner) {
@@ -281,7 +281,7 @@ TEST(Tile, BricksOfTwoCellChildrenAreCoarseNarrowAndWithinALeafStep) {
     EXPECT_GE(127.0 * step, 2.0 * std::sqrt(3.0) * kCell) << "127 leaf steps must span a 2-cell brick's half diagonal";
     bool beyondBrickStep = false;
     for (uint32_t b = 0; b < 8; ++b) {
-        const uint32_t stored = node::brickIndex(t->nodes()[1 + b]);
+        const uint32_t stored = node::brickIndex(t->node(1 + b));
         for (int g = 0; g < 27; ++g) {
             const float exact = values[27 * b + uint32_t(g)];
             const float decoded = float(t->brickValue(stored, g)) * t->scale();
@@ -318,7 +318,7 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
     EXPECT_EQ(t->brickCount(), 8u);
     uint32_t next[3] = {0, t->narrowBrickCount(), t->packedBrickCount()};
     for (uint32_t b = 0; b < 8; ++b) {
-        const uint32_t w = t->nodes()[1 + b];
+        const uint32_t w = t->node(1 + b);
         const int form = int(b % 3);
         EXPECT_EQ(brickForm(*t, w), form) << "brick " << b;
         EXPECT_EQ(node::brickIndex(w), next[form]++) << "each form numbered in order, narrow, coarse-narrow, wide";
@@ -331,7 +331,7 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
                 << "brick " << b << " point " << g << (form == 2 ? ": wide is exact to 16 bits" : "");
     }
     // Memory by counter: 29 bytes a packed brick (narrow or coarse-narrow), 54 a wide one.
-    EXPECT_EQ(t->bytes(), headerBytes() + 40 /* 9 node words, 8-aligned */ + 6 * 29 + 2 * 54);
+    EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 6 * 29 + 2 * 54);
 }
 
 TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
@@ -358,12 +358,12 @@ TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
     t->leafValues(0, leafValues.data());
     for (uint32_t b = 0; b < t->brickCount(); ++b)
         for (int g = 0; g < 27; ++g) brickValues.push_back(t->brickValue(b, g));
-    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafValues,
+    const TilePtr again = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), leafValues,
                                                 brickValues, t->scale(), 1, kCell);
     EXPECT_EQ(again->narrowBrickCount(), t->narrowBrickCount());
     EXPECT_EQ(again->coarseBrickCount(), t->coarseBrickCount()) << "a coarse-narrow brick never becomes narrow";
-    EXPECT_EQ(std::vector<uint32_t>(again->nodes(), again->nodes() + again->nodeCount()),
-              std::vector<uint32_t>(t->nodes(), t->nodes() + t->nodeCount()))
+    EXPECT_EQ(again->nodeWords(),
+              t->nodeWords())
         << "already numbered narrow, coarse-narrow, wide: unchanged";
     EXPECT_EQ(again->checksum(), t->checksum());
     EXPECT_EQ(again->bytes(), t->bytes());
@@ -371,7 +371,7 @@ TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
     std::vector<float> leafFloats(8), brickFloats(brickValues.size());
     for (std::size_t i = 0; i < 8; ++i) leafFloats[i] = float(leafValues[i]) * t->scale();
     for (std::size_t i = 0; i < brickValues.size(); ++i) brickFloats[i] = float(brickValues[i]) * t->scale();
-    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), {t->nodes(), t->nodeCount()}, leafFloats,
+    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), t->nodeWords(), leafFloats,
                                         brickFloats, 1, kCell, t->scale());
     EXPECT_EQ(copied->checksum(), t->checksum());
 }
@@ -404,8 +404,8 @@ TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
             int failures = 0;
             for (std::size_t i = 0; i < nodes.size() && failures < 5; ++i) {
                 const int32_t q = int32_t(i) - 32767;
-                const uint32_t b = node::brickIndex(t->nodes()[i]);
-                const int form = brickForm(*t, t->nodes()[i]);
+                const uint32_t b = node::brickIndex(t->node(i));
+                const int form = brickForm(*t, t->node(i));
                 const int32_t d = t->brickValue(b, 4);
                 const int32_t bound = form == 0 ? s : form == 1 ? 2 * s : 0;
                 if ((d < 0) != (q < 0) || std::abs(d - q) > bound || t->brickValue(b, 13) != centre) {
@@ -413,11 +413,11 @@ TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
                     ADD_FAILURE() << "step " << s << " centre " << centre << " value " << q << " form " << form << " decoded " << d;
                 }
             }
-            const TilePtr again = Tile::createQuantised(12, glm::uvec3(0), {t->nodes(), t->nodeCount()}, {}, decoded,
+            const TilePtr again = Tile::createQuantised(12, glm::uvec3(0), t->nodeWords(), {}, decoded,
                                                         scale, 1, 1.0);
             EXPECT_EQ(again->narrowBrickCount(), t->narrowBrickCount()) << "step " << s << " centre " << centre;
             EXPECT_EQ(again->coarseBrickCount(), t->coarseBrickCount()) << "step " << s << " centre " << centre;
-            EXPECT_TRUE(std::equal(t->nodes(), t->nodes() + t->nodeCount(), again->nodes())) << "step " << s << " centre " << centre;
+            EXPECT_EQ(t->nodeWords(), again->nodeWords()) << "step " << s << " centre " << centre;
             EXPECT_EQ(again->checksum(), t->checksum()) << "step " << s << " centre " << centre;
         }
     }
@@ -442,5 +442,47 @@ TEST(Tile, CoarseNarrowBricksKeepTheSignOfEveryValue) {
             EXPECT_LE(std::abs(int(d) - int(q[std::size_t(g)])), t->leafStep()) << "within one leaf step";
         }
         EXPECT_EQ(t->brickValue(0, 13), centre) << "the centre exact";
+    }
+}
+
+TEST(Tile, NodeWordsNarrowAndWidenWithoutLossAtTheEdgesOfTheirRanges) {
+    const std::vector<uint32_t> fit = {node::makeLeaf(0, CellType::Exterior), node::makeLeaf(8191, CellType::Interior),
+                                       node::makeLeaf(77, CellType::Boundary), node::makeBrick(0), node::makeBrick(16383),
+                                       1u, 16383u};
+    for (uint32_t w : fit) {
+        EXPECT_TRUE(node::fitsNarrow(w)) << std::hex << w;
+        EXPECT_EQ(node::widen(node::narrow(w)), w) << std::hex << w;
+    }
+    for (uint32_t w : {node::makeLeaf(8192, CellType::Boundary), node::makeBrick(16384), 16384u})
+        EXPECT_FALSE(node::fitsNarrow(w)) << std::hex << w;
+}
+
+TEST(Tile, NodeWordsAreSixteenBitsWhenEveryOneFitsAndReadTheSameEitherWay) {
+    // Complete octrees of lone leaves: 8^4 leaves fit 16-bit words, 8^5 do not.
+    for (int depth : {4, 5}) {
+        std::vector<uint32_t> nodes{1};
+        std::size_t levelStart = 0, levelCount = 1;
+        uint32_t leaves = 0;
+        for (int d = 1; d <= depth; ++d) {
+            for (std::size_t i = levelStart; i < levelStart + levelCount; ++i) {
+                nodes[i] = uint32_t(nodes.size());
+                for (int c = 0; c < 8; ++c) nodes.push_back(d == depth ? node::makeLeaf(leaves++, CellType::Interior) : 0u);
+            }
+            levelStart += levelCount;
+            levelCount *= 8;
+        }
+        std::vector<float> corners(std::size_t(leaves) * 8);
+        for (std::size_t i = 0; i < corners.size(); ++i) corners[i] = -float(kCell) * float(1 + (i * 7) % 5);
+        const TilePtr t = Tile::create(12 - depth, glm::uvec3(0), nodes, corners, {}, 1, kCell);
+        EXPECT_EQ(t->narrowNodes(), depth == 4);
+        EXPECT_EQ(t->nodeBytes(), nodes.size() * (depth == 4 ? 2 : 4));
+        // The words read back are the ones given (leaves keep their order: all narrow) and a
+        // copy through them is the same tile.
+        EXPECT_EQ(t->nodeWords(), nodes);
+        for (uint32_t l = 0; l < leaves; l += 997)
+            for (int c = 0; c < 8; ++c)
+                EXPECT_NEAR(t->corner(l, c), corners[8 * l + uint32_t(c)], (t->leafStep() + 1) * t->scale());
+        const TilePtr again = Tile::create(t->level(), t->latticeOrigin(), t->nodeWords(), corners, {}, 1, kCell);
+        EXPECT_EQ(again->checksum(), t->checksum());
     }
 }
