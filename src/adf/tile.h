@@ -3,7 +3,8 @@
 /// @brief One stored tile: an immutable block holding an octree subtree and its corner distances.
 ///
 /// The tile is the unit of storage, editing, concurrency and undo (design brief). Cells are a
-/// flat array of 32-bit node words (children of a node are 8 consecutive words, depth first).
+/// flat array of node words (children of a node are 8 consecutive words, depth first), 32-bit to
+/// readers (Tile::node) and stored in 16 bits when every word of the tile fits (node::narrow).
 /// A lone leaf owns its 8 corner distances; a cell whose 8 children are all leaves is stored as
 /// a *brick*: one node word and the 27 distances of its 3x3x3 half grid, which the 8 children
 /// share (27 values instead of 8 words and 64 values). Distances are quantised to 16 bits with
