@@ -15,7 +15,6 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -96,25 +95,6 @@ void sortUnique(std::vector<T>& v) {
     std::sort(v.begin(), v.end());
     v.erase(std::unique(v.begin(), v.end()), v.end());
 }
-
-/// Disjoint sets over a handful of crossings of one cell.
-struct SmallUnionFind {
-    std::vector<uint32_t>* parent;
-    void reset(std::size_t n) {
-        parent->resize(n);
-        std::iota(parent->begin(), parent->end(), 0u);
-    }
-    uint32_t find(uint32_t i) {
-        std::vector<uint32_t>& p = *parent;
-        while (p[i] != i) i = p[i] = p[p[i]];
-        return i;
-    }
-    void unite(uint32_t a, uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) (*parent)[std::max(a, b)] = std::min(a, b);
-    }
-};
 
 void scanLeaves(const Adf& adf, TileMesh& tm) {
     tm.leaves.clear();
@@ -213,7 +193,9 @@ inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient =
 /// Incidences of cell-owner `tm` during a build: crossings in its own pool and its neighbours'
 /// border lists that have a leaf owned by it, grouped by cell and sorted by crossing key.
 void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
-                      const TileMesh& tm, const std::vector<uint64_t>& nbrs, std::vector<Incidence>& out) {
+                      const TileMesh& tm, const std::vector<uint64_t>& nbrs, std::vector<Incidence>& out,
+                      std::vector<Incidence>& tmp) {
+    out.clear();
     auto take = [&](Crossing& x) {
         uint8_t done = 0;
         for (int q = 0; q < 4; ++q) {
@@ -253,7 +235,7 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
         const glm::uvec3 r = unpackLattice(c) - o;
         return r.x | (r.y << 8) | (r.z << 16);
     };
-    std::vector<Incidence> tmp(out.size());
+    tmp.resize(out.size());
     for (int pass = 0; pass < 3; ++pass) {
         uint32_t count[257] = {};
         const int shift = 8 * pass;
@@ -270,11 +252,24 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
     }
 }
 
+/// A build's per-thread buffers, reused across tiles and builds (pool workers live on): a
+/// tile's buffers grew from empty every time, thousands of allocations per small mesh.
+struct VertexScratch {
+    std::vector<uint64_t> nbrs;
+    std::vector<Incidence> inc, tmp;
+    CellScratch cell;
+};
+VertexScratch& vertexScratch() {
+    thread_local VertexScratch s;
+    return s;
+}
+
 /// Cycles and projected vertices of every cell `tm` owns, during a build.
 void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
                      TileMesh& tm, const std::vector<uint64_t>& nbrs, SurfaceNetsStats& st) {
-    std::vector<Incidence> inc;
-    gatherIncidences(adf, tiles, tm, nbrs, inc);
+    VertexScratch& scratchAll = vertexScratch();
+    std::vector<Incidence>& inc = scratchAll.inc;
+    gatherIncidences(adf, tiles, tm, nbrs, inc, scratchAll.tmp);
     tm.vertices.clear();
     tm.freeVertices.clear();
     tm.liveVertices = 0;
@@ -284,7 +279,9 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
     std::size_t cells = 0;  // incidences are grouped by cell: size the index once
     for (std::size_t i = 0; i < inc.size(); ++i) cells += i == 0 || inc[i].cell != inc[i - 1].cell;
     tm.cellVertex.reserve(cells);
-    CellScratch scratch;
+    tm.vertices.reserve(cells + cells / 8);  // a few cells hold several sheets
+    tm.incidences.reserve(inc.size());       // each incidence goes to one vertex
+    CellScratch& scratch = scratchAll.cell;
     std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the incidences
     for (std::size_t i0 = 0; i0 < inc.size();) {
         std::size_t i1 = i0;
@@ -431,40 +428,65 @@ void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
 uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
                   CellScratch& s, SurfaceNetsStats& st) {
     if (n == 0) return UINT32_MAX;
-    SmallUnionFind uf{&s.parent};
-    uf.reset(n);
-    auto& faces = s.faces;
-    faces.clear();
+    // Nearly every cell has a handful of crossings: stack buffers, the scratch only beyond.
+    constexpr uint32_t kSmall = 16;
+    CellScratch::FaceEntry faceBuf[2 * kSmall];
+    uint32_t parentBuf[kSmall], cycleBuf[kSmall];
+    CellScratch::FaceEntry* faces = faceBuf;
+    uint32_t* parent = parentBuf;
+    uint32_t* cycleOf = cycleBuf;
+    if (n > kSmall) {
+        s.faces.resize(2 * std::size_t(n));
+        s.parent.resize(n);
+        s.cycleOf.resize(n);
+        faces = s.faces.data();
+        parent = s.parent.data();
+        cycleOf = s.cycleOf.data();
+    }
+    // Disjoint sets of the cell's crossings; the cycles depend only on the partition.
+    for (uint32_t j = 0; j < n; ++j) parent[j] = j;
+    auto find = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    uint32_t cycles = n;
+    auto unite = [&](uint32_t a, uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a == b) return;
+        parent[std::max(a, b)] = std::min(a, b);
+        --cycles;
+    };
+    const uint32_t nf = 2 * n;
     for (uint32_t j = 0; j < n; ++j) {
         const Incidence& c = inc[j];
         const int qa = (c.first + 3) % 4, qb = (c.last + 1) % 4;
-        faces.push_back({c.x->ringCell[qa], qa, j});
-        faces.push_back({c.x->ringCell[qb], qb, j});
+        faces[2 * j] = {c.x->ringCell[qa], qa, j};
+        faces[2 * j + 1] = {c.x->ringCell[qb], qb, j};
         // This cell owns the faces toward larger keys: their split vertices are decided
         // again (splitFaces), so forget old ones (the crossing may be kept unchanged).
         if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = {};
         if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = {};
     }
-    // Group the entries by face (a handful: insertion sort); most faces carry two crossings.
-    auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) {
-        return l.neighbour != r.neighbour ? l.neighbour < r.neighbour : l.local < r.local;
-    };
-    if (faces.size() > 32) {
-        std::sort(faces.begin(), faces.end(), before);
+    // Group the entries by face (stable: within a face they stay in crossing order); most
+    // faces carry two crossings.
+    auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
+    if (nf > 32) {
+        std::stable_sort(faces, faces + nf, before);
     } else {
-        for (std::size_t i = 1; i < faces.size(); ++i) {
+        for (uint32_t i = 1; i < nf; ++i) {
             const CellScratch::FaceEntry v = faces[i];
-            std::size_t j = i;
+            uint32_t j = i;
             for (; j > 0 && before(v, faces[j - 1]); --j) faces[j] = faces[j - 1];
             faces[j] = v;
         }
     }
-    for (std::size_t f0 = 0; f0 < faces.size();) {
-        std::size_t f1 = f0;
-        while (f1 < faces.size() && faces[f1].neighbour == faces[f0].neighbour) ++f1;
-        const std::size_t m = f1 - f0;
+    for (uint32_t f0 = 0; f0 < nf;) {
+        uint32_t f1 = f0 + 1;
+        while (f1 < nf && faces[f1].neighbour == faces[f0].neighbour) ++f1;
+        const uint32_t m = f1 - f0;
         if (m == 2) {
-            uf.unite(faces[f0].local, faces[f0 + 1].local);
+            unite(faces[f0].local, faces[f0 + 1].local);
         } else {
             bool ok = false;
             if (m >= 4 && m % 2 == 0) {
@@ -476,10 +498,10 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
                 ringBox(adf, *any.x, faces[f0].q, loB, sizeB);
                 s.faceXs.clear();
                 s.pairs.clear();
-                for (std::size_t f = f0; f < f1; ++f) s.faceXs.push_back(inc[faces[f].local].x);
+                for (uint32_t f = f0; f < f1; ++f) s.faceXs.push_back(inc[faces[f].local].x);
                 ok = pairOnFace(loA, sizeA, loB, sizeB, s.faceXs, s.pairs);
                 if (ok) {
-                    for (auto [e, l] : s.pairs) uf.unite(faces[f0 + e].local, faces[f0 + l].local);
+                    for (auto [e, l] : s.pairs) unite(faces[f0 + e].local, faces[f0 + l].local);
                     if (inc[0].cell < faces[f0].neighbour) {
                         MultiFace mf;
                         mf.cellA = inc[0].cell;
@@ -498,34 +520,45 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
             }
             if (!ok) {
                 ++st.oddFaces;
-                for (std::size_t f = f0 + 1; f < f1; ++f) uf.unite(faces[f0].local, faces[f].local);
+                for (uint32_t f = f0 + 1; f < f1; ++f) unite(faces[f0].local, faces[f].local);
             }
         }
         f0 = f1;
     }
     // One vertex per cycle, numbered by the cycle's first crossing (incidences are sorted).
-    s.cycleOf.assign(n, UINT32_MAX);
-    s.made.clear();
-    for (uint32_t j = 0; j < n; ++j) {
-        const uint32_t r = uf.find(j);
-        if (s.cycleOf[r] == UINT32_MAX) {
-            s.cycleOf[r] = uint32_t(s.made.size());
-            s.made.push_back(tm.allocateVertex());
+    // The common single cycle needs no labels: every crossing is its own.
+    uint32_t made[kSmall];
+    std::vector<uint32_t>& madeMore = s.made;
+    if (cycles > 1) {
+        uint32_t next = 0;
+        for (uint32_t j = 0; j < n; ++j) {
+            const uint32_t r = find(j);
+            cycleOf[j] = r == j ? next++ : cycleOf[r];
         }
+        ++st.multiSheetCells;
     }
-    if (s.made.size() > 1) ++st.multiSheetCells;
-    st.verticesComputed += s.made.size();
-    for (uint32_t c = 0; c < s.made.size(); ++c) {
-        const uint32_t vi = s.made[c];
+    uint32_t* madeAt = made;
+    if (cycles > kSmall) {
+        madeMore.resize(cycles);
+        madeAt = madeMore.data();
+    }
+    for (uint32_t c = 0; c < cycles; ++c) madeAt[c] = tm.allocateVertex();
+    st.verticesComputed += cycles;
+    glm::uvec3 origin;
+    uint32_t size;
+    ringBox(adf, *inc[0].x, inc[0].first, origin, size);
+    for (uint32_t c = 0; c < cycles; ++c) {
+        const uint32_t vi = madeAt[c];
         Vertex& v = tm.vertices[vi];
         v.cell = inc[0].cell;
-        ringBox(adf, *inc[0].x, inc[0].first, v.origin, v.size);
+        v.origin = origin;
+        v.size = size;
         std::copy(corners, corners + 8, v.corners);
-        v.nextInCell = c + 1 < s.made.size() ? s.made[c + 1] : UINT32_MAX;
+        v.nextInCell = c + 1 < cycles ? madeAt[c + 1] : UINT32_MAX;
         v.incBegin = uint32_t(tm.incidences.size());
         glm::vec3 mass(0.0f);
         for (uint32_t j = 0; j < n; ++j) {
-            if (s.cycleOf[uf.find(j)] != c) continue;
+            if (cycles > 1 && cycleOf[j] != c) continue;
             const Incidence& in = inc[j];
             tm.incidences.push_back({in.x, in.first, in.last});
             mass += in.x->point;
@@ -541,7 +574,7 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         mass /= float(v.incEnd - v.incBegin);
         v.projected = projectOnce(v, projectOnce(v, mass));
     }
-    return s.made[0];
+    return madeAt[0];
 }
 
 /// Slot of the face between ring positions qA and qB (adjacent) in a crossing's split array.
@@ -659,7 +692,8 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
-        std::vector<uint64_t> nbrs;
+        std::vector<uint64_t>& nbrs = vertexScratch().nbrs;
+        nbrs.clear();
         neighbourKeys(a, meshTiles[i]->slotMin, meshTiles[i]->slotEnd, nbrs);
         sortUnique(nbrs);  // a coarse tile covers several slots
         computeVertices(a, mTiles, *meshTiles[i], nbrs, meshStats[i]);
