@@ -328,84 +328,170 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
     end = lo + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
 }
 
+/// The 12 edges of a cell in the order crossings are emitted: start and end corner, axis, the
+/// quadrant the cell fills around the edge, and per quadrant the step from the edge's start to
+/// the unit cube next to it there (-1 along a and/or b).
+struct CellEdge {
+    uint8_t c0, c1, axis, a, b, mine;
+    glm::uvec3 step[4];
+};
+/// Quadrant q lies on the -a (-b) side of an edge.
+constexpr bool kMinusA[4] = {false, true, true, false}, kMinusB[4] = {false, false, true, true};
+constexpr std::array<CellEdge, 12> kCellEdges = [] {
+    std::array<CellEdge, 12> e{};
+    int i = 0;
+    for (int k = 0; k < 3; ++k)
+        for (int c0 = 0; c0 < 8; ++c0) {
+            if ((c0 >> k) & 1) continue;
+            const int a = (k + 1) % 3, b = (k + 2) % 3;
+            const bool plusA = !((c0 >> a) & 1), plusB = !((c0 >> b) & 1);
+            const int mine = plusA ? (plusB ? 0 : 3) : (plusB ? 1 : 2);
+            CellEdge& x = e[i++];
+            x = {uint8_t(c0), uint8_t(c0 | (1 << k)), uint8_t(k), uint8_t(a), uint8_t(b), uint8_t(mine), {}};
+            for (int q = 0; q < 4; ++q) {
+                uint32_t d[3] = {0, 0, 0};
+                d[a] = kMinusA[q];
+                d[b] = kMinusB[q];
+                x.step[q] = glm::uvec3(d[0], d[1], d[2]);
+            }
+        }
+    return e;
+}();
+/// For a brick child (by its position in the brick) and each edge: the quadrants whose unit
+/// cube lies in a sibling (same size, same tile: no lookup), and whether one of them comes
+/// before the child's own quadrant, so that the sibling emits the crossing (12-bit mask).
+struct BrickEdges {
+    uint8_t siblings[12];
+    uint16_t settled;
+};
+constexpr std::array<BrickEdges, 8> kBrickEdges = [] {
+    std::array<BrickEdges, 8> t{};
+    for (int child = 0; child < 8; ++child)
+        for (int i = 0; i < 12; ++i) {
+            const CellEdge& e = kCellEdges[i];
+            // In units of the child: its offset in the brick plus the edge's start corner.
+            const int va = ((child >> e.a) & 1) + ((e.c0 >> e.a) & 1), vb = ((child >> e.b) & 1) + ((e.c0 >> e.b) & 1);
+            for (int q = 0; q < 4; ++q) {
+                if (q == e.mine) continue;
+                const bool inA = va == 1 || (va == 0 && !kMinusA[q]) || (va == 2 && kMinusA[q]);
+                const bool inB = vb == 1 || (vb == 0 && !kMinusB[q]) || (vb == 2 && kMinusB[q]);
+                if (!(inA && inB)) continue;
+                t[child].siblings[i] |= uint8_t(1u << q);
+                if (q < e.mine) t[child].settled |= uint16_t(1u << i);
+            }
+        }
+    return t;
+}();
+
 template <class Out>
 void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves, Out& out,
                       SurfaceNetsStats& st, StartFilter filter) {
     const uint32_t top = adf.domain().latticeSize();
+    const int maxLevel = adf.domain().maxLevel;
     LeafLocator locator(adf);
     for (const BoundaryCell& leaf : leaves) {
-        for (int k = 0; k < 3; ++k) {
-            const int a = (k + 1) % 3, b = (k + 2) % 3;
-            for (int c0 = 0; c0 < 8; ++c0) {
-                if ((c0 >> k) & 1) continue;
-                const int c1 = c0 | (1 << k);
-                const bool in0 = leaf.corners[c0] < 0.0f, in1 = leaf.corners[c1] < 0.0f;
-                if (in0 == in1) continue;
-                const glm::uvec3 corner(c0 & 1, (c0 >> 1) & 1, c0 >> 2);
-                const glm::uvec3 p = leaf.origin + corner * leaf.size;
-                if (filter.keep && !filter.keep(filter.context, p)) continue;
-                const bool plusA = corner[a] == 0, plusB = corner[b] == 0;
-                const int mine = plusA ? (plusB ? 0 : 3) : (plusB ? 1 : 2);
-                // Leaf at each quadrant: the one holding the unit cube next to p there.
-                bool open = false, skip = false;
-                CellLoc ring[4];
-                for (int q = 0; q < 4 && !skip; ++q) {
+        uint32_t inside = 0;  // bit c: corner c negative
+        for (int c = 0; c < 8; ++c) inside |= uint32_t(leaf.corners[c] < 0.0f) << c;
+        uint32_t todo = 0;  // bit i: edge i changes sign
+        for (int i = 0; i < 12; ++i) todo |= (((inside >> kCellEdges[i].c0) ^ (inside >> kCellEdges[i].c1)) & 1u) << i;
+        // Away from the domain's border no quadrant can leave it; there a brick child knows its
+        // siblings from its position, and skips the edges a sibling emits without a lookup.
+        const glm::uvec3 hi = leaf.origin + leaf.size;
+        const bool interior = glm::all(glm::greaterThan(leaf.origin, glm::uvec3(0))) && glm::all(glm::lessThan(hi, glm::uvec3(top)));
+        const BrickEdges* brick = nullptr;
+        if (interior && leaf.brickChild) {
+            const glm::uvec3 at = glm::min(leaf.origin & leaf.size, glm::uvec3(1));
+            brick = &kBrickEdges[at.x | (at.y << 1) | (at.z << 2)];
+            todo &= ~uint32_t(brick->settled);
+        }
+        const glm::uvec3 parent = leaf.origin & ~glm::uvec3(2 * leaf.size - 1);
+        const uint8_t leafLevel = uint8_t(maxLevel - std::countr_zero(leaf.size));
+        for (; todo; todo &= todo - 1) {
+            const CellEdge& edge = kCellEdges[std::countr_zero(todo)];
+            const int c0 = edge.c0, c1 = edge.c1, k = edge.axis, a = edge.a, b = edge.b, mine = edge.mine;
+            const glm::uvec3 p = leaf.origin + glm::uvec3(c0 & 1, (c0 >> 1) & 1, c0 >> 2) * leaf.size;
+            if (filter.keep && !filter.keep(filter.context, p)) continue;
+            // The unit cube next to p in each quadrant; whether it leaves the domain; whether it
+            // lies in a sibling of the same brick.
+            glm::uvec3 cube[4];
+            uint32_t openAt = 0, siblingAt = 0;
+            if (interior) {
+                for (int q = 0; q < 4; ++q) cube[q] = p - edge.step[q];
+                if (brick) siblingAt = brick->siblings[std::countr_zero(todo)];
+            } else {
+                for (int q = 0; q < 4; ++q) {
                     if (q == mine) continue;
-                    const bool qa = (q == 0 || q == 3), qb = (q == 0 || q == 1);
-                    glm::uvec3 s = p;
-                    if (!qa) {
-                        if (s[a] == 0) { open = true; break; }
-                        s[a] -= 1;
+                    // Plain arrays: glm's operator[] on a run-time axis is a switch.
+                    uint32_t s[3] = {p.x, p.y, p.z};
+                    if ((kMinusA[q] && s[a] == 0) || (kMinusB[q] && s[b] == 0)) {
+                        openAt |= 1u << q;
+                        continue;
                     }
-                    if (!qb) {
-                        if (s[b] == 0) { open = true; break; }
-                        s[b] -= 1;
+                    s[a] -= kMinusA[q];
+                    s[b] -= kMinusB[q];
+                    if (s[a] >= top || s[b] >= top) {
+                        openAt |= 1u << q;
+                        continue;
                     }
-                    if (s[a] >= top || s[b] >= top) { open = true; break; }
-                    const glm::uvec3 parent = leaf.origin & ~glm::uvec3(2 * leaf.size - 1);
-                    if (leaf.brickChild && glm::all(glm::lessThan(s - parent, glm::uvec3(2 * leaf.size)))) {
-                        // A sibling in the same brick: same size, same tile.
-                        ring[q] = {nullptr, s & ~glm::uvec3(leaf.size - 1), leaf.size, 0};
-                    } else {
-                        ring[q] = locator.locate(s);
-                    }
-                    // Not minimal: a smaller leaf splits this edge. Not canonical: an equal
-                    // leaf earlier in quadrant order emits it.
-                    if (ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine)) skip = true;
+                    cube[q] = glm::uvec3(s[0], s[1], s[2]);
+                    if (leaf.brickChild && glm::all(glm::lessThan(cube[q] - parent, glm::uvec3(2 * leaf.size))))
+                        siblingAt |= 1u << q;
+                }
+            }
+            // Leaf at each quadrant: the one holding that cube. Not minimal: a smaller leaf
+            // splits this edge. Not canonical: an equal leaf earlier in quadrant order emits it.
+            // Any one of these settles it, so siblings are asked first and lookups stop at the
+            // first; only where a quadrant leaves the domain does the quadrant order decide
+            // (whether the crossing is counted open).
+            CellLoc ring[4];
+            auto lookUp = [&](int q) {
+                if ((siblingAt >> q) & 1) ring[q] = {nullptr, cube[q] & ~glm::uvec3(leaf.size - 1), leaf.size, 0};
+                else ring[q] = locator.locate(cube[q]);
+                return ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine);
+            };
+            bool skip = false;
+            if (openAt) {
+                bool open = false;
+                for (int q = 0; q < 4 && !skip && !open; ++q) {
+                    if (q == mine) continue;
+                    if ((openAt >> q) & 1) open = true;
+                    else skip = lookUp(q);
                 }
                 if (open) {
                     ++st.openCrossings;
                     continue;
                 }
-                if (skip) continue;
-                Crossing& x = out.emplace_back();
-                x.start = p;
-                x.length = leaf.size;
-                x.axis = uint8_t(k);
-                x.startInside = in0;
-                x.emitter = uint8_t(mine);
-                for (int q = 0; q < 4; ++q) {
-                    if (q == mine) {
-                        x.ringCell[q] = packLattice(leaf.origin);
-                        x.ringOwner[q] = tileKey;
-                        x.ringLevel[q] = uint8_t(adf.domain().maxLevel - std::countr_zero(leaf.size));
-                    } else if (!ring[q].tile) {  // brick sibling
-                        x.ringCell[q] = packLattice(ring[q].origin);
-                        x.ringOwner[q] = tileKey;
-                        x.ringLevel[q] = uint8_t(adf.domain().maxLevel - std::countr_zero(leaf.size));
-                    } else {
-                        x.ringCell[q] = packLattice(ring[q].origin);
-                        x.ringOwner[q] = packLattice(ring[q].tile->latticeOrigin());
-                        x.ringLevel[q] = uint8_t(ring[q].level);
-                    }
-                }
-                const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
-                const float t = v0 / (v0 - v1);
-                x.point = glm::vec3(p);
-                x.point[k] += t * float(leaf.size);
-                x.alive = 1;
-                ++st.crossingsComputed;
+            } else {
+                for (int q = 0; q < 4 && !skip; ++q)
+                    if (((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
+                for (int q = 0; q < 4 && !skip; ++q)
+                    if (!((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
             }
+            if (skip) continue;
+            Crossing& x = out.emplace_back();
+            x.start = p;
+            x.length = leaf.size;
+            x.axis = uint8_t(k);
+            x.startInside = (inside >> c0) & 1;
+            x.emitter = uint8_t(mine);
+            for (int q = 0; q < 4; ++q) {
+                if (q == mine || !ring[q].tile) {  // this leaf, or a brick sibling
+                    x.ringCell[q] = packLattice(q == mine ? leaf.origin : ring[q].origin);
+                    x.ringOwner[q] = tileKey;
+                    x.ringLevel[q] = leafLevel;
+                } else {
+                    x.ringCell[q] = packLattice(ring[q].origin);
+                    x.ringOwner[q] = packLattice(ring[q].tile->latticeOrigin());
+                    x.ringLevel[q] = uint8_t(ring[q].level);
+                }
+            }
+            const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
+            const float t = v0 / (v0 - v1);
+            float point[3] = {float(p.x), float(p.y), float(p.z)};
+            point[k] += t * float(leaf.size);
+            x.point = glm::vec3(point[0], point[1], point[2]);
+            x.alive = 1;
+            ++st.crossingsComputed;
         }
     }
 }
