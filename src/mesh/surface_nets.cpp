@@ -194,7 +194,7 @@ inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient =
 /// border lists that have a leaf owned by it, grouped by cell and sorted by crossing key.
 void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
                       const TileMesh& tm, const std::vector<uint64_t>& nbrs, std::vector<Incidence>& out,
-                      std::vector<Incidence>& tmp) {
+                      std::vector<Incidence>& tmp, std::vector<uint64_t>& tmpKeys) {
     out.clear();
     auto take = [&](Crossing& x) {
         uint8_t done = 0;
@@ -220,36 +220,41 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
             for (; b != src.border.end() && b->owner == tm.key; ++b) take(src.crossings[b->index]);
         }
     }
-    // Group by cell (cells of a stored tile have 8-bit local coordinates: three counting passes
-    // instead of a comparison sort), then order each cell's few crossings by key.
-    const uint32_t extent = 1u << uint32_t(adf.domain().maxLevel - tm.tile->level());
+    // Group by cell, each cell's crossings by key: one 64-bit key per incidence (tile-local
+    // cell, then the crossing's axis and start point relative to the tile, then its index), so
+    // the sort moves 8 bytes, not the record. Start points lie on the closed box of a cell
+    // of this tile; anything else falls back to comparing the records.
     auto byCellThenKey = [](const Incidence& l, const Incidence& r) {
         return l.cell != r.cell ? l.cell < r.cell : l.crossingKey < r.crossingKey;
     };
-    if (extent > 256) {
+    const int e = adf.domain().maxLevel - tm.tile->level();  // the tile spans 2^e lattice units
+    const int indexBits = std::bit_width(out.size());
+    const int crossingBits = 2 + 3 * (e + 1);
+    if (3 * e + crossingBits + indexBits > 64) {
         std::sort(out.begin(), out.end(), byCellThenKey);
         return;
     }
     const glm::uvec3 o = tm.tile->latticeOrigin();
-    auto local = [&](uint64_t c) {
-        const glm::uvec3 r = unpackLattice(c) - o;
-        return r.x | (r.y << 8) | (r.z << 16);
-    };
+    const uint32_t extent = 1u << e;
+    std::vector<uint64_t>& keys = tmpKeys;
+    keys.resize(out.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const Incidence& in = out[i];
+        const glm::uvec3 c = unpackLattice(in.cell) - o, p = unpackLattice(in.crossingKey) - o;
+        if (p.x > extent || p.y > extent || p.z > extent) {
+            std::sort(out.begin(), out.end(), byCellThenKey);
+            return;
+        }
+        const uint64_t cell = uint64_t(c.x) | (uint64_t(c.y) << e) | (uint64_t(c.z) << (2 * e));
+        const uint64_t crossing = uint64_t(p.x) | (uint64_t(p.y) << (e + 1)) | (uint64_t(p.z) << (2 * e + 2)) |
+                                  (uint64_t(in.crossingKey >> 60) << (3 * e + 3));
+        keys[i] = (((cell << crossingBits) | crossing) << indexBits) | i;
+    }
+    std::sort(keys.begin(), keys.end());
     tmp.resize(out.size());
-    for (int pass = 0; pass < 3; ++pass) {
-        uint32_t count[257] = {};
-        const int shift = 8 * pass;
-        for (const Incidence& i : out) ++count[((local(i.cell) >> shift) & 255u) + 1];
-        for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
-        for (const Incidence& i : out) tmp[count[(local(i.cell) >> shift) & 255u]++] = i;
-        out.swap(tmp);
-    }
-    for (std::size_t i = 1; i < out.size(); ++i) {  // insertion sort: runs of a few per cell
-        const Incidence v = out[i];
-        std::size_t j = i;
-        for (; j > 0 && byCellThenKey(v, out[j - 1]); --j) out[j] = out[j - 1];
-        out[j] = v;
-    }
+    const uint64_t indexMask = (uint64_t(1) << indexBits) - 1;
+    for (std::size_t i = 0; i < keys.size(); ++i) tmp[i] = out[keys[i] & indexMask];
+    out.swap(tmp);
 }
 
 /// A build's per-thread buffers, reused across tiles and builds (pool workers live on): a
@@ -257,6 +262,7 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
 struct VertexScratch {
     std::vector<uint64_t> nbrs;
     std::vector<Incidence> inc, tmp;
+    std::vector<uint64_t> keys;
     CellScratch cell;
 };
 VertexScratch& vertexScratch() {
@@ -269,7 +275,7 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
                      TileMesh& tm, const std::vector<uint64_t>& nbrs, SurfaceNetsStats& st) {
     VertexScratch& scratchAll = vertexScratch();
     std::vector<Incidence>& inc = scratchAll.inc;
-    gatherIncidences(adf, tiles, tm, nbrs, inc, scratchAll.tmp);
+    gatherIncidences(adf, tiles, tm, nbrs, inc, scratchAll.tmp, scratchAll.keys);
     tm.vertices.clear();
     tm.freeVertices.clear();
     tm.liveVertices = 0;
@@ -501,14 +507,25 @@ template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryC
 template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, PoolAppender&,
                                SurfaceNetsStats&, StartFilter);
 
+/// The run (first, last) of each mask of quadrants filled by one cell (a cyclic run; never all
+/// four: no leaf holds an edge inside it).
+constexpr std::array<std::pair<uint8_t, uint8_t>, 16> kRuns = [] {
+    std::array<std::pair<uint8_t, uint8_t>, 16> t{};
+    for (int mask = 1; mask < 15; ++mask) {
+        int first = 0;
+        while (!((mask >> first) & 1) || ((mask >> ((first + 3) % 4)) & 1)) ++first;
+        int last = first;
+        while ((mask >> ((last + 1) % 4)) & 1) last = (last + 1) % 4;
+        t[mask] = {uint8_t(first), uint8_t(last)};
+    }
+    return t;
+}();
+
 void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
-    uint8_t mask = 0;
-    for (int r = 0; r < 4; ++r)
-        if (x.ringCell[r] == x.ringCell[q]) mask |= uint8_t(1u << r);
-    first = 0;
-    while (!((mask >> first) & 1) || ((mask >> ((first + 3) % 4)) & 1)) ++first;
-    last = first;
-    while ((mask >> ((last + 1) % 4)) & 1) last = uint8_t((last + 1) % 4);
+    uint32_t mask = 0;
+    for (int r = 0; r < 4; ++r) mask |= uint32_t(x.ringCell[r] == x.ringCell[q]) << r;
+    first = kRuns[mask].first;
+    last = kRuns[mask].second;
 }
 
 uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
