@@ -9,11 +9,16 @@ namespace kizamu::mesh {
 
 namespace {
 
+/// Some value negative (the OR has the sign bit) and some not (the AND lacks it): branch-free,
+/// so the compiler vectorises it; a branch per value took a third of the walk.
 template <int N>
 inline bool signChange(const int16_t* v) {
-    bool neg = false, pos = false;
-    for (int i = 0; i < N; ++i) (v[i] < 0 ? neg : pos) = true;
-    return neg && pos;
+    int any = 0, all = -1;
+    for (int i = 0; i < N; ++i) {
+        any |= v[i];
+        all &= v[i];
+    }
+    return any < 0 && all >= 0;
 }
 
 /// The walk, descending only into cells for which `keep(origin, size)` holds.

@@ -96,12 +96,29 @@ void sortUnique(std::vector<T>& v) {
     v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-void scanLeaves(const Adf& adf, TileMesh& tm) {
-    tm.leaves.clear();
-    appendBoundaryCells(*tm.tile, adf.domain().maxLevel, tm.leaves);
-    std::sort(tm.leaves.begin(), tm.leaves.end(), [](const BoundaryCell& l, const BoundaryCell& r) {
-        return packLattice(l.origin) < packLattice(r.origin);
-    });
+/// A tile's boundary leaves sorted by cell key (the order crossings are emitted in). The walk
+/// gives them depth first; they are sorted as 64-bit keys (tile-local origin, index), which
+/// moves 8 bytes per comparison instead of a 52-byte record.
+void scanLeaves(const Adf& adf, TileMesh& tm, std::vector<BoundaryCell>& walk, std::vector<uint64_t>& keys) {
+    walk.clear();
+    appendBoundaryCells(*tm.tile, adf.domain().maxLevel, walk);
+    const glm::uvec3 o = tm.tile->latticeOrigin();
+    const int e = adf.domain().maxLevel - tm.tile->level();
+    if (3 * e > 32) {  // a very coarse tile: compare the records
+        tm.leaves = walk;
+        std::sort(tm.leaves.begin(), tm.leaves.end(), [](const BoundaryCell& l, const BoundaryCell& r) {
+            return packLattice(l.origin) < packLattice(r.origin);
+        });
+        return;
+    }
+    keys.resize(walk.size());
+    for (std::size_t i = 0; i < walk.size(); ++i) {
+        const glm::uvec3 r = walk[i].origin - o;  // below 2^e: the leaf lies in the tile
+        keys[i] = ((uint64_t(r.x) | (uint64_t(r.y) << e) | (uint64_t(r.z) << (2 * e))) << 32) | i;
+    }
+    std::sort(keys.begin(), keys.end());
+    tm.leaves.resize(walk.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) tm.leaves[i] = walk[uint32_t(keys[i])];
 }
 
 /// Lattice box of a ring cell.
@@ -761,7 +778,9 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
     util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
-        scanLeaves(a, tm);
+        thread_local std::vector<BoundaryCell> walk;  // reused across tiles and builds
+        thread_local std::vector<uint64_t> keys;
+        scanLeaves(a, tm, walk, keys);
         scanStats[i].boundaryLeaves = tm.leaves.size();
         PoolAppender appender{tm.crossings};
         computeCrossings(a, tm.key, tm.leaves, appender, scanStats[i]);
