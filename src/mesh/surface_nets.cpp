@@ -41,7 +41,14 @@ public:
           mSlotShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())) {}
 
     CellLoc locate(glm::uvec3 p) {
-        while (mDepth > 0 && !contains(mPath[mDepth - 1], p)) --mDepth;
+        if (mDepth > 0) {
+            // Keep the ancestors that hold p: cells are aligned to their power-of-two size, so
+            // those are the ones larger than every bit where p differs from the last cell.
+            const glm::uvec3 d = p ^ mPath[mDepth - 1].origin;
+            const int differ = std::bit_width(d.x | d.y | d.z);
+            const int keep = std::countr_zero(mPath[0].size) - differ + 1;  // entry i has size root >> i
+            mDepth = std::clamp(keep, 0, mDepth);
+        }
         if (mDepth == 0) {
             mTile = mAdf.tileAtSlot(p >> mSlotShift);
             mPath[0] = {mTile->latticeOrigin(), 1u << uint32_t(mMaxLevel - mTile->level()), 0, mTile->level()};
@@ -72,10 +79,6 @@ private:
         uint32_t node;
         int level;
     };
-    static bool contains(const Entry& e, glm::uvec3 p) {
-        const glm::uvec3 r = p - e.origin;  // wraps below the origin
-        return r.x < e.size && r.y < e.size && r.z < e.size;
-    }
     const Adf& mAdf;
     int mMaxLevel;
     uint32_t mSlotShift;
