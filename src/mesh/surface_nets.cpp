@@ -1018,10 +1018,10 @@ MeshBuffers SurfaceMesher::mesh() const {
             } else if (n == 3) {
                 emit(polygon[0], polygon[1], polygon[2]);
             } else {
-                // Split along the diagonal through the smallest leaf (the emitter).
+                // Split along the diagonal through the smallest leaf (the emitter). Four ring
+                // cells: `polygon` holds their vertices in ring order.
                 const int e = x.emitter;
-                const uint32_t i0 = index(x.ringVertex[e]), i1 = index(x.ringVertex[(e + 1) % 4]),
-                               i2 = index(x.ringVertex[(e + 2) % 4]), i3 = index(x.ringVertex[(e + 3) % 4]);
+                const uint32_t i0 = polygon[e], i1 = polygon[(e + 1) % 4], i2 = polygon[(e + 2) % 4], i3 = polygon[(e + 3) % 4];
                 emit(i0, i1, i2);
                 emit(i0, i2, i3);
             }
