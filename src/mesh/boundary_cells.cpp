@@ -5,6 +5,8 @@
 
 #include "mesh/tile_diff.h"
 
+#include <array>
+
 namespace kizamu::mesh {
 
 namespace {
@@ -20,6 +22,14 @@ inline bool signChange(const int16_t* v) {
     }
     return any < 0 && all >= 0;
 }
+
+/// brickPoint(child, c) for every child and corner (the loops below run over both).
+constexpr auto kBrickPoints = [] {
+    std::array<std::array<uint8_t, 8>, 8> t{};
+    for (int child = 0; child < 8; ++child)
+        for (int c = 0; c < 8; ++c) t[child][c] = uint8_t(adf::brickPoint(child, c));
+    return t;
+}();
 
 /// The walk, descending only into cells for which `keep(origin, size)` holds.
 template <class Keep>
@@ -55,7 +65,7 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
             if (!signChange<27>(q)) continue;
             for (int child = 0; child < 8; ++child) {
                 int16_t raw[8];
-                for (int c = 0; c < 8; ++c) raw[c] = q[adf::brickPoint(child, c)];
+                for (int c = 0; c < 8; ++c) raw[c] = q[kBrickPoints[child][c]];
                 if (!signChange<8>(raw)) continue;
                 const glm::uvec3 o = it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half;
                 if (!keep(o, half)) continue;
