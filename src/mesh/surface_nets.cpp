@@ -591,10 +591,34 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = {};
         if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = {};
     }
-    // Group the entries by face (stable: within a face they stay in crossing order); most
-    // faces carry two crossings.
+    // Most faces carry two crossings: pair the entries by neighbour (a few comparisons, no
+    // sort). Any other count groups them all in order below (the unions made here stay: uniting
+    // twice is a no-op).
+    bool paired = nf <= 32;
+    uint32_t taken = 0;  // bit f: entry f is the partner of an earlier one
+    for (uint32_t f = 0; f < nf && paired; ++f) {
+        if ((taken >> f) & 1) continue;
+        uint32_t partner = UINT32_MAX;
+        for (uint32_t g = f + 1; g < nf; ++g) {
+            if (faces[g].neighbour != faces[f].neighbour) continue;
+            if (partner != UINT32_MAX) {  // a third entry on this face
+                paired = false;
+                break;
+            }
+            partner = g;
+        }
+        if (!paired || partner == UINT32_MAX) {
+            paired = false;
+            break;
+        }
+        taken |= 1u << partner;
+        unite(faces[f].local, faces[partner].local);
+    }
+    // Group the entries by face (stable: within a face they stay in crossing order).
     auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
-    if (nf > 32) {
+    if (paired) {
+        // done
+    } else if (nf > 32) {
         std::stable_sort(faces, faces + nf, before);
     } else {
         for (uint32_t i = 1; i < nf; ++i) {
@@ -604,7 +628,7 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
             faces[j] = v;
         }
     }
-    for (uint32_t f0 = 0; f0 < nf;) {
+    for (uint32_t f0 = 0; f0 < nf && !paired;) {
         uint32_t f1 = f0 + 1;
         while (f1 < nf && faces[f1].neighbour == faces[f0].neighbour) ++f1;
         const uint32_t m = f1 - f0;
