@@ -308,6 +308,7 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
     tm.vertices.reserve(cells + cells / 8);  // a few cells hold several sheets
     tm.incidences.reserve(inc.size());       // each incidence goes to one vertex
     CellScratch& scratch = scratchAll.cell;
+    scratch.freshCrossings = true;  // a build made every crossing this phase reads
     std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the incidences
     for (std::size_t i0 = 0; i0 < inc.size();) {
         std::size_t i1 = i0;
@@ -588,6 +589,7 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         faces[2 * j + 1] = {c.x->ringCell[qb], qb, j};
         // This cell owns the faces toward larger keys: their split vertices are decided
         // again (splitFaces), so forget old ones (the crossing may be kept unchanged).
+        if (s.freshCrossings) continue;
         if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = {};
         if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = {};
     }
