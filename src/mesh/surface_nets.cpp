@@ -261,7 +261,7 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
     for (std::size_t i = 0; i < out.size(); ++i) {
         const Incidence& in = out[i];
         const glm::uvec3 c = unpackLattice(in.cell) - o, p = unpackLattice(in.crossingKey) - o;
-        if (p.x > extent || p.y > extent || p.z > extent) {
+        if (c.x >= extent || c.y >= extent || c.z >= extent || p.x > extent || p.y > extent || p.z > extent) {
             std::sort(out.begin(), out.end(), byCellThenKey);
             return;
         }
