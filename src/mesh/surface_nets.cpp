@@ -242,8 +242,9 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
     }
     // Group by cell, each cell's crossings by key: one 64-bit key per incidence (tile-local
     // cell, then the crossing's axis and start point relative to the tile, then its index), so
-    // the sort moves 8 bytes, not the record. Start points lie on the closed box of a cell
-    // of this tile; anything else falls back to comparing the records.
+    // the sort moves 8 bytes, not the record. Cells lie in the tile and start points on the
+    // closed box of a cell of it; a value too large for its field falls back to comparing
+    // the records.
     auto byCellThenKey = [](const Incidence& l, const Incidence& r) {
         return l.cell != r.cell ? l.cell < r.cell : l.crossingKey < r.crossingKey;
     };
@@ -261,7 +262,7 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
     for (std::size_t i = 0; i < out.size(); ++i) {
         const Incidence& in = out[i];
         const glm::uvec3 c = unpackLattice(in.cell) - o, p = unpackLattice(in.crossingKey) - o;
-        if (c.x >= extent || c.y >= extent || c.z >= extent || p.x > extent || p.y > extent || p.z > extent) {
+        if ((c.x | c.y | c.z) >= extent || (p.x | p.y | p.z) >= 2 * extent) {  // a field would overflow
             std::sort(out.begin(), out.end(), byCellThenKey);
             return;
         }
