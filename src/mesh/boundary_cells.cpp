@@ -5,16 +5,31 @@
 
 #include "mesh/tile_diff.h"
 
+#include <array>
+
 namespace kizamu::mesh {
 
 namespace {
 
+/// Some value negative (the OR has the sign bit) and some not (the AND lacks it): branch-free,
+/// so the compiler vectorises it; a branch per value took a third of the walk.
 template <int N>
 inline bool signChange(const int16_t* v) {
-    bool neg = false, pos = false;
-    for (int i = 0; i < N; ++i) (v[i] < 0 ? neg : pos) = true;
-    return neg && pos;
+    int any = 0, all = -1;
+    for (int i = 0; i < N; ++i) {
+        any |= v[i];
+        all &= v[i];
+    }
+    return any < 0 && all >= 0;
 }
+
+/// brickPoint(child, c) for every child and corner (the loops below run over both).
+constexpr auto kBrickPoints = [] {
+    std::array<std::array<uint8_t, 8>, 8> t{};
+    for (int child = 0; child < 8; ++child)
+        for (int c = 0; c < 8; ++c) t[child][c] = uint8_t(adf::brickPoint(child, c));
+    return t;
+}();
 
 /// The walk, descending only into cells for which `keep(origin, size)` holds.
 template <class Keep>
@@ -50,7 +65,7 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
             if (!signChange<27>(q)) continue;
             for (int child = 0; child < 8; ++child) {
                 int16_t raw[8];
-                for (int c = 0; c < 8; ++c) raw[c] = q[adf::brickPoint(child, c)];
+                for (int c = 0; c < 8; ++c) raw[c] = q[kBrickPoints[child][c]];
                 if (!signChange<8>(raw)) continue;
                 const glm::uvec3 o = it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half;
                 if (!keep(o, half)) continue;

@@ -15,7 +15,6 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
-#include <numeric>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -42,7 +41,14 @@ public:
           mSlotShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())) {}
 
     CellLoc locate(glm::uvec3 p) {
-        while (mDepth > 0 && !contains(mPath[mDepth - 1], p)) --mDepth;
+        if (mDepth > 0) {
+            // Keep the ancestors that hold p: cells are aligned to their power-of-two size, so
+            // those are the ones larger than every bit where p differs from the last cell.
+            const glm::uvec3 d = p ^ mPath[mDepth - 1].origin;
+            const int differ = std::bit_width(d.x | d.y | d.z);
+            const int keep = std::countr_zero(mPath[0].size) - differ + 1;  // entry i has size root >> i
+            mDepth = std::clamp(keep, 0, mDepth);
+        }
         if (mDepth == 0) {
             mTile = mAdf.tileAtSlot(p >> mSlotShift);
             mPath[0] = {mTile->latticeOrigin(), 1u << uint32_t(mMaxLevel - mTile->level()), 0, mTile->level()};
@@ -72,10 +78,6 @@ private:
         uint32_t node;
         int level;
     };
-    static bool contains(const Entry& e, glm::uvec3 p) {
-        const glm::uvec3 r = p - e.origin;  // wraps below the origin
-        return r.x < e.size && r.y < e.size && r.z < e.size;
-    }
     const Adf& mAdf;
     int mMaxLevel;
     uint32_t mSlotShift;
@@ -96,31 +98,29 @@ void sortUnique(std::vector<T>& v) {
     v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-/// Disjoint sets over a handful of crossings of one cell.
-struct SmallUnionFind {
-    std::vector<uint32_t>* parent;
-    void reset(std::size_t n) {
-        parent->resize(n);
-        std::iota(parent->begin(), parent->end(), 0u);
+/// A tile's boundary leaves sorted by cell key (the order crossings are emitted in). The walk
+/// gives them depth first; they are sorted as 64-bit keys (tile-local origin, index), which
+/// moves 8 bytes per comparison instead of a 52-byte record.
+void scanLeaves(const Adf& adf, TileMesh& tm, std::vector<BoundaryCell>& walk, std::vector<uint64_t>& keys) {
+    walk.clear();
+    appendBoundaryCells(*tm.tile, adf.domain().maxLevel, walk);
+    const glm::uvec3 o = tm.tile->latticeOrigin();
+    const int e = adf.domain().maxLevel - tm.tile->level();
+    if (3 * e > 32) {  // a very coarse tile: compare the records
+        tm.leaves = walk;
+        std::sort(tm.leaves.begin(), tm.leaves.end(), [](const BoundaryCell& l, const BoundaryCell& r) {
+            return packLattice(l.origin) < packLattice(r.origin);
+        });
+        return;
     }
-    uint32_t find(uint32_t i) {
-        std::vector<uint32_t>& p = *parent;
-        while (p[i] != i) i = p[i] = p[p[i]];
-        return i;
+    keys.resize(walk.size());
+    for (std::size_t i = 0; i < walk.size(); ++i) {
+        const glm::uvec3 r = walk[i].origin - o;  // below 2^e: the leaf lies in the tile
+        keys[i] = ((uint64_t(r.x) | (uint64_t(r.y) << e) | (uint64_t(r.z) << (2 * e))) << 32) | i;
     }
-    void unite(uint32_t a, uint32_t b) {
-        a = find(a);
-        b = find(b);
-        if (a != b) (*parent)[std::max(a, b)] = std::min(a, b);
-    }
-};
-
-void scanLeaves(const Adf& adf, TileMesh& tm) {
-    tm.leaves.clear();
-    appendBoundaryCells(*tm.tile, adf.domain().maxLevel, tm.leaves);
-    std::sort(tm.leaves.begin(), tm.leaves.end(), [](const BoundaryCell& l, const BoundaryCell& r) {
-        return packLattice(l.origin) < packLattice(r.origin);
-    });
+    std::sort(keys.begin(), keys.end());
+    tm.leaves.resize(walk.size());
+    for (std::size_t i = 0; i < keys.size(); ++i) tm.leaves[i] = walk[uint32_t(keys[i])];
 }
 
 /// Lattice box of a ring cell.
@@ -212,7 +212,9 @@ inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient =
 /// Incidences of cell-owner `tm` during a build: crossings in its own pool and its neighbours'
 /// border lists that have a leaf owned by it, grouped by cell and sorted by crossing key.
 void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
-                      const TileMesh& tm, const std::vector<uint64_t>& nbrs, std::vector<Incidence>& out) {
+                      const TileMesh& tm, const std::vector<uint64_t>& nbrs, std::vector<Incidence>& out,
+                      std::vector<Incidence>& tmp, std::vector<uint64_t>& tmpKeys) {
+    out.clear();
     auto take = [&](Crossing& x) {
         uint8_t done = 0;
         for (int q = 0; q < 4; ++q) {
@@ -237,43 +239,63 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
             for (; b != src.border.end() && b->owner == tm.key; ++b) take(src.crossings[b->index]);
         }
     }
-    // Group by cell (cells of a stored tile have 8-bit local coordinates: three counting passes
-    // instead of a comparison sort), then order each cell's few crossings by key.
-    const uint32_t extent = 1u << uint32_t(adf.domain().maxLevel - tm.tile->level());
+    // Group by cell, each cell's crossings by key: one 64-bit key per incidence (tile-local
+    // cell, then the crossing's axis and start point relative to the tile, then its index), so
+    // the sort moves 8 bytes, not the record. Cells lie in the tile and start points on the
+    // closed box of a cell of it; a value too large for its field falls back to comparing
+    // the records.
     auto byCellThenKey = [](const Incidence& l, const Incidence& r) {
         return l.cell != r.cell ? l.cell < r.cell : l.crossingKey < r.crossingKey;
     };
-    if (extent > 256) {
+    const int e = adf.domain().maxLevel - tm.tile->level();  // the tile spans 2^e lattice units
+    const int indexBits = std::bit_width(out.size());
+    const int crossingBits = 2 + 3 * (e + 1);
+    if (3 * e + crossingBits + indexBits > 64) {
         std::sort(out.begin(), out.end(), byCellThenKey);
         return;
     }
     const glm::uvec3 o = tm.tile->latticeOrigin();
-    auto local = [&](uint64_t c) {
-        const glm::uvec3 r = unpackLattice(c) - o;
-        return r.x | (r.y << 8) | (r.z << 16);
-    };
-    std::vector<Incidence> tmp(out.size());
-    for (int pass = 0; pass < 3; ++pass) {
-        uint32_t count[257] = {};
-        const int shift = 8 * pass;
-        for (const Incidence& i : out) ++count[((local(i.cell) >> shift) & 255u) + 1];
-        for (int b = 0; b < 256; ++b) count[b + 1] += count[b];
-        for (const Incidence& i : out) tmp[count[(local(i.cell) >> shift) & 255u]++] = i;
-        out.swap(tmp);
+    const uint32_t extent = 1u << e;
+    std::vector<uint64_t>& keys = tmpKeys;
+    keys.resize(out.size());
+    for (std::size_t i = 0; i < out.size(); ++i) {
+        const Incidence& in = out[i];
+        const glm::uvec3 c = unpackLattice(in.cell) - o, p = unpackLattice(in.crossingKey) - o;
+        if ((c.x | c.y | c.z) >= extent || (p.x | p.y | p.z) >= 2 * extent) {  // a field would overflow
+            std::sort(out.begin(), out.end(), byCellThenKey);
+            return;
+        }
+        const uint64_t cell = uint64_t(c.x) | (uint64_t(c.y) << e) | (uint64_t(c.z) << (2 * e));
+        const uint64_t crossing = uint64_t(p.x) | (uint64_t(p.y) << (e + 1)) | (uint64_t(p.z) << (2 * e + 2)) |
+                                  (uint64_t(in.crossingKey >> 60) << (3 * e + 3));
+        keys[i] = (((cell << crossingBits) | crossing) << indexBits) | i;
     }
-    for (std::size_t i = 1; i < out.size(); ++i) {  // insertion sort: runs of a few per cell
-        const Incidence v = out[i];
-        std::size_t j = i;
-        for (; j > 0 && byCellThenKey(v, out[j - 1]); --j) out[j] = out[j - 1];
-        out[j] = v;
-    }
+    std::sort(keys.begin(), keys.end());
+    tmp.resize(out.size());
+    const uint64_t indexMask = (uint64_t(1) << indexBits) - 1;
+    for (std::size_t i = 0; i < keys.size(); ++i) tmp[i] = out[keys[i] & indexMask];
+    out.swap(tmp);
+}
+
+/// A build's per-thread buffers, reused across tiles and builds (pool workers live on): a
+/// tile's buffers grew from empty every time, thousands of allocations per small mesh.
+struct VertexScratch {
+    std::vector<uint64_t> nbrs;
+    std::vector<Incidence> inc, tmp;
+    std::vector<uint64_t> keys;
+    CellScratch cell;
+};
+VertexScratch& vertexScratch() {
+    thread_local VertexScratch s;
+    return s;
 }
 
 /// Cycles and projected vertices of every cell `tm` owns, during a build.
 void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
                      TileMesh& tm, const std::vector<uint64_t>& nbrs, SurfaceNetsStats& st) {
-    std::vector<Incidence> inc;
-    gatherIncidences(adf, tiles, tm, nbrs, inc);
+    VertexScratch& scratchAll = vertexScratch();
+    std::vector<Incidence>& inc = scratchAll.inc;
+    gatherIncidences(adf, tiles, tm, nbrs, inc, scratchAll.tmp, scratchAll.keys);
     tm.vertices.clear();
     tm.freeVertices.clear();
     tm.liveVertices = 0;
@@ -283,7 +305,10 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
     std::size_t cells = 0;  // incidences are grouped by cell: size the index once
     for (std::size_t i = 0; i < inc.size(); ++i) cells += i == 0 || inc[i].cell != inc[i - 1].cell;
     tm.cellVertex.reserve(cells);
-    CellScratch scratch;
+    tm.vertices.reserve(cells + cells / 8);  // a few cells hold several sheets
+    tm.incidences.reserve(inc.size());       // each incidence goes to one vertex
+    CellScratch& scratch = scratchAll.cell;
+    scratch.freshCrossings = true;  // a build made every crossing this phase reads
     std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the incidences
     for (std::size_t i0 = 0; i0 < inc.size();) {
         std::size_t i1 = i0;
@@ -330,84 +355,170 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
     end = lo + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
 }
 
+/// The 12 edges of a cell in the order crossings are emitted: start and end corner, axis, the
+/// quadrant the cell fills around the edge, and per quadrant the step from the edge's start to
+/// the unit cube next to it there (-1 along a and/or b).
+struct CellEdge {
+    uint8_t c0, c1, axis, a, b, mine;
+    glm::uvec3 step[4];
+};
+/// Quadrant q lies on the -a (-b) side of an edge.
+constexpr bool kMinusA[4] = {false, true, true, false}, kMinusB[4] = {false, false, true, true};
+constexpr std::array<CellEdge, 12> kCellEdges = [] {
+    std::array<CellEdge, 12> e{};
+    int i = 0;
+    for (int k = 0; k < 3; ++k)
+        for (int c0 = 0; c0 < 8; ++c0) {
+            if ((c0 >> k) & 1) continue;
+            const int a = (k + 1) % 3, b = (k + 2) % 3;
+            const bool plusA = !((c0 >> a) & 1), plusB = !((c0 >> b) & 1);
+            const int mine = plusA ? (plusB ? 0 : 3) : (plusB ? 1 : 2);
+            CellEdge& x = e[i++];
+            x = {uint8_t(c0), uint8_t(c0 | (1 << k)), uint8_t(k), uint8_t(a), uint8_t(b), uint8_t(mine), {}};
+            for (int q = 0; q < 4; ++q) {
+                uint32_t d[3] = {0, 0, 0};
+                d[a] = kMinusA[q];
+                d[b] = kMinusB[q];
+                x.step[q] = glm::uvec3(d[0], d[1], d[2]);
+            }
+        }
+    return e;
+}();
+/// For a brick child (by its position in the brick) and each edge: the quadrants whose unit
+/// cube lies in a sibling (same size, same tile: no lookup), and whether one of them comes
+/// before the child's own quadrant, so that the sibling emits the crossing (12-bit mask).
+struct BrickEdges {
+    uint8_t siblings[12];
+    uint16_t settled;
+};
+constexpr std::array<BrickEdges, 8> kBrickEdges = [] {
+    std::array<BrickEdges, 8> t{};
+    for (int child = 0; child < 8; ++child)
+        for (int i = 0; i < 12; ++i) {
+            const CellEdge& e = kCellEdges[i];
+            // In units of the child: its offset in the brick plus the edge's start corner.
+            const int va = ((child >> e.a) & 1) + ((e.c0 >> e.a) & 1), vb = ((child >> e.b) & 1) + ((e.c0 >> e.b) & 1);
+            for (int q = 0; q < 4; ++q) {
+                if (q == e.mine) continue;
+                const bool inA = va == 1 || (va == 0 && !kMinusA[q]) || (va == 2 && kMinusA[q]);
+                const bool inB = vb == 1 || (vb == 0 && !kMinusB[q]) || (vb == 2 && kMinusB[q]);
+                if (!(inA && inB)) continue;
+                t[child].siblings[i] |= uint8_t(1u << q);
+                if (q < e.mine) t[child].settled |= uint16_t(1u << i);
+            }
+        }
+    return t;
+}();
+
 template <class Out>
 void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves, Out& out,
                       SurfaceNetsStats& st, StartFilter filter) {
     const uint32_t top = adf.domain().latticeSize();
+    const int maxLevel = adf.domain().maxLevel;
     LeafLocator locator(adf);
     for (const BoundaryCell& leaf : leaves) {
-        for (int k = 0; k < 3; ++k) {
-            const int a = (k + 1) % 3, b = (k + 2) % 3;
-            for (int c0 = 0; c0 < 8; ++c0) {
-                if ((c0 >> k) & 1) continue;
-                const int c1 = c0 | (1 << k);
-                const bool in0 = leaf.corners[c0] < 0.0f, in1 = leaf.corners[c1] < 0.0f;
-                if (in0 == in1) continue;
-                const glm::uvec3 corner(c0 & 1, (c0 >> 1) & 1, c0 >> 2);
-                const glm::uvec3 p = leaf.origin + corner * leaf.size;
-                if (filter.keep && !filter.keep(filter.context, p)) continue;
-                const bool plusA = corner[a] == 0, plusB = corner[b] == 0;
-                const int mine = plusA ? (plusB ? 0 : 3) : (plusB ? 1 : 2);
-                // Leaf at each quadrant: the one holding the unit cube next to p there.
-                bool open = false, skip = false;
-                CellLoc ring[4];
-                for (int q = 0; q < 4 && !skip; ++q) {
+        uint32_t inside = 0;  // bit c: corner c negative
+        for (int c = 0; c < 8; ++c) inside |= uint32_t(leaf.corners[c] < 0.0f) << c;
+        uint32_t todo = 0;  // bit i: edge i changes sign
+        for (int i = 0; i < 12; ++i) todo |= (((inside >> kCellEdges[i].c0) ^ (inside >> kCellEdges[i].c1)) & 1u) << i;
+        // Away from the domain's border no quadrant can leave it; there a brick child knows its
+        // siblings from its position, and skips the edges a sibling emits without a lookup.
+        const glm::uvec3 hi = leaf.origin + leaf.size;
+        const bool interior = glm::all(glm::greaterThan(leaf.origin, glm::uvec3(0))) && glm::all(glm::lessThan(hi, glm::uvec3(top)));
+        const BrickEdges* brick = nullptr;
+        if (interior && leaf.brickChild) {
+            const glm::uvec3 at = glm::min(leaf.origin & leaf.size, glm::uvec3(1));
+            brick = &kBrickEdges[at.x | (at.y << 1) | (at.z << 2)];
+            todo &= ~uint32_t(brick->settled);
+        }
+        const glm::uvec3 parent = leaf.origin & ~glm::uvec3(2 * leaf.size - 1);
+        const uint8_t leafLevel = uint8_t(maxLevel - std::countr_zero(leaf.size));
+        for (; todo; todo &= todo - 1) {
+            const CellEdge& edge = kCellEdges[std::countr_zero(todo)];
+            const int c0 = edge.c0, c1 = edge.c1, k = edge.axis, a = edge.a, b = edge.b, mine = edge.mine;
+            const glm::uvec3 p = leaf.origin + glm::uvec3(c0 & 1, (c0 >> 1) & 1, c0 >> 2) * leaf.size;
+            if (filter.keep && !filter.keep(filter.context, p)) continue;
+            // The unit cube next to p in each quadrant; whether it leaves the domain; whether it
+            // lies in a sibling of the same brick.
+            glm::uvec3 cube[4];
+            uint32_t openAt = 0, siblingAt = 0;
+            if (interior) {
+                for (int q = 0; q < 4; ++q) cube[q] = p - edge.step[q];
+                if (brick) siblingAt = brick->siblings[std::countr_zero(todo)];
+            } else {
+                for (int q = 0; q < 4; ++q) {
                     if (q == mine) continue;
-                    const bool qa = (q == 0 || q == 3), qb = (q == 0 || q == 1);
-                    glm::uvec3 s = p;
-                    if (!qa) {
-                        if (s[a] == 0) { open = true; break; }
-                        s[a] -= 1;
+                    // Plain arrays: glm's operator[] on a run-time axis is a switch.
+                    uint32_t s[3] = {p.x, p.y, p.z};
+                    if ((kMinusA[q] && s[a] == 0) || (kMinusB[q] && s[b] == 0)) {
+                        openAt |= 1u << q;
+                        continue;
                     }
-                    if (!qb) {
-                        if (s[b] == 0) { open = true; break; }
-                        s[b] -= 1;
+                    s[a] -= kMinusA[q];
+                    s[b] -= kMinusB[q];
+                    if (s[a] >= top || s[b] >= top) {
+                        openAt |= 1u << q;
+                        continue;
                     }
-                    if (s[a] >= top || s[b] >= top) { open = true; break; }
-                    const glm::uvec3 parent = leaf.origin & ~glm::uvec3(2 * leaf.size - 1);
-                    if (leaf.brickChild && glm::all(glm::lessThan(s - parent, glm::uvec3(2 * leaf.size)))) {
-                        // A sibling in the same brick: same size, same tile.
-                        ring[q] = {nullptr, s & ~glm::uvec3(leaf.size - 1), leaf.size, 0};
-                    } else {
-                        ring[q] = locator.locate(s);
-                    }
-                    // Not minimal: a smaller leaf splits this edge. Not canonical: an equal
-                    // leaf earlier in quadrant order emits it.
-                    if (ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine)) skip = true;
+                    cube[q] = glm::uvec3(s[0], s[1], s[2]);
+                    if (leaf.brickChild && glm::all(glm::lessThan(cube[q] - parent, glm::uvec3(2 * leaf.size))))
+                        siblingAt |= 1u << q;
+                }
+            }
+            // Leaf at each quadrant: the one holding that cube. Not minimal: a smaller leaf
+            // splits this edge. Not canonical: an equal leaf earlier in quadrant order emits it.
+            // Any one of these settles it, so siblings are asked first and lookups stop at the
+            // first; only where a quadrant leaves the domain does the quadrant order decide
+            // (whether the crossing is counted open).
+            CellLoc ring[4];
+            auto lookUp = [&](int q) {
+                if ((siblingAt >> q) & 1) ring[q] = {nullptr, cube[q] & ~glm::uvec3(leaf.size - 1), leaf.size, 0};
+                else ring[q] = locator.locate(cube[q]);
+                return ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine);
+            };
+            bool skip = false;
+            if (openAt) {
+                bool open = false;
+                for (int q = 0; q < 4 && !skip && !open; ++q) {
+                    if (q == mine) continue;
+                    if ((openAt >> q) & 1) open = true;
+                    else skip = lookUp(q);
                 }
                 if (open) {
                     ++st.openCrossings;
                     continue;
                 }
-                if (skip) continue;
-                Crossing& x = out.emplace_back();
-                x.start = p;
-                x.length = leaf.size;
-                x.axis = uint8_t(k);
-                x.startInside = in0;
-                x.emitter = uint8_t(mine);
-                for (int q = 0; q < 4; ++q) {
-                    if (q == mine) {
-                        x.ringCell[q] = packLattice(leaf.origin);
-                        x.ringOwner[q] = tileKey;
-                        x.ringLevel[q] = uint8_t(adf.domain().maxLevel - std::countr_zero(leaf.size));
-                    } else if (!ring[q].tile) {  // brick sibling
-                        x.ringCell[q] = packLattice(ring[q].origin);
-                        x.ringOwner[q] = tileKey;
-                        x.ringLevel[q] = uint8_t(adf.domain().maxLevel - std::countr_zero(leaf.size));
-                    } else {
-                        x.ringCell[q] = packLattice(ring[q].origin);
-                        x.ringOwner[q] = packLattice(ring[q].tile->latticeOrigin());
-                        x.ringLevel[q] = uint8_t(ring[q].level);
-                    }
-                }
-                const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
-                const float t = v0 / (v0 - v1);
-                x.point = glm::vec3(p);
-                x.point[k] += t * float(leaf.size);
-                x.alive = 1;
-                ++st.crossingsComputed;
+            } else {
+                for (int q = 0; q < 4 && !skip; ++q)
+                    if (((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
+                for (int q = 0; q < 4 && !skip; ++q)
+                    if (!((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
             }
+            if (skip) continue;
+            Crossing& x = out.emplace_back();
+            x.start = p;
+            x.length = leaf.size;
+            x.axis = uint8_t(k);
+            x.startInside = (inside >> c0) & 1;
+            x.emitter = uint8_t(mine);
+            for (int q = 0; q < 4; ++q) {
+                if (q == mine || !ring[q].tile) {  // this leaf, or a brick sibling
+                    x.ringCell[q] = packLattice(q == mine ? leaf.origin : ring[q].origin);
+                    x.ringOwner[q] = tileKey;
+                    x.ringLevel[q] = leafLevel;
+                } else {
+                    x.ringCell[q] = packLattice(ring[q].origin);
+                    x.ringOwner[q] = packLattice(ring[q].tile->latticeOrigin());
+                    x.ringLevel[q] = uint8_t(ring[q].level);
+                }
+            }
+            const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
+            const float t = v0 / (v0 - v1);
+            float point[3] = {float(p.x), float(p.y), float(p.z)};
+            point[k] += t * float(leaf.size);
+            x.point = glm::vec3(point[0], point[1], point[2]);
+            x.alive = 1;
+            ++st.crossingsComputed;
         }
     }
 }
@@ -417,53 +528,114 @@ template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryC
 template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, PoolAppender&,
                                SurfaceNetsStats&, StartFilter);
 
+/// The run (first, last) of each mask of quadrants filled by one cell (a cyclic run; never all
+/// four: no leaf holds an edge inside it).
+constexpr std::array<std::pair<uint8_t, uint8_t>, 16> kRuns = [] {
+    std::array<std::pair<uint8_t, uint8_t>, 16> t{};
+    for (int mask = 1; mask < 15; ++mask) {
+        int first = 0;
+        while (!((mask >> first) & 1) || ((mask >> ((first + 3) % 4)) & 1)) ++first;
+        int last = first;
+        while ((mask >> ((last + 1) % 4)) & 1) last = (last + 1) % 4;
+        t[mask] = {uint8_t(first), uint8_t(last)};
+    }
+    return t;
+}();
+
 void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
-    uint8_t mask = 0;
-    for (int r = 0; r < 4; ++r)
-        if (x.ringCell[r] == x.ringCell[q]) mask |= uint8_t(1u << r);
-    first = 0;
-    while (!((mask >> first) & 1) || ((mask >> ((first + 3) % 4)) & 1)) ++first;
-    last = first;
-    while ((mask >> ((last + 1) % 4)) & 1) last = uint8_t((last + 1) % 4);
+    uint32_t mask = 0;
+    for (int r = 0; r < 4; ++r) mask |= uint32_t(x.ringCell[r] == x.ringCell[q]) << r;
+    first = kRuns[mask].first;
+    last = kRuns[mask].second;
 }
 
 uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
                   CellScratch& s, SurfaceNetsStats& st) {
     if (n == 0) return UINT32_MAX;
-    SmallUnionFind uf{&s.parent};
-    uf.reset(n);
-    auto& faces = s.faces;
-    faces.clear();
+    // Nearly every cell has a handful of crossings: stack buffers, the scratch only beyond.
+    constexpr uint32_t kSmall = 16;
+    CellScratch::FaceEntry faceBuf[2 * kSmall];
+    uint32_t parentBuf[kSmall], cycleBuf[kSmall];
+    CellScratch::FaceEntry* faces = faceBuf;
+    uint32_t* parent = parentBuf;
+    uint32_t* cycleOf = cycleBuf;
+    if (n > kSmall) {
+        s.faces.resize(2 * std::size_t(n));
+        s.parent.resize(n);
+        s.cycleOf.resize(n);
+        faces = s.faces.data();
+        parent = s.parent.data();
+        cycleOf = s.cycleOf.data();
+    }
+    // Disjoint sets of the cell's crossings; the cycles depend only on the partition.
+    for (uint32_t j = 0; j < n; ++j) parent[j] = j;
+    auto find = [&](uint32_t i) {
+        while (parent[i] != i) i = parent[i] = parent[parent[i]];
+        return i;
+    };
+    uint32_t cycles = n;
+    auto unite = [&](uint32_t a, uint32_t b) {
+        a = find(a);
+        b = find(b);
+        if (a == b) return;
+        parent[std::max(a, b)] = std::min(a, b);
+        --cycles;
+    };
+    const uint32_t nf = 2 * n;
     for (uint32_t j = 0; j < n; ++j) {
         const Incidence& c = inc[j];
         const int qa = (c.first + 3) % 4, qb = (c.last + 1) % 4;
-        faces.push_back({c.x->ringCell[qa], qa, j});
-        faces.push_back({c.x->ringCell[qb], qb, j});
+        faces[2 * j] = {c.x->ringCell[qa], qa, j};
+        faces[2 * j + 1] = {c.x->ringCell[qb], qb, j};
         // This cell owns the faces toward larger keys: their split vertices are decided
         // again (splitFaces), so forget old ones (the crossing may be kept unchanged).
+        if (s.freshCrossings) continue;
         if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = {};
         if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = {};
     }
-    // Group the entries by face (a handful: insertion sort); most faces carry two crossings.
-    auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) {
-        return l.neighbour != r.neighbour ? l.neighbour < r.neighbour : l.local < r.local;
-    };
-    if (faces.size() > 32) {
-        std::sort(faces.begin(), faces.end(), before);
+    // Most faces carry two crossings: pair the entries by neighbour (a few comparisons, no
+    // sort). Any other count groups them all in order below (the unions made here stay: uniting
+    // twice is a no-op).
+    bool paired = nf <= 32;
+    uint32_t taken = 0;  // bit f: entry f is the partner of an earlier one
+    for (uint32_t f = 0; f < nf && paired; ++f) {
+        if ((taken >> f) & 1) continue;
+        uint32_t partner = UINT32_MAX;
+        for (uint32_t g = f + 1; g < nf; ++g) {
+            if (faces[g].neighbour != faces[f].neighbour) continue;
+            if (partner != UINT32_MAX) {  // a third entry on this face
+                paired = false;
+                break;
+            }
+            partner = g;
+        }
+        if (!paired || partner == UINT32_MAX) {
+            paired = false;
+            break;
+        }
+        taken |= 1u << partner;
+        unite(faces[f].local, faces[partner].local);
+    }
+    // Group the entries by face (stable: within a face they stay in crossing order).
+    auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
+    if (paired) {
+        // done
+    } else if (nf > 32) {
+        std::stable_sort(faces, faces + nf, before);
     } else {
-        for (std::size_t i = 1; i < faces.size(); ++i) {
+        for (uint32_t i = 1; i < nf; ++i) {
             const CellScratch::FaceEntry v = faces[i];
-            std::size_t j = i;
+            uint32_t j = i;
             for (; j > 0 && before(v, faces[j - 1]); --j) faces[j] = faces[j - 1];
             faces[j] = v;
         }
     }
-    for (std::size_t f0 = 0; f0 < faces.size();) {
-        std::size_t f1 = f0;
-        while (f1 < faces.size() && faces[f1].neighbour == faces[f0].neighbour) ++f1;
-        const std::size_t m = f1 - f0;
+    for (uint32_t f0 = 0; f0 < nf && !paired;) {
+        uint32_t f1 = f0 + 1;
+        while (f1 < nf && faces[f1].neighbour == faces[f0].neighbour) ++f1;
+        const uint32_t m = f1 - f0;
         if (m == 2) {
-            uf.unite(faces[f0].local, faces[f0 + 1].local);
+            unite(faces[f0].local, faces[f0 + 1].local);
         } else {
             bool ok = false;
             if (m >= 4 && m % 2 == 0) {
@@ -475,10 +647,10 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
                 ringBox(adf, *any.x, faces[f0].q, loB, sizeB);
                 s.faceXs.clear();
                 s.pairs.clear();
-                for (std::size_t f = f0; f < f1; ++f) s.faceXs.push_back(inc[faces[f].local].x);
+                for (uint32_t f = f0; f < f1; ++f) s.faceXs.push_back(inc[faces[f].local].x);
                 ok = pairOnFace(loA, sizeA, loB, sizeB, s.faceXs, s.pairs);
                 if (ok) {
-                    for (auto [e, l] : s.pairs) uf.unite(faces[f0 + e].local, faces[f0 + l].local);
+                    for (auto [e, l] : s.pairs) unite(faces[f0 + e].local, faces[f0 + l].local);
                     if (inc[0].cell < faces[f0].neighbour) {
                         MultiFace mf;
                         mf.cellA = inc[0].cell;
@@ -497,34 +669,45 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
             }
             if (!ok) {
                 ++st.oddFaces;
-                for (std::size_t f = f0 + 1; f < f1; ++f) uf.unite(faces[f0].local, faces[f].local);
+                for (uint32_t f = f0 + 1; f < f1; ++f) unite(faces[f0].local, faces[f].local);
             }
         }
         f0 = f1;
     }
     // One vertex per cycle, numbered by the cycle's first crossing (incidences are sorted).
-    s.cycleOf.assign(n, UINT32_MAX);
-    s.made.clear();
-    for (uint32_t j = 0; j < n; ++j) {
-        const uint32_t r = uf.find(j);
-        if (s.cycleOf[r] == UINT32_MAX) {
-            s.cycleOf[r] = uint32_t(s.made.size());
-            s.made.push_back(tm.allocateVertex());
+    // The common single cycle needs no labels: every crossing is its own.
+    uint32_t made[kSmall];
+    std::vector<uint32_t>& madeMore = s.made;
+    if (cycles > 1) {
+        uint32_t next = 0;
+        for (uint32_t j = 0; j < n; ++j) {
+            const uint32_t r = find(j);
+            cycleOf[j] = r == j ? next++ : cycleOf[r];
         }
+        ++st.multiSheetCells;
     }
-    if (s.made.size() > 1) ++st.multiSheetCells;
-    st.verticesComputed += s.made.size();
-    for (uint32_t c = 0; c < s.made.size(); ++c) {
-        const uint32_t vi = s.made[c];
+    uint32_t* madeAt = made;
+    if (cycles > kSmall) {
+        madeMore.resize(cycles);
+        madeAt = madeMore.data();
+    }
+    for (uint32_t c = 0; c < cycles; ++c) madeAt[c] = tm.allocateVertex();
+    st.verticesComputed += cycles;
+    glm::uvec3 origin;
+    uint32_t size;
+    ringBox(adf, *inc[0].x, inc[0].first, origin, size);
+    for (uint32_t c = 0; c < cycles; ++c) {
+        const uint32_t vi = madeAt[c];
         Vertex& v = tm.vertices[vi];
         v.cell = inc[0].cell;
-        ringBox(adf, *inc[0].x, inc[0].first, v.origin, v.size);
+        v.origin = origin;
+        v.size = size;
         std::copy(corners, corners + 8, v.corners);
-        v.nextInCell = c + 1 < s.made.size() ? s.made[c + 1] : UINT32_MAX;
+        v.nextInCell = c + 1 < cycles ? madeAt[c + 1] : UINT32_MAX;
         v.incBegin = uint32_t(tm.incidences.size());
         glm::vec3 mass(0.0f);
         for (uint32_t j = 0; j < n; ++j) {
-            if (s.cycleOf[uf.find(j)] != c) continue;
+            if (cycles > 1 && cycleOf[j] != c) continue;
             const Incidence& in = inc[j];
             tm.incidences.push_back({in.x, in.first, in.last});
             mass += in.x->point;
@@ -540,7 +723,7 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         mass /= float(v.incEnd - v.incBegin);
         v.projected = projectOnce(v, projectOnce(v, mass));
     }
-    return s.made[0];
+    return madeAt[0];
 }
 
 /// Slot of the face between ring positions qA and qB (adjacent) in a crossing's split array.
@@ -624,7 +807,9 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
     util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
-        scanLeaves(a, tm);
+        thread_local std::vector<BoundaryCell> walk;  // reused across tiles and builds
+        thread_local std::vector<uint64_t> keys;
+        scanLeaves(a, tm, walk, keys);
         scanStats[i].boundaryLeaves = tm.leaves.size();
         PoolAppender appender{tm.crossings};
         computeCrossings(a, tm.key, tm.leaves, appender, scanStats[i]);
@@ -658,7 +843,8 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
-        std::vector<uint64_t> nbrs;
+        std::vector<uint64_t>& nbrs = vertexScratch().nbrs;
+        nbrs.clear();
         neighbourKeys(a, meshTiles[i]->slotMin, meshTiles[i]->slotEnd, nbrs);
         sortUnique(nbrs);  // a coarse tile covers several slots
         computeVertices(a, mTiles, *meshTiles[i], nbrs, meshStats[i]);
@@ -858,10 +1044,10 @@ MeshBuffers SurfaceMesher::mesh() const {
             } else if (n == 3) {
                 emit(polygon[0], polygon[1], polygon[2]);
             } else {
-                // Split along the diagonal through the smallest leaf (the emitter).
+                // Split along the diagonal through the smallest leaf (the emitter). Four ring
+                // cells: `polygon` holds their vertices in ring order.
                 const int e = x.emitter;
-                const uint32_t i0 = index(x.ringVertex[e]), i1 = index(x.ringVertex[(e + 1) % 4]),
-                               i2 = index(x.ringVertex[(e + 2) % 4]), i3 = index(x.ringVertex[(e + 3) % 4]);
+                const uint32_t i0 = polygon[e], i1 = polygon[(e + 1) % 4], i2 = polygon[(e + 2) % 4], i3 = polygon[(e + 3) % 4];
                 emit(i0, i1, i2);
                 emit(i0, i2, i3);
             }

@@ -206,6 +206,9 @@ struct CellScratch {
     std::vector<const Crossing*> faceXs;
     std::vector<std::pair<uint32_t, uint32_t>> pairs;
     std::vector<uint32_t> cycleOf, parent, made;
+    /// The crossings hold no split vertices yet (a build: fresh records), so meshCell need not
+    /// forget them (it would write a cache line of each crossing that is read nowhere else).
+    bool freshCrossings = false;
 };
 
 /// Cycles and projected vertices of one cell owned by `tm`, from all its incidences `inc[0..n)`
