@@ -40,13 +40,10 @@ adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadP
     // keeps the fixed costs (tile table, tiles) in proportion to the output.
     adf::Domain d = fine->domain();
     while (d.maxLevel > 1 && d.finestCellSize() <= errorWorld) --d.maxLevel;  // finest cell in (E, 2E]
-    // 2^3 tiles or more, as large as the fine tiles at most. A small LOD's tiles hold a few
-    // dozen surface cells each, so per-tile costs (tile records, border hand-over, mesher tile
-    // state) dominate: 2^3 tiles instead of 4^3 made the 2k-triangle LOD of the level-10 test
-    // part about 1.3x faster, meshing included, with 2 threads too (its generation then runs
-    // one tile per colour phase, which costs less than the extra tiles did). 8 tiles still mesh
-    // in parallel.
-    d.tileSpanLevels = std::clamp(d.maxLevel - 1, 1, d.tileSpanLevels);
+    // About 4^3 tiles or more: a small LOD still generates and meshes in parallel. (2^3 tiles
+    // ran fewer instructions but lost the parallel generation: the 2k-triangle LOD took 2.6 ms
+    // instead of 2.2 on an idle 2-core machine; docs/PERFORMANCE.md.)
+    d.tileSpanLevels = std::clamp(d.maxLevel - 2, 1, d.tileSpanLevels);
     adf::GenerationSettings s = fine->settings();
     s.epsilonCells = errorWorld / d.finestCellSize();
     s.bandCells = 0.0;  // surface only: a mesh needs nothing else
