@@ -48,7 +48,8 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         ++b.tiles;
         if (t.level() < d.tileLevel()) ++b.coarseTiles;
         const std::size_t total = t.bytes();
-        b.nodeBytes += (t.nodeBytes() + 7) / 8 * 8;
+        const std::size_t nodeBytes = (t.nodeBytes() + 7) / 8 * 8;  // 8-aligned, as tile.cpp lays them out
+        b.nodeBytes += nodeBytes;
         const std::size_t leafBytes = std::size_t(t.narrowLeafCount()) * Tile::kNarrowLeafBytes +
                                        std::size_t(t.leafCount() - t.narrowLeafCount()) * Tile::kWideLeafBytes;
         b.cornerBytes += leafBytes;
@@ -61,7 +62,7 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         b.narrowBricks += t.narrowBrickCount();
         b.coarseBricks += t.coarseBrickCount();
         b.wideBricks += t.brickCount() - t.packedBrickCount();
-        b.headerBytes += total - (t.nodeBytes() + 7) / 8 * 8 - leafBytes - brickBytes;
+        b.headerBytes += total - nodeBytes - leafBytes - brickBytes;
         struct Item {
             uint32_t node;
             int level;

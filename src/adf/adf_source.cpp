@@ -31,9 +31,8 @@ struct LeafCell {
         return (rel.x | rel.y | rel.z) < size;  // size is a power of two
     }
     float corner(int c) const {
-        const int16_t q = brickChild < 0 ? tile->leafValue(node::leafIndex(word), c)
-                                         : tile->brickValue(node::brickIndex(word), brickPoint(brickChild, c));
-        return float(q) * tile->scale();
+        return brickChild < 0 ? tile->corner(node::leafIndex(word), c)
+                              : tile->brickCorner(node::brickIndex(word), brickChild, c);
     }
 };
 
