@@ -68,7 +68,10 @@ SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(
     for (ToolSample& s : samples) s.orientation = glm::normalize(s.orientation);
     if (samples.size() == 1) samples.push_back(samples.front());  // a dab: a segment of length 0
     for (std::size_t i = 0; i + 1 < samples.size(); ++i) {
-        Segment s{samples[i], samples[i + 1], glm::mat3_cast(glm::conjugate(samples[i].orientation)), glm::dvec3(0.0, 0.0, 1.0), 0.0, false, 1};
+        Segment s{samples[i], samples[i + 1], glm::mat3_cast(glm::conjugate(samples[i].orientation)), glm::dvec3(0.0), 0.0,
+                  glm::dvec3(0.0, 0.0, 1.0), 0.0, false, 1};
+        s.moveA = s.inverseA * (s.b.position - s.a.position);
+        s.moveA2 = glm::dot(s.moveA, s.moveA);
         // The turn from a to b as a world rotation r = b a^-1, the short way round.
         glm::dquat r = s.b.orientation * glm::conjugate(s.a.orientation);
         if (r.w < 0.0) r = -r;
@@ -111,13 +114,12 @@ uint32_t SweptTool::build(uint32_t first, uint32_t count) {
 double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
     const glm::dvec3 v = s.b.position - s.a.position;
     if (s.fixedOrientation) {
-        const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.inverseA * v;  // tool frame
+        const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.moveA;  // tool frame
         if (mTool.shape == ToolShape::Sphere) {  // capsule
-            const double len2 = glm::dot(w, w);
-            const double t = len2 > 0.0 ? std::clamp(glm::dot(q, w) / len2, 0.0, 1.0) : 0.0;
+            const double t = s.moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / s.moveA2, 0.0, 1.0) : 0.0;
             return toolDistance(mTool, q - t * w);
         }
-        if (glm::dot(w, w) == 0.0) return toolDistance(mTool, q);
+        if (s.moveA2 == 0.0) return toolDistance(mTool, q);
         return goldenMinimum([&](double t) { return toolDistance(mTool, q - t * w); }, 0.0, 1.0);
     }
     // Pose at t: turned by angle * t about the axis (Rodrigues), applied after a's orientation,
@@ -178,9 +180,8 @@ double SweptTool::lowerBound(const glm::dvec3& p, double limit) const {
     return search(p, limit, [&](const Segment& s) {
         if (mTool.shape == ToolShape::Sphere) {
             // A sphere turns into itself: the capsule distance, whatever the orientations.
-            const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.inverseA * (s.b.position - s.a.position);
-            const double len2 = glm::dot(w, w);
-            const double t = len2 > 0.0 ? std::clamp(glm::dot(q, w) / len2, 0.0, 1.0) : 0.0;
+            const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.moveA;
+            const double t = s.moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / s.moveA2, 0.0, 1.0) : 0.0;
             return toolDistance(mTool, q - t * w);
         }
         // The segment's swept volume lies in the box of its ends grown by the bounding radius.

@@ -53,6 +53,8 @@ private:
     struct Segment {
         ToolSample a, b;
         glm::dmat3 inverseA;    ///< world to tool frame at a
+        glm::dvec3 moveA;       ///< b - a in the tool frame at a (fixed orientations)
+        double moveA2;          ///< its squared length
         glm::dvec3 axis;        ///< world axis of the turn from a to b (unit)
         double angle;           ///< radians turned from a to b
         bool fixedOrientation;  ///< a and b share their orientation
