@@ -354,10 +354,15 @@ private:
         }
     }
 
-    /// Files a freshly evaluated border point under every face/edge neighbour sharing it.
+    /// True when `p` lies on a face of the tile. Unsigned wrap: false when 1 <= coordinate <=
+    /// span - 1 on every axis (interior).
+    bool onTileFace(glm::uvec3 p) const {
+        return !(p.x - 1 < mSpan - 1 && p.y - 1 < mSpan - 1 && p.z - 1 < mSpan - 1);
+    }
+
+    /// Files a freshly evaluated point on the tile's faces under every face/edge neighbour
+    /// sharing it.
     void recordBorder(glm::uvec3 p, float v) {
-        // Unsigned wrap: true when 1 <= coordinate <= span - 1 on every axis (interior).
-        if (p.x - 1 < mSpan - 1 && p.y - 1 < mSpan - 1 && p.z - 1 < mSpan - 1) return;
         const glm::ivec3 side(p.x == 0 ? -1 : (p.x == mSpan ? 1 : 0), p.y == 0 ? -1 : (p.y == mSpan ? 1 : 0),
                               p.z == 0 ? -1 : (p.z == mSpan ? 1 : 0));
         const int onBorder = (side.x != 0) + (side.y != 0) + (side.z != 0);
@@ -426,7 +431,7 @@ private:
             for (int k = 0; k < m; ++k) {
                 const float value = checkedDistance(out[k], pts[k]);
                 mValues[index(todo[k])] = value;
-                recordBorder(todo[k], value);
+                if (onTileFace(todo[k])) recordBorder(todo[k], value);
             }
             m = 0;
         };
@@ -587,13 +592,12 @@ private:
     void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked = false) {
         if (!keepChecked && keepsOld(o, s, level) == Keep::Copy && copyOld(nodeIndex, o, level)) return;
         float v[27];
-        const uint32_t base = index(o);
-        const uint32_t step[3] = {s, mDim * s, mDim * mDim * s};
+        const uint32_t base = index(o), dy = mDim * s, dz = mDim * mDim * s;
+        const uint32_t cornerAt[8] = {base, base + s, base + dy, base + s + dy, base + dz, base + s + dz, base + dy + dz, base + s + dy + dz};
         float corners[8];
         for (int c = 0; c < 8; ++c) {
-            const uint32_t i = base + (c & 1) * step[0] + ((c >> 1) & 1) * step[1] + (c >> 2) * step[2];
-            assert(valid(i));
-            corners[c] = v[cornerToGrid(c)] = mValues[i];
+            assert(valid(cornerAt[c]));
+            corners[c] = v[cornerToGrid(c)] = mValues[cornerAt[c]];
         }
         if (level == mDomain.maxLevel) return makeLeaf(nodeIndex, corners);
 
