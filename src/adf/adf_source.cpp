@@ -140,10 +140,12 @@ private:
     double value(const glm::dvec3& p, Cache& cache) const {
         glm::uvec3 pt;
         for (int k = 0; k < 3; ++k) {
-            const double u = (p[k] - mOrigin[k]) * mInvCell;
-            const double r = std::floor(u + 0.5);  // the nearest integer (ties only fail the test below)
-            if (!(std::abs(u - r) < 1e-4 && r >= 0.0 && r <= double(mTop))) return mAdf->sample(glm::vec3(p)).distance;
-            pt[k] = uint32_t(r);
+            // The nearest integer r = floor(u + 0.5) (ties only fail the test below), by
+            // truncation once u + 0.5 is known to lie in [0, top + 1), that is 0 <= r <= top.
+            const double u = (p[k] - mOrigin[k]) * mInvCell, t = u + 0.5;
+            if (!(t >= 0.0 && t < double(mTop) + 1.0)) return mAdf->sample(glm::vec3(p)).distance;
+            pt[k] = uint32_t(t);
+            if (!(std::abs(u - double(pt[k])) < 1e-4)) return mAdf->sample(glm::vec3(p)).distance;
         }
         // Octant 0 (the unit cube above p) when inside the domain; then only octants across
         // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
