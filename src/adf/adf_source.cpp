@@ -166,9 +166,8 @@ private:
         }
         for (uint32_t o = 1; o < 8; ++o) {
             if ((o & onFace) == 0) continue;  // moves only along axes where p is inside the first leaf
-            const glm::uvec3 off(o & 1, (o >> 1) & 1, o >> 2);
-            if (glm::any(glm::lessThan(pt, off))) continue;
-            const glm::uvec3 cube = pt - off;
+            // Below 0 wraps around past the top: one test for both ends of the domain.
+            const glm::uvec3 cube = pt - glm::uvec3(o & 1, (o >> 1) & 1, o >> 2);
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
             const CachedLeaf& leaf = locate(cube, cache, cache.lastNeighbour);
             const int c = cornerIndex(leaf, pt);
