@@ -63,7 +63,7 @@ void validateStroke(const Tool& tool, const std::vector<ToolSample>& samples) {
     }
 }
 
-SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(tool) {
+SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(tool), mBoundingRadius(tool.boundingRadius()) {
     validateStroke(tool, samples);
     for (ToolSample& s : samples) s.orientation = glm::normalize(s.orientation);
     if (samples.size() == 1) samples.push_back(samples.front());  // a dab: a segment of length 0
@@ -92,7 +92,7 @@ uint32_t SweptTool::build(uint32_t first, uint32_t count) {
     const auto index = uint32_t(mNodes.size());
     mNodes.emplace_back();
     Node n{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max()), 0, 0, 0, 0};
-    const double r = mTool.boundingRadius();
+    const double r = mBoundingRadius;
     for (uint32_t i = first; i < first + count; ++i)
         for (const glm::dvec3& p : {mSegments[i].a.position, mSegments[i].b.position}) {
             n.lo = glm::min(n.lo, p - r);
@@ -147,7 +147,7 @@ double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
 template <class SegmentDistance>
 double SweptTool::search(const glm::dvec3& p, double limit, const SegmentDistance& segment) const {
     double best = limit;
-    const double r = mTool.boundingRadius();
+    const double r = mBoundingRadius;
     // Lower bound of a node: distance to its box minus nothing (the box already holds the tool);
     // a point inside the box gets 0 - r, the most the tool could reach inward.
     uint32_t stack[64];
@@ -176,7 +176,7 @@ double SweptTool::distanceBelow(const glm::dvec3& p, double limit) const {
 }
 
 double SweptTool::lowerBound(const glm::dvec3& p, double limit) const {
-    const double r = mTool.boundingRadius();
+    const double r = mBoundingRadius;
     return search(p, limit, [&](const Segment& s) {
         if (mTool.shape == ToolShape::Sphere) {
             // A sphere turns into itself: the capsule distance, whatever the orientations.

@@ -71,6 +71,7 @@ private:
     uint32_t build(uint32_t first, uint32_t count);
 
     Tool mTool;
+    double mBoundingRadius;  ///< mTool's, asked by every query
     std::vector<Segment> mSegments;
     std::vector<Node> mNodes;
     adf::BoxWorld mBounds;
