@@ -26,7 +26,9 @@ namespace {
 
 // ---- the 3x3x3 half grid of a cell: point g = i + 3j + 9k, i, j, k in {0, 1, 2} ----
 
-constexpr int cornerToGrid(int c) { return 2 * (c & 1) + 6 * ((c >> 1) & 1) + 18 * ((c >> 2) & 1); }
+/// Half-grid point of corner c, by table: subdivide() looks up all 8 for every cell.
+constexpr std::array<int, 8> kCornerGrid = {0, 2, 6, 8, 18, 20, 24, 26};
+constexpr int cornerToGrid(int c) { return kCornerGrid[c]; }
 constexpr int kCentre = 13;  // a variable, not an enum: ensure() takes its address
 
 /// Half the diagonal of a unit cube.
@@ -389,9 +391,10 @@ private:
     /// the missing ones in one batch, and loads them into v.
     void ensure(glm::uvec3 o, uint32_t half, const int* gs, int n, float* v) {
         glm::uvec3 local[27];
+        uint32_t at[27];
         for (int k = 0; k < n; ++k) local[k] = o + gridOffset(gs[k]) * half;
-        evaluate(local, n);
-        for (int k = 0; k < n; ++k) v[gs[k]] = mValues[index(local[k])];
+        evaluate(local, n, at);
+        for (int k = 0; k < n; ++k) v[gs[k]] = mValues[at[k]];
     }
 
     /// Evaluates, in two large batches, what the 8 children of a cell will ask for first: their
@@ -418,30 +421,33 @@ private:
     }
 
     /// Evaluates the listed local points that are not valid yet (duplicates allowed), in
-    /// batches of up to 64.
-    void evaluate(const glm::uvec3* local, int n) {
+    /// batches of up to 64. `at`, if given, receives each point's index in the volume.
+    void evaluate(const glm::uvec3* local, int n, uint32_t* at = nullptr) {
         constexpr int kBatch = 64;
         glm::dvec3 pts[kBatch];
         double out[kBatch];
         glm::uvec3 todo[kBatch];
+        uint32_t todoAt[kBatch];
         int m = 0;
         auto flush = [&] {
             mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
             mEvaluations += uint64_t(m);
             for (int k = 0; k < m; ++k) {
                 const float value = checkedDistance(out[k], pts[k]);
-                mValues[index(todo[k])] = value;
+                mValues[todoAt[k]] = value;
                 if (onTileFace(todo[k])) recordBorder(todo[k], value);
             }
             m = 0;
         };
         for (int k = 0; k < n; ++k) {
             const uint32_t i = index(local[k]);
+            if (at) at[k] = i;
             if (valid(i)) continue;
             mStamp[i] = mCurrent;  // claims it, so a duplicate in this list is skipped
             const glm::uvec3 p = mBase + local[k];
             pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
-            todo[m++] = local[k];
+            todo[m] = local[k];
+            todoAt[m++] = i;
             if (m == kBatch) flush();
         }
         if (m > 0) flush();
