@@ -14,10 +14,9 @@
 namespace kizamu::adf {
 
 CellType cellTypeOf(std::span<const float, 8> corners) {
-    bool anyInside = false, anyOutside = false;
-    for (float v : corners) (v < 0.0f ? anyInside : anyOutside) = true;
-    if (anyInside && anyOutside) return CellType::Boundary;
-    return anyInside ? CellType::Interior : CellType::Exterior;
+    int inside = 0;  // counted without a branch per corner: every cell of every tile asks
+    for (float v : corners) inside += v < 0.0f;
+    return inside == 0 ? CellType::Exterior : inside == 8 ? CellType::Interior : CellType::Boundary;
 }
 
 namespace {
