@@ -155,7 +155,9 @@ double SweptTool::search(const glm::dvec3& p, double limit, const SegmentDistanc
     stack[top++] = 0;
     while (top > 0) {
         const Node& n = mNodes[stack[--top]];
-        const double bound = boxDistance(p, n.lo, n.hi) - (glm::all(glm::lessThanEqual(n.lo, p)) && glm::all(glm::lessThanEqual(p, n.hi)) ? r : 0.0);
+        // (Inside the box its distance is 0: no square root for the points that matter.)
+        const bool inside = glm::all(glm::lessThanEqual(n.lo, p)) && glm::all(glm::lessThanEqual(p, n.hi));
+        const double bound = inside ? 0.0 - r : boxDistance(p, n.lo, n.hi);
         if (bound >= best) continue;
         if (n.count > 0) {
             for (uint32_t i = n.first; i < n.first + n.count; ++i) best = std::min(best, segment(mSegments[i]));
