@@ -8,8 +8,8 @@
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
-#include <cmath>
 #include <atomic>
+#include <cmath>
 #include <limits>
 
 #include <stdexcept>
