@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <limits>
 
 #include <stdexcept>
@@ -61,11 +62,10 @@ private:
         bool decoded = false;
         const float* corners() {
             if (!decoded) {
-                if (brickChild < 0) {
+                if (brickChild < 0)
                     tile->leafCorners(node::leafIndex(word), values);
-                } else {
-                    for (int c = 0; c < 8; ++c) values[c] = corner(c);
-                }
+                else
+                    tile->brickCorners(node::brickIndex(word), brickChild, values);
                 decoded = true;
             }
             return values;
@@ -79,27 +79,36 @@ private:
     struct Cache {
         static constexpr int kSize = 8;
         uint64_t owner = 0;
-        CachedLeaf cells[kSize];
-        int count = 0, next = 0;
-        int last = 0;  ///< the entry found last: asked first (consecutive points share leaves)
+        CachedLeaf cells[kSize];  ///< an empty entry has size 0: it contains no point
+        int next = 0;
+        /// The entries found last for a point and for the neighbours value() asks about: asked
+        /// first (consecutive points share leaves, and so do their neighbours).
+        int lastPoint = 0, lastNeighbour = 0;
     };
     Cache& threadCache() const {
         thread_local Cache cache;
         if (cache.owner != mSerial) {
             cache.owner = mSerial;
-            cache.count = cache.next = cache.last = 0;
+            for (CachedLeaf& c : cache.cells) c.size = 0;
+            cache.next = cache.lastPoint = cache.lastNeighbour = 0;
         }
         return cache;
     }
 
-    CachedLeaf& locate(glm::uvec3 p, Cache& cache) const {
-        if (cache.count > 0 && cache.cells[cache.last].contains(p)) return cache.cells[cache.last];
-        for (int i = 0; i < cache.count; ++i)
+    /// The cached leaf holding `p`, asking entry `last` first (the common case, inline) and
+    /// setting it to the entry found.
+    CachedLeaf& locate(glm::uvec3 p, Cache& cache, int& last) const {
+        CachedLeaf& hint = cache.cells[last];
+        return hint.contains(p) ? hint : locateFurther(p, cache, last);
+    }
+
+    [[gnu::noinline]] CachedLeaf& locateFurther(glm::uvec3 p, Cache& cache, int& last) const {
+        for (int i = 0; i < Cache::kSize; ++i)
             if (cache.cells[i].contains(p)) {
-                cache.last = i;
+                last = i;
                 return cache.cells[i];
             }
-        cache.last = cache.next;
+        last = cache.next;
         CachedLeaf& c = cache.cells[cache.next];
         c.tile = mAdf->tileAtSlot(p >> mTileShift);
         c.brickChild = -1;
@@ -117,7 +126,6 @@ private:
         c.origin = (p >> shift) << shift;
         c.size = 1u << shift;
         cache.next = (cache.next + 1) % Cache::kSize;
-        cache.count = std::min(cache.count + 1, Cache::kSize);
         return c;
     }
 
@@ -130,19 +138,22 @@ private:
     }
 
     double value(const glm::dvec3& p, Cache& cache) const {
-        const glm::dvec3 u = (p - mOrigin) * mInvCell;
-        const glm::dvec3 r = glm::floor(u + 0.5);  // the nearest integer (ties only fail the test below)
-        const bool lattice = glm::all(glm::lessThan(glm::abs(u - r), glm::dvec3(1e-4))) &&
-                             glm::all(glm::greaterThanEqual(r, glm::dvec3(0.0))) && glm::all(glm::lessThanEqual(r, glm::dvec3(mTop)));
-        if (!lattice) return mAdf->sample(glm::vec3(p)).distance;
-        const glm::uvec3 pt(r);
+        glm::uvec3 pt;
+        for (int k = 0; k < 3; ++k) {
+            // The nearest integer r = floor(u + 0.5) (ties only fail the test below), by
+            // truncation once u + 0.5 is known to lie in [0, top + 1), that is 0 <= r <= top.
+            const double u = (p[k] - mOrigin[k]) * mInvCell, t = u + 0.5;
+            if (!(t >= 0.0 && t < double(mTop) + 1.0)) return mAdf->sample(glm::vec3(p)).distance;
+            pt[k] = uint32_t(t);
+            if (!(std::abs(u - double(pt[k])) < 1e-4)) return mAdf->sample(glm::vec3(p)).distance;
+        }
         // Octant 0 (the unit cube above p) when inside the domain; then only octants across
         // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
         // octant order wins (their values differ only by quantisation).
         uint32_t onFace = 7;
         CachedLeaf first;  // a copy: the lookups below may reuse its cache entry
         if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
-            CachedLeaf& found = locate(pt, cache);
+            CachedLeaf& found = locate(pt, cache, cache.lastPoint);
             const int c = cornerIndex(found, pt);
             if (c >= 0) return found.corner(c);
             onFace = 0;
@@ -150,15 +161,15 @@ private:
                 if (pt[k] == found.origin[k]) onFace |= 1u << k;
             const glm::vec3 f = (glm::vec3(pt) - glm::vec3(found.origin)) / float(found.size);
             if (onFace == 0) return trilinear(found.corners(), f).distance;  // strictly inside it
+            found.corners();  // decoded where it stays cached, before the copy (most points need them)
             first = found;
         }
         for (uint32_t o = 1; o < 8; ++o) {
             if ((o & onFace) == 0) continue;  // moves only along axes where p is inside the first leaf
-            const glm::uvec3 off(o & 1, (o >> 1) & 1, o >> 2);
-            if (glm::any(glm::lessThan(pt, off))) continue;
-            const glm::uvec3 cube = pt - off;
+            // Below 0 wraps around past the top: one test for both ends of the domain.
+            const glm::uvec3 cube = pt - glm::uvec3(o & 1, (o >> 1) & 1, o >> 2);
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
-            const CachedLeaf& leaf = locate(cube, cache);
+            const CachedLeaf& leaf = locate(cube, cache, cache.lastNeighbour);
             const int c = cornerIndex(leaf, pt);
             if (c >= 0) return leaf.corner(c);
         }
@@ -186,8 +197,12 @@ public:
     double distance(const glm::dvec3& p) const override {
         return mRegion.contains(p) ? mInside->distance(p) : mOutside->distance(p);
     }
-    /// Each side in batches (the old field's batch caches its leaf lookups), then merged.
+    /// Each side in batches (the old field's batch caches its leaf lookups), then merged; a
+    /// call wholly on one side (most of a regeneration's) goes there as it is.
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        const auto inside = std::size_t(std::count_if(p.begin(), p.end(), [&](const glm::dvec3& q) { return mRegion.contains(q); }));
+        if (inside == p.size()) return mInside->distances(p, out);
+        if (inside == 0) return mOutside->distances(p, out);
         glm::dvec3 in[kSourceBatch], outside[kSourceBatch];
         double inValues[kSourceBatch], outValues[kSourceBatch];
         for (std::size_t start = 0; start < p.size(); start += kSourceBatch) {

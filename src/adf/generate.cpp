@@ -26,7 +26,9 @@ namespace {
 
 // ---- the 3x3x3 half grid of a cell: point g = i + 3j + 9k, i, j, k in {0, 1, 2} ----
 
-constexpr int cornerToGrid(int c) { return 2 * (c & 1) + 6 * ((c >> 1) & 1) + 18 * ((c >> 2) & 1); }
+/// Half-grid point of corner c, by table: subdivide() looks up all 8 for every cell.
+constexpr std::array<int, 8> kCornerGrid = {0, 2, 6, 8, 18, 20, 24, 26};
+constexpr int cornerToGrid(int c) { return kCornerGrid[c]; }
 constexpr int kCentre = 13;  // a variable, not an enum: ensure() takes its address
 
 /// Half the diagonal of a unit cube.
@@ -354,10 +356,15 @@ private:
         }
     }
 
-    /// Files a freshly evaluated border point under every face/edge neighbour sharing it.
+    /// True when `p` lies on a face of the tile. Unsigned wrap: false when 1 <= coordinate <=
+    /// span - 1 on every axis (interior).
+    bool onTileFace(glm::uvec3 p) const {
+        return !(p.x - 1 < mSpan - 1 && p.y - 1 < mSpan - 1 && p.z - 1 < mSpan - 1);
+    }
+
+    /// Files a freshly evaluated point on the tile's faces under every face/edge neighbour
+    /// sharing it.
     void recordBorder(glm::uvec3 p, float v) {
-        // Unsigned wrap: true when 1 <= coordinate <= span - 1 on every axis (interior).
-        if (p.x - 1 < mSpan - 1 && p.y - 1 < mSpan - 1 && p.z - 1 < mSpan - 1) return;
         const glm::ivec3 side(p.x == 0 ? -1 : (p.x == mSpan ? 1 : 0), p.y == 0 ? -1 : (p.y == mSpan ? 1 : 0),
                               p.z == 0 ? -1 : (p.z == mSpan ? 1 : 0));
         const int onBorder = (side.x != 0) + (side.y != 0) + (side.z != 0);
@@ -384,9 +391,10 @@ private:
     /// the missing ones in one batch, and loads them into v.
     void ensure(glm::uvec3 o, uint32_t half, const int* gs, int n, float* v) {
         glm::uvec3 local[27];
+        uint32_t at[27];
         for (int k = 0; k < n; ++k) local[k] = o + gridOffset(gs[k]) * half;
-        evaluate(local, n);
-        for (int k = 0; k < n; ++k) v[gs[k]] = mValues[index(local[k])];
+        evaluate(local, n, at);
+        for (int k = 0; k < n; ++k) v[gs[k]] = mValues[at[k]];
     }
 
     /// Evaluates, in two large batches, what the 8 children of a cell will ask for first: their
@@ -413,30 +421,33 @@ private:
     }
 
     /// Evaluates the listed local points that are not valid yet (duplicates allowed), in
-    /// batches of up to 64.
-    void evaluate(const glm::uvec3* local, int n) {
+    /// batches of up to 64. `at`, if given, receives each point's index in the volume.
+    void evaluate(const glm::uvec3* local, int n, uint32_t* at = nullptr) {
         constexpr int kBatch = 64;
         glm::dvec3 pts[kBatch];
         double out[kBatch];
         glm::uvec3 todo[kBatch];
+        uint32_t todoAt[kBatch];
         int m = 0;
         auto flush = [&] {
             mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
             mEvaluations += uint64_t(m);
             for (int k = 0; k < m; ++k) {
                 const float value = checkedDistance(out[k], pts[k]);
-                mValues[index(todo[k])] = value;
-                recordBorder(todo[k], value);
+                mValues[todoAt[k]] = value;
+                if (onTileFace(todo[k])) recordBorder(todo[k], value);
             }
             m = 0;
         };
         for (int k = 0; k < n; ++k) {
             const uint32_t i = index(local[k]);
+            if (at) at[k] = i;
             if (valid(i)) continue;
             mStamp[i] = mCurrent;  // claims it, so a duplicate in this list is skipped
             const glm::uvec3 p = mBase + local[k];
             pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
-            todo[m++] = local[k];
+            todo[m] = local[k];
+            todoAt[m++] = i;
             if (m == kBatch) flush();
         }
         if (m > 0) flush();
@@ -587,13 +598,12 @@ private:
     void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked = false) {
         if (!keepChecked && keepsOld(o, s, level) == Keep::Copy && copyOld(nodeIndex, o, level)) return;
         float v[27];
-        const uint32_t base = index(o);
-        const uint32_t step[3] = {s, mDim * s, mDim * mDim * s};
+        const uint32_t base = index(o), dy = mDim * s, dz = mDim * mDim * s;
+        const uint32_t cornerAt[8] = {base, base + s, base + dy, base + s + dy, base + dz, base + s + dz, base + dy + dz, base + s + dy + dz};
         float corners[8];
         for (int c = 0; c < 8; ++c) {
-            const uint32_t i = base + (c & 1) * step[0] + ((c >> 1) & 1) * step[1] + (c >> 2) * step[2];
-            assert(valid(i));
-            corners[c] = v[cornerToGrid(c)] = mValues[i];
+            assert(valid(cornerAt[c]));
+            corners[c] = v[cornerToGrid(c)] = mValues[cornerAt[c]];
         }
         if (level == mDomain.maxLevel) return makeLeaf(nodeIndex, corners);
 

@@ -14,10 +14,9 @@
 namespace kizamu::adf {
 
 CellType cellTypeOf(std::span<const float, 8> corners) {
-    bool anyInside = false, anyOutside = false;
-    for (float v : corners) (v < 0.0f ? anyInside : anyOutside) = true;
-    if (anyInside && anyOutside) return CellType::Boundary;
-    return anyInside ? CellType::Interior : CellType::Exterior;
+    int inside = 0;  // counted without a branch per corner: every cell of every tile asks
+    for (float v : corners) inside += v < 0.0f;
+    return inside == 0 ? CellType::Exterior : inside == 8 ? CellType::Interior : CellType::Boundary;
 }
 
 namespace {
@@ -133,7 +132,7 @@ uint64_t Tile::computeChecksum() const {
 namespace {
 /// Round half away from zero into [-32767, 32767], keeping negative values negative (inside
 /// stays inside even when a tiny distance rounds to zero).
-int16_t quantise(float v, float scale) {
+inline int16_t quantise(float v, float scale) {
     const float x = v / scale;
     long r = long(x + (x >= 0.0f ? 0.5f : -0.5f));
     r = std::clamp(r, -32767l, 32767l);
@@ -153,7 +152,7 @@ int32_t narrowStep(float scale, double finestCell) {
 
 /// Steps from `base` to the value nearest `q` with q's sign (inside stays inside), or false
 /// when that needs more than 127 steps or leaves the 16-bit range.
-bool narrowDelta(int32_t q, int32_t base, int32_t step, int8_t& out) {
+inline bool narrowDelta(int32_t q, int32_t base, int32_t step, int8_t& out) {
     const int32_t diff = q - base;
     int32_t k = diff >= 0 ? (diff + step / 2) / step : -((-diff + step / 2) / step);
     const int32_t v = base + k * step;

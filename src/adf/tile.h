@@ -179,6 +179,19 @@ public:
         leafValues(leaf, q);
         for (int c = 0; c < 8; ++c) out[c] = float(q[c]) * mScale;
     }
+    /// The 8 decoded corners of child `child` of brick `brick`, m (as brickCorner gives them).
+    /// One branch for all of them, as leafCorners.
+    void brickCorners(uint32_t brick, int child, float out[8]) const {
+        const int first = brickPoint(child, 0);
+        if (brick < mPackedCount) {
+            const int32_t base = mBrickBases[brick], step = brick < mNarrowCount ? mStep : 2 * mStep;
+            const int8_t* d = mBrickDeltas + 27 * std::size_t(brick) + first;
+            for (int c = 0; c < 8; ++c) out[c] = float(int16_t(base + int32_t(d[brickPoint(0, c)]) * step)) * mScale;
+        } else {
+            const int16_t* q = mWideBricks + 27 * std::size_t(brick - mPackedCount) + first;
+            for (int c = 0; c < 8; ++c) out[c] = float(q[brickPoint(0, c)]) * mScale;
+        }
+    }
     /// Quantised value of half-grid point g (tile.h's brickPoint order) of brick `brick`.
     /// Packed bricks share one layout; the step is a select on the index (no extra branch).
     int16_t brickValue(uint32_t brick, int g) const {

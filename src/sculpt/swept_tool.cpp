@@ -63,12 +63,15 @@ void validateStroke(const Tool& tool, const std::vector<ToolSample>& samples) {
     }
 }
 
-SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(tool) {
+SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(tool), mBoundingRadius(tool.boundingRadius()) {
     validateStroke(tool, samples);
     for (ToolSample& s : samples) s.orientation = glm::normalize(s.orientation);
     if (samples.size() == 1) samples.push_back(samples.front());  // a dab: a segment of length 0
     for (std::size_t i = 0; i + 1 < samples.size(); ++i) {
-        Segment s{samples[i], samples[i + 1], glm::mat3_cast(glm::conjugate(samples[i].orientation)), glm::dvec3(0.0, 0.0, 1.0), 0.0, false, 1};
+        Segment s{samples[i], samples[i + 1], glm::mat3_cast(glm::conjugate(samples[i].orientation)), glm::dvec3(0.0), 0.0,
+                  glm::dvec3(0.0, 0.0, 1.0), 0.0, false, 1};
+        s.moveA = s.inverseA * (s.b.position - s.a.position);
+        s.moveA2 = glm::dot(s.moveA, s.moveA);
         // The turn from a to b as a world rotation r = b a^-1, the short way round.
         glm::dquat r = s.b.orientation * glm::conjugate(s.a.orientation);
         if (r.w < 0.0) r = -r;
@@ -89,7 +92,7 @@ uint32_t SweptTool::build(uint32_t first, uint32_t count) {
     const auto index = uint32_t(mNodes.size());
     mNodes.emplace_back();
     Node n{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(-std::numeric_limits<double>::max()), 0, 0, 0, 0};
-    const double r = mTool.boundingRadius();
+    const double r = mBoundingRadius;
     for (uint32_t i = first; i < first + count; ++i)
         for (const glm::dvec3& p : {mSegments[i].a.position, mSegments[i].b.position}) {
             n.lo = glm::min(n.lo, p - r);
@@ -111,13 +114,12 @@ uint32_t SweptTool::build(uint32_t first, uint32_t count) {
 double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
     const glm::dvec3 v = s.b.position - s.a.position;
     if (s.fixedOrientation) {
-        const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.inverseA * v;  // tool frame
+        const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.moveA;  // tool frame
         if (mTool.shape == ToolShape::Sphere) {  // capsule
-            const double len2 = glm::dot(w, w);
-            const double t = len2 > 0.0 ? std::clamp(glm::dot(q, w) / len2, 0.0, 1.0) : 0.0;
+            const double t = s.moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / s.moveA2, 0.0, 1.0) : 0.0;
             return toolDistance(mTool, q - t * w);
         }
-        if (glm::dot(w, w) == 0.0) return toolDistance(mTool, q);
+        if (s.moveA2 == 0.0) return toolDistance(mTool, q);
         return goldenMinimum([&](double t) { return toolDistance(mTool, q - t * w); }, 0.0, 1.0);
     }
     // Pose at t: turned by angle * t about the axis (Rodrigues), applied after a's orientation,
@@ -145,7 +147,7 @@ double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
 template <class SegmentDistance>
 double SweptTool::search(const glm::dvec3& p, double limit, const SegmentDistance& segment) const {
     double best = limit;
-    const double r = mTool.boundingRadius();
+    const double r = mBoundingRadius;
     // Lower bound of a node: distance to its box minus nothing (the box already holds the tool);
     // a point inside the box gets 0 - r, the most the tool could reach inward.
     uint32_t stack[64];
@@ -153,7 +155,9 @@ double SweptTool::search(const glm::dvec3& p, double limit, const SegmentDistanc
     stack[top++] = 0;
     while (top > 0) {
         const Node& n = mNodes[stack[--top]];
-        const double bound = boxDistance(p, n.lo, n.hi) - (glm::all(glm::lessThanEqual(n.lo, p)) && glm::all(glm::lessThanEqual(p, n.hi)) ? r : 0.0);
+        // (Inside the box its distance is 0: no square root for the points that matter.)
+        const bool inside = glm::all(glm::lessThanEqual(n.lo, p)) && glm::all(glm::lessThanEqual(p, n.hi));
+        const double bound = inside ? 0.0 - r : boxDistance(p, n.lo, n.hi);
         if (bound >= best) continue;
         if (n.count > 0) {
             for (uint32_t i = n.first; i < n.first + n.count; ++i) best = std::min(best, segment(mSegments[i]));
@@ -174,13 +178,12 @@ double SweptTool::distanceBelow(const glm::dvec3& p, double limit) const {
 }
 
 double SweptTool::lowerBound(const glm::dvec3& p, double limit) const {
-    const double r = mTool.boundingRadius();
+    const double r = mBoundingRadius;
     return search(p, limit, [&](const Segment& s) {
         if (mTool.shape == ToolShape::Sphere) {
             // A sphere turns into itself: the capsule distance, whatever the orientations.
-            const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.inverseA * (s.b.position - s.a.position);
-            const double len2 = glm::dot(w, w);
-            const double t = len2 > 0.0 ? std::clamp(glm::dot(q, w) / len2, 0.0, 1.0) : 0.0;
+            const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.moveA;
+            const double t = s.moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / s.moveA2, 0.0, 1.0) : 0.0;
             return toolDistance(mTool, q - t * w);
         }
         // The segment's swept volume lies in the box of its ends grown by the bounding radius.

@@ -53,6 +53,8 @@ private:
     struct Segment {
         ToolSample a, b;
         glm::dmat3 inverseA;    ///< world to tool frame at a
+        glm::dvec3 moveA;       ///< b - a in the tool frame at a (fixed orientations)
+        double moveA2;          ///< its squared length
         glm::dvec3 axis;        ///< world axis of the turn from a to b (unit)
         double angle;           ///< radians turned from a to b
         bool fixedOrientation;  ///< a and b share their orientation
@@ -69,6 +71,7 @@ private:
     uint32_t build(uint32_t first, uint32_t count);
 
     Tool mTool;
+    double mBoundingRadius;  ///< mTool's, asked by every query
     std::vector<Segment> mSegments;
     std::vector<Node> mNodes;
     adf::BoxWorld mBounds;

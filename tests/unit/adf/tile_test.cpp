@@ -329,6 +329,13 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
             EXPECT_LE(std::abs(double(t->brickValue(node::brickIndex(w), g)) * t->scale() - double(values[27 * b + uint32_t(g)])),
                       tolerance)
                 << "brick " << b << " point " << g << (form == 2 ? ": wide is exact to 16 bits" : "");
+        for (int child = 0; child < 8; ++child) {
+            float corners[8];
+            t->brickCorners(node::brickIndex(w), child, corners);
+            for (int c = 0; c < 8; ++c)
+                EXPECT_EQ(corners[c], t->brickCorner(node::brickIndex(w), child, c))
+                    << "brickCorners decodes as brickCorner: brick " << b << " child " << child << " corner " << c;
+        }
     }
     // Memory by counter: 29 bytes a packed brick (narrow or coarse-narrow), 54 a wide one.
     EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 6 * 29 + 2 * 54);
