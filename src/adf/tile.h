@@ -188,6 +188,18 @@ public:
         }
         return mWideBricks[27 * (brick - mPackedCount) + uint32_t(g)];
     }
+    /// The 27 quantised values of brick `brick`, as brickValue gives them (one branch for all:
+    /// readers comparing or scanning whole bricks).
+    void brickValues(uint32_t brick, int16_t out[27]) const {
+        if (brick < mPackedCount) {
+            const int32_t base = mBrickBases[brick], step = brick < mNarrowCount ? mStep : 2 * mStep;
+            const int8_t* d = mBrickDeltas + 27 * std::size_t(brick);
+            for (int g = 0; g < 27; ++g) out[g] = int16_t(base + int32_t(d[g]) * step);
+        } else {
+            const int16_t* q = mWideBricks + 27 * std::size_t(brick - mPackedCount);
+            for (int g = 0; g < 27; ++g) out[g] = q[g];
+        }
+    }
     float scale() const { return mScale; }               ///< m per quantisation step
     uint64_t version() const { return mVersion; }
     uint64_t checksum() const { return mChecksum; }

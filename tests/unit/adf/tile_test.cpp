@@ -329,6 +329,10 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
             EXPECT_LE(std::abs(double(t->brickValue(node::brickIndex(w), g)) * t->scale() - double(values[27 * b + uint32_t(g)])),
                       tolerance)
                 << "brick " << b << " point " << g << (form == 2 ? ": wide is exact to 16 bits" : "");
+        int16_t all[27];
+        t->brickValues(node::brickIndex(w), all);
+        for (int g = 0; g < 27; ++g)
+            EXPECT_EQ(all[g], t->brickValue(node::brickIndex(w), g)) << "bulk decode, brick " << b << " point " << g;
     }
     // Memory by counter: 29 bytes a packed brick (narrow or coarse-narrow), 54 a wide one.
     EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 6 * 29 + 2 * 54);
