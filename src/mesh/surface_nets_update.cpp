@@ -65,6 +65,14 @@ public:
                     if (s.bits.empty()) s.bits.assign((std::size_t(1) << (3 * mShift)) / 64 + 1, 0);
                     const glm::uvec3 o = b.lo - (glm::uvec3(x, y, z) << mShift);  // inside this slot
                     const std::size_t at = bit(o), row = std::size_t(1) << mShift, layer = row << mShift;
+                    if (row % 64 == 0 && (at & 63) + b.size <= 64) {
+                        // Rows are whole words and the cell's run fits in one: one mask for all.
+                        const uint64_t mask = (b.size == 64 ? ~uint64_t(0) : (uint64_t(1) << b.size) - 1) << (at & 63);
+                        uint64_t* w = s.bits.data() + (at >> 6);
+                        for (uint32_t k = 0; k < b.size; ++k)
+                            for (uint32_t j = 0; j < b.size; ++j) w[(k * layer + j * row) >> 6] |= mask;
+                        continue;
+                    }
                     for (uint32_t k = 0; k < b.size; ++k)
                         for (uint32_t j = 0; j < b.size; ++j) setRun(s.bits, at + k * layer + j * row, b.size);
                 }
