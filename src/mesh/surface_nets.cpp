@@ -711,9 +711,6 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
             const Incidence& in = inc[j];
             tm.incidences.push_back({in.x, in.first, in.last});
             mass += in.x->point;
-            glm::vec3 dir(0.0f);
-            dir[in.x->axis] = in.x->startInside ? 1.0f : -1.0f;
-            v.crossingNormal += dir;
             for (uint8_t q = in.first;; q = uint8_t((q + 1) % 4)) {
                 in.x->ringVertex[q] = {&tm, vi};
                 if (q == in.last) break;
@@ -780,8 +777,16 @@ void relaxVertex(TileMesh& tm, Vertex& v) {
     if (ge > 1e-12f && std::isfinite(ge)) {
         v.normal = gradient / ge;
     } else {
-        const float cn = glm::length(v.crossingNormal);
-        v.normal = cn > 0.0f ? v.crossingNormal / cn : glm::vec3(0.0f, 0.0f, 1.0f);
+        // The crossed edges' directions (whole numbers: the sum's order does not matter).
+        glm::vec3 crossed(0.0f);
+        for (uint32_t i = v.incBegin; i < v.incEnd; ++i) {
+            const Crossing& x = *tm.incidences[i].x;
+            glm::vec3 dir(0.0f);
+            dir[x.axis] = x.startInside ? 1.0f : -1.0f;
+            crossed += dir;
+        }
+        const float cn = glm::length(crossed);
+        v.normal = cn > 0.0f ? crossed / cn : glm::vec3(0.0f, 0.0f, 1.0f);
     }
 }
 

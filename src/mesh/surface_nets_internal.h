@@ -95,7 +95,6 @@ struct Vertex {
     glm::vec3 projected{0.0f};  ///< after the first projection (what neighbours read)
     glm::vec3 position{0.0f};   ///< final, lattice units
     glm::vec3 normal{0.0f};
-    glm::vec3 crossingNormal{0.0f};  ///< sum of the crossed edges' directions (fallback normal)
     float corners[8] = {};  ///< the cell's: projection reads the cell's own trilinear field
     uint32_t incBegin = 0, incEnd = 0;
     uint32_t nextInCell = UINT32_MAX;  ///< the cell's next vertex (several sheets), or none
