@@ -34,6 +34,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -182,15 +183,9 @@ public:
     /// The 8 decoded corners of child `child` of brick `brick`, m (as brickCorner gives them).
     /// One branch for all of them, as leafCorners.
     void brickCorners(uint32_t brick, int child, float out[8]) const {
-        const int first = brickPoint(child, 0);
-        if (brick < mPackedCount) {
-            const int32_t base = mBrickBases[brick], step = brick < mNarrowCount ? mStep : 2 * mStep;
-            const int8_t* d = mBrickDeltas + 27 * std::size_t(brick) + first;
-            for (int c = 0; c < 8; ++c) out[c] = float(int16_t(base + int32_t(d[brickPoint(0, c)]) * step)) * mScale;
-        } else {
-            const int16_t* q = mWideBricks + 27 * std::size_t(brick - mPackedCount) + first;
-            for (int c = 0; c < 8; ++c) out[c] = float(q[brickPoint(0, c)]) * mScale;
-        }
+        int16_t q[8];
+        decodeBrick(brick, brickPoint(child, 0), kChildCornerPoints, q);
+        for (int c = 0; c < 8; ++c) out[c] = float(q[c]) * mScale;
     }
     /// Quantised value of half-grid point g (tile.h's brickPoint order) of brick `brick`.
     /// Packed bricks share one layout; the step is a select on the index (no extra branch).
@@ -201,6 +196,9 @@ public:
         }
         return mWideBricks[27 * (brick - mPackedCount) + uint32_t(g)];
     }
+    /// The 27 quantised values of brick `brick`, as brickValue gives them (one branch for all:
+    /// readers comparing or scanning whole bricks).
+    void brickValues(uint32_t brick, int16_t out[27]) const { decodeBrick(brick, 0, kBrickPoints, out); }
     float scale() const { return mScale; }               ///< m per quantisation step
     uint64_t version() const { return mVersion; }
     uint64_t checksum() const { return mChecksum; }
@@ -226,6 +224,25 @@ public:
 
 private:
     Tile() = default;
+    static constexpr std::array<int, 27> kBrickPoints{0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13,
+                                                      14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26};
+    static constexpr std::array<int, 8> kChildCornerPoints{brickPoint(0, 0), brickPoint(0, 1), brickPoint(0, 2),
+                                                           brickPoint(0, 3), brickPoint(0, 4), brickPoint(0, 5),
+                                                           brickPoint(0, 6), brickPoint(0, 7)};
+    /// The quantised values of half-grid points first + points[k] of brick `brick`, with one
+    /// branch on the brick's form for all of them: the decoder behind brickValues and
+    /// brickCorners (brickValue is its one-point case).
+    template <std::size_t N>
+    void decodeBrick(uint32_t brick, int first, const std::array<int, N>& points, int16_t* out) const {
+        if (brick < mPackedCount) {
+            const int32_t base = mBrickBases[brick], step = brick < mNarrowCount ? mStep : 2 * mStep;
+            const int8_t* d = mBrickDeltas + 27 * std::size_t(brick) + first;
+            for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + int32_t(d[points[k]]) * step);
+        } else {
+            const int16_t* q = mWideBricks + 27 * std::size_t(brick - mPackedCount) + first;
+            for (std::size_t k = 0; k < N; ++k) out[k] = q[points[k]];
+        }
+    }
     static Tile* allocate(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
                           uint32_t coarseCount, uint32_t wideCount);
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed.

@@ -61,7 +61,7 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
             out.push_back(b);
         } else {
             int16_t q[27];
-            for (int g = 0; g < 27; ++g) q[g] = t.brickValue(node::brickIndex(w), g);
+            t.brickValues(node::brickIndex(w), q);
             if (!signChange<27>(q)) continue;
             for (int child = 0; child < 8; ++child) {
                 int16_t raw[8];

@@ -590,8 +590,8 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         // This cell owns the faces toward larger keys: their split vertices are decided
         // again (splitFaces), so forget old ones (the crossing may be kept unchanged).
         if (s.freshCrossings) continue;
-        if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = {};
-        if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = {};
+        if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = Crossing::kNoSplit;
+        if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = Crossing::kNoSplit;
     }
     // Most faces carry two crossings: pair the entries by neighbour (a few comparisons, no
     // sort). Any other count groups them all in order below (the unions made here stay: uniting
@@ -711,9 +711,6 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
             const Incidence& in = inc[j];
             tm.incidences.push_back({in.x, in.first, in.last});
             mass += in.x->point;
-            glm::vec3 dir(0.0f);
-            dir[in.x->axis] = in.x->startInside ? 1.0f : -1.0f;
-            v.crossingNormal += dir;
             for (uint8_t q = in.first;; q = uint8_t((q + 1) % 4)) {
                 in.x->ringVertex[q] = {&tm, vi};
                 if (q == in.last) break;
@@ -734,16 +731,15 @@ inline int faceSlot(uint8_t qA, uint8_t qB) { return (qA + 1) % 4 == qB ? qA : q
 /// its ends include (they are then fanned around their centre). Needs the cycles of both cells.
 void splitFaces(TileMesh& tm) {
     tm.splits.clear();
-    const uint32_t base = uint32_t(tm.vertices.size());
     for (const MultiFace& mf : tm.multiFaces) {
         std::vector<std::pair<uint64_t, uint64_t>> seen;
         for (const auto& [e, l] : mf.segments) {
             const VertexRef a = e.x->ringVertex[e.qA], b = e.x->ringVertex[e.qB];
             const std::pair<uint64_t, uint64_t> id{uint64_t(reinterpret_cast<uintptr_t>(a.tile)) ^ (uint64_t(a.index) << 1),
                                                    uint64_t(reinterpret_cast<uintptr_t>(b.tile)) ^ (uint64_t(b.index) << 1)};
-            VertexRef split;
+            uint32_t split = Crossing::kNoSplit;
             if (std::find(seen.begin(), seen.end(), id) != seen.end()) {
-                split = {&tm, base + uint32_t(tm.splits.size())};
+                split = uint32_t(tm.splits.size());
                 tm.splits.push_back({a, b});
             } else {
                 seen.push_back(id);
@@ -781,8 +777,16 @@ void relaxVertex(TileMesh& tm, Vertex& v) {
     if (ge > 1e-12f && std::isfinite(ge)) {
         v.normal = gradient / ge;
     } else {
-        const float cn = glm::length(v.crossingNormal);
-        v.normal = cn > 0.0f ? v.crossingNormal / cn : glm::vec3(0.0f, 0.0f, 1.0f);
+        // The crossed edges' directions (whole numbers: the sum's order does not matter).
+        glm::vec3 crossed(0.0f);
+        for (uint32_t i = v.incBegin; i < v.incEnd; ++i) {
+            const Crossing& x = *tm.incidences[i].x;
+            glm::vec3 dir(0.0f);
+            dir[x.axis] = x.startInside ? 1.0f : -1.0f;
+            crossed += dir;
+        }
+        const float cn = glm::length(crossed);
+        v.normal = cn > 0.0f ? crossed / cn : glm::vec3(0.0f, 0.0f, 1.0f);
     }
 }
 
@@ -921,7 +925,7 @@ inline PolygonShape polygonShape(const Crossing& x) {
     bool split = false;
     for (int q = 0; q < 4; ++q) {
         corners += x.ringCell[q] != x.ringCell[(q + 3) % 4];
-        if (x.split[q].tile && x.ringCell[q] != x.ringCell[(q + 1) % 4]) {
+        if (x.split[q] != Crossing::kNoSplit && x.ringCell[q] != x.ringCell[(q + 1) % 4]) {
             ++corners;
             split = true;
         }
@@ -1006,6 +1010,10 @@ MeshBuffers SurfaceMesher::mesh() const {
             throw std::logic_error("surface nets: a crossing refers to a released vertex");
         return r.tile->offset + num[r.index];
     };
+    auto splitIndex = [&](const Crossing& x, int q) {
+        const TileMesh& owner = *mTiles.at(x.faceOwner(q));
+        return owner.offset + owner.outNumber.at(owner.vertices.size() + x.split[q]);
+    };
     util::parallelFor(mPool, order.size(), [&](std::size_t t) {
         const TileMesh& tm = *order[t];
         uint32_t* tri = m.indices.data() + 3 * share[t].triangleOffset;
@@ -1025,8 +1033,8 @@ MeshBuffers SurfaceMesher::mesh() const {
             bool fan = false;
             for (int q = 0; q < 4; ++q) {
                 if (x.ringCell[q] != x.ringCell[(q + 3) % 4]) polygon[n++] = index(x.ringVertex[q]);
-                if (x.split[q].tile && x.ringCell[q] != x.ringCell[(q + 1) % 4]) {
-                    polygon[n++] = index(x.split[q]);
+                if (x.split[q] != Crossing::kNoSplit && x.ringCell[q] != x.ringCell[(q + 1) % 4]) {
+                    polygon[n++] = splitIndex(x, q);
                     fan = true;
                 }
             }

@@ -31,7 +31,7 @@
 /// tiles, O(nodes of the rebuilt tiles) to compare them, and otherwise work proportional to
 /// the changed cells (old crossings are reached through a per-tile cell index, never a scan).
 /// Threading: tiles in parallel on the pool; one SurfaceMesher is owned by one thread.
-/// Memory: 232 bytes per crossing, 128 per vertex (plus its incidences) and 16-21 per cell
+/// Memory: 184 bytes per crossing, 112 per vertex (plus its incidences) and 16-21 per cell
 /// index entry (a flat hash at most 3/4 full). A build also keeps, per pool thread, scratch
 /// the size of the largest tile's boundary leaves and incidences, reused by the next tile and
 /// the next build (growing them per tile cost most of a small LOD mesh's allocations).

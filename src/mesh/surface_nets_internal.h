@@ -53,8 +53,17 @@ struct Crossing {
     uint32_t slot = 0;           ///< its index in the emitting tile's pool
     VertexRef ringVertex[4];
     /// Extra vertex on the face between ring cells q and q+1, where that face carries two
-    /// segments joining the same pair of vertices (set by the face's owner, see splitFaces).
-    VertexRef split[4];
+    /// segments joining the same pair of vertices: its index in `splits` of the face's owner,
+    /// the tile of the smaller of the two cell keys (splitFaces), or kNoSplit. Nearly always
+    /// none: an index, not a VertexRef, keeps the record 48 bytes smaller.
+    uint32_t split[4] = {kNoSplit, kNoSplit, kNoSplit, kNoSplit};
+    static constexpr uint32_t kNoSplit = UINT32_MAX;
+
+    /// The tile owning the face between ring cells q and q + 1 (where split[q] lives).
+    uint64_t faceOwner(int q) const {
+        const int n = (q + 1) % 4;
+        return ringOwner[ringCell[q] < ringCell[n] ? q : n];
+    }
 
     /// Unique per minimal edge (one minimal edge starts at a point along an axis).
     uint64_t key() const { return packLattice(start) | (uint64_t(axis) << 60); }
@@ -86,7 +95,6 @@ struct Vertex {
     glm::vec3 projected{0.0f};  ///< after the first projection (what neighbours read)
     glm::vec3 position{0.0f};   ///< final, lattice units
     glm::vec3 normal{0.0f};
-    glm::vec3 crossingNormal{0.0f};  ///< sum of the crossed edges' directions (fallback normal)
     float corners[8] = {};  ///< the cell's: projection reads the cell's own trilinear field
     uint32_t incBegin = 0, incEnd = 0;
     uint32_t nextInCell = UINT32_MAX;  ///< the cell's next vertex (several sheets), or none

@@ -65,6 +65,14 @@ public:
                     if (s.bits.empty()) s.bits.assign((std::size_t(1) << (3 * mShift)) / 64 + 1, 0);
                     const glm::uvec3 o = b.lo - (glm::uvec3(x, y, z) << mShift);  // inside this slot
                     const std::size_t at = bit(o), row = std::size_t(1) << mShift, layer = row << mShift;
+                    if (row % 64 == 0 && (at & 63) + b.size <= 64) {
+                        // Rows are whole words and the cell's run fits in one: one mask for all.
+                        const uint64_t mask = (b.size == 64 ? ~uint64_t(0) : (uint64_t(1) << b.size) - 1) << (at & 63);
+                        uint64_t* w = s.bits.data() + (at >> 6);
+                        for (uint32_t k = 0; k < b.size; ++k)
+                            for (uint32_t j = 0; j < b.size; ++j) w[(k * layer + j * row) >> 6] |= mask;
+                        continue;
+                    }
                     for (uint32_t k = 0; k < b.size; ++k)
                         for (uint32_t j = 0; j < b.size; ++j) setRun(s.bits, at + k * layer + j * row, b.size);
                 }
@@ -154,17 +162,13 @@ inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
     return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
 }
 
-/// A cell to re-mesh, and a crossing added around it (or none).
+/// A cell to re-mesh, and a crossing added around it (or none). Tasks are ordered by tile and
+/// cell only: the order within a cell does not matter (its incidences are sorted by crossing
+/// key) and no two tasks are equal (a cell is queued once, an added crossing once per cell).
 struct CellTask {
     uint64_t owner, cell;
-    uint64_t addedKey;  ///< the added crossing's key (0 for none): integer compares only
     Crossing* added;
-    bool operator<(const CellTask& o) const {
-        if (owner != o.owner) return owner < o.owner;
-        if (cell != o.cell) return cell < o.cell;
-        return addedKey < o.addedKey;
-    }
-    bool operator==(const CellTask&) const = default;
+    bool operator<(const CellTask& o) const { return owner != o.owner ? owner < o.owner : cell < o.cell; }
 };
 
 /// Rebuilds `tm`'s incidence list when most of it belongs to re-meshed vertices.
@@ -392,7 +396,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     auto queueCell = [&](uint64_t owner, uint64_t cell) {
         if (queued.find(cell)) return;
         queued.assign(cell, 0);
-        tasks.push_back({owner, cell, 0, nullptr});
+        tasks.push_back({owner, cell, nullptr});
     };
     for (const ScanOut& s : scans) {
         crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
@@ -404,12 +408,12 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         for (Crossing* x : s.added)
             for (int q = 0; q < 4; ++q)
                 if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
-                    tasks.push_back({x->ringOwner[q], x->ringCell[q], x->key(), x});
+                    tasks.push_back({x->ringOwner[q], x->ringCell[q], x});
         for (Crossing* x : s.kept)
             for (int q = 0; q < 4; ++q)
                 if (changedAt.unitChanged(unpackLattice(x->ringCell[q]))) queueCell(x->ringOwner[q], x->ringCell[q]);
     }
-    sortUnique(tasks);
+    std::sort(tasks.begin(), tasks.end());
 
     const auto tPhase1 = std::chrono::steady_clock::now();
     // 2. Cells around changed crossings, and changed cells: all their vertices, from scratch.

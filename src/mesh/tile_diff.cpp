@@ -3,6 +3,7 @@
 /// @brief appendChangedCells: a walk down both trees at once.
 #include "mesh/tile_diff.h"
 
+#include <bit>
 #include <cassert>
 #include <cstring>
 
@@ -10,61 +11,50 @@ namespace kizamu::mesh {
 
 namespace {
 
-/// A cell of a tile: a node word, or child `brickChild` of a brick (a leaf).
+/// A cell of a tile: a node (its word read once), or child `brickChild` of a brick (a leaf).
 struct Cursor {
     const adf::Tile* tile;
-    uint32_t node;
-    int brickChild;  ///< -1: the node word itself
+    uint32_t word;
+    int brickChild;  ///< -1: the node itself
 
-    bool isLeaf() const {
-        return brickChild >= 0 || adf::node::isLeaf(tile->node(node));
-    }
+    static Cursor node(const adf::Tile* t, uint32_t i) { return {t, t->node(i), -1}; }
+    bool isLeaf() const { return brickChild >= 0 || adf::node::isLeaf(word); }
+    bool isBrick() const { return brickChild < 0 && adf::node::isBrick(word); }
     Cursor child(int c) const {
-        const uint32_t w = tile->node(node);
-        return adf::node::isInternal(w) ? Cursor{tile, w + uint32_t(c), -1} : Cursor{tile, node, c};
+        return adf::node::isInternal(word) ? node(tile, word + uint32_t(c)) : Cursor{tile, word, c};
     }
-    bool isBrick() const { return brickChild < 0 && adf::node::isBrick(tile->node(node)); }
     /// The 27 quantised values of a brick node (narrow or wide: tile.h decodes either).
-    void brickValues(int16_t out[27]) const {
-        const uint32_t brick = adf::node::brickIndex(tile->node(node));
-        for (int g = 0; g < 27; ++g) out[g] = tile->brickValue(brick, g);
-    }
+    void brickValues(int16_t out[27]) const { tile->brickValues(adf::node::brickIndex(word), out); }
     /// The 8 quantised corners of a leaf.
     void raw(int16_t out[8]) const {
-        const uint32_t w = tile->node(node);
         if (brickChild < 0) {
-            tile->leafValues(adf::node::leafIndex(w), out);
+            tile->leafValues(adf::node::leafIndex(word), out);
         } else {
-            const uint32_t brick = adf::node::brickIndex(w);
+            const uint32_t brick = adf::node::brickIndex(word);
             for (int c = 0; c < 8; ++c) out[c] = tile->brickValue(brick, adf::brickPoint(brickChild, c));
-        }
-    }
-    /// Decoded exactly as the mesher decodes them (float(q) * scale).
-    void corners(float out[8]) const {
-        const uint32_t w = tile->node(node);
-        const float s = tile->scale();
-        if (brickChild < 0) {
-            tile->leafCorners(adf::node::leafIndex(w), out);
-        } else {
-            const uint32_t brick = adf::node::brickIndex(w);
-            for (int c = 0; c < 8; ++c) out[c] = float(tile->brickValue(brick, adf::brickPoint(brickChild, c))) * s;
         }
     }
 };
 
-/// Whether two leaves' corners differ. With one scale, decoding is injective (16-bit integers
-/// times the same positive float), so the raw values are compared instead.
+/// Whether two leaves' corners differ, from their quantised values: with one scale decoding is
+/// injective (16-bit integers times the same positive float), so the raw values are compared;
+/// else the values decoded exactly as the mesher decodes them (float(q) * scale).
+bool valuesDiffer(const int16_t qa[8], float sa, const int16_t qb[8], float sb, bool sameScale) {
+    if (sameScale) return std::memcmp(qa, qb, 8 * sizeof(int16_t)) != 0;
+    for (int c = 0; c < 8; ++c)
+        if (std::bit_cast<uint32_t>(float(qa[c]) * sa) != std::bit_cast<uint32_t>(float(qb[c]) * sb)) return true;
+    return false;
+}
+
 bool cornersDiffer(const Cursor& a, const Cursor& b, bool sameScale) {
-    if (sameScale) {
-        int16_t qa[8], qb[8];
-        a.raw(qa);
-        b.raw(qb);
-        return std::memcmp(qa, qb, sizeof qa) != 0;
-    }
-    float ca[8], cb[8];
-    a.corners(ca);
-    b.corners(cb);
-    return std::memcmp(ca, cb, sizeof ca) != 0;
+    int16_t qa[8], qb[8];
+    a.raw(qa);
+    b.raw(qb);
+    return valuesDiffer(qa, a.tile->scale(), qb, b.tile->scale(), sameScale);
+}
+
+inline glm::uvec3 childOrigin(glm::uvec3 origin, int c, uint32_t half) {
+    return origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half;
 }
 
 void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bool sameScale, std::vector<LatticeBox>& out) {
@@ -77,15 +67,25 @@ void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bo
         if (cornersDiffer(a, b, sameScale)) out.push_back({origin, size});
         return;
     }
-    if (sameScale && a.isBrick() && b.isBrick()) {
+    const uint32_t half = size >> 1;
+    if (a.isBrick() && b.isBrick()) {
+        // Each brick decoded once: equal values mean 8 equal children, else the children are
+        // compared from the decoded values (not 8 lookups per corner and side).
         int16_t qa[27], qb[27];
         a.brickValues(qa);
         b.brickValues(qb);
-        if (std::memcmp(qa, qb, sizeof qa) == 0) return;  // the 8 children share these values
+        if (sameScale && std::memcmp(qa, qb, sizeof qa) == 0) return;
+        for (int c = 0; c < 8; ++c) {
+            int16_t ca[8], cb[8];
+            for (int k = 0; k < 8; ++k) {
+                ca[k] = qa[adf::brickPoint(c, k)];
+                cb[k] = qb[adf::brickPoint(c, k)];
+            }
+            if (valuesDiffer(ca, a.tile->scale(), cb, b.tile->scale(), sameScale)) out.push_back({childOrigin(origin, c, half), half});
+        }
+        return;
     }
-    const uint32_t half = size >> 1;
-    for (int c = 0; c < 8; ++c)
-        walk(a.child(c), b.child(c), origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, half, sameScale, out);
+    for (int c = 0; c < 8; ++c) walk(a.child(c), b.child(c), childOrigin(origin, c, half), half, sameScale, out);
 }
 
 }  // namespace
@@ -93,7 +93,7 @@ void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bo
 void appendChangedCells(const adf::Tile& before, const adf::Tile& after, int maxLevel, std::vector<LatticeBox>& out) {
     assert(before.level() == after.level() && before.latticeOrigin() == after.latticeOrigin() &&
            "appendChangedCells compares two versions of one tile slot");
-    walk({&before, 0, -1}, {&after, 0, -1}, after.latticeOrigin(), 1u << uint32_t(maxLevel - after.level()),
+    walk(Cursor::node(&before, 0), Cursor::node(&after, 0), after.latticeOrigin(), 1u << uint32_t(maxLevel - after.level()),
          before.scale() == after.scale(), out);
 }
 

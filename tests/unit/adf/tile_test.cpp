@@ -336,6 +336,10 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
                 EXPECT_EQ(corners[c], t->brickCorner(node::brickIndex(w), child, c))
                     << "brickCorners decodes as brickCorner: brick " << b << " child " << child << " corner " << c;
         }
+        int16_t all[27];
+        t->brickValues(node::brickIndex(w), all);
+        for (int g = 0; g < 27; ++g)
+            EXPECT_EQ(all[g], t->brickValue(node::brickIndex(w), g)) << "bulk decode, brick " << b << " point " << g;
     }
     // Memory by counter: 29 bytes a packed brick (narrow or coarse-narrow), 54 a wide one.
     EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 6 * 29 + 2 * 54);
