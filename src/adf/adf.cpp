@@ -73,6 +73,34 @@ Sample Adf::sample(const glm::vec3& pWorld) const noexcept {
     return s;
 }
 
+float Adf::latticeDistance(glm::uvec3 p) const noexcept {
+    assert(p.x <= mDomain.latticeSize() && p.y <= mDomain.latticeSize() && p.z <= mDomain.latticeSize() &&
+           "latticeDistance needs a point of the domain's lattice");
+    // A point on the domain's far faces is a corner of the cell below it.
+    const glm::uvec3 q = glm::min(p, glm::uvec3(mDomain.latticeSize() - 1));
+    const Tile* tile = tileAtSlot(q >> uint32_t(mDomain.tileSpan()));
+    auto childAt = [&](int cellShift) {  // child of the cell 2^cellShift wide holding q
+        const glm::uvec3 b = (q >> uint32_t(cellShift - 1)) & 1u;
+        return int(b.x | (b.y << 1) | (b.z << 2));
+    };
+    int shift = mDomain.maxLevel - tile->level();
+    uint32_t w = tile->node(0);
+    while (node::isInternal(w)) w = tile->node(w + uint32_t(childAt(shift--)));
+    const int brickChild = node::isLeaf(w) ? -1 : childAt(shift--);
+    const uint32_t size = 1u << shift;
+    const glm::uvec3 rel = p - ((q >> uint32_t(shift)) << uint32_t(shift));
+    auto atCorner = [size](uint32_t r) { return r == 0 || r == size; };
+    if (atCorner(rel.x) && atCorner(rel.y) && atCorner(rel.z)) {
+        const int c = int(rel.x == size) | (int(rel.y == size) << 1) | (int(rel.z == size) << 2);
+        return brickChild < 0 ? tile->corner(node::leafIndex(w), c) : tile->brickCorner(node::brickIndex(w), brickChild, c);
+    }
+    float v[8];
+    if (brickChild < 0) tile->leafCorners(node::leafIndex(w), v);
+    else
+        for (int c = 0; c < 8; ++c) v[c] = tile->brickCorner(node::brickIndex(w), brickChild, c);
+    return trilinear(v, glm::vec3(rel) / float(size)).distance;
+}
+
 void AdfAccessor::descend(glm::uvec3 p) noexcept {
     // Climb to the smallest cached cell that still contains p.
     while (mDepth > 0) {

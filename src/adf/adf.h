@@ -83,6 +83,13 @@ public:
     Sample sample(const glm::vec3& pWorld) const noexcept;
     float distance(const glm::vec3& pWorld) const noexcept { return sample(pWorld).distance; }
 
+    /// Distance (m) at lattice point `p` (each coordinate <= latticeSize()): the stored value
+    /// when `p` is a corner of its leaf, else the trilinear value there; no gradient. For
+    /// readers whose points lie on the lattice (a coarser lattice re-sampling this one).
+    /// Complexity: O(tile span) node loads, one decoded value at a corner. Threading: any
+    /// thread. Memory: none.
+    float latticeDistance(glm::uvec3 p) const noexcept;
+
     /// The paint, or null when this clay was never painted (meshes then carry no colours).
     /// Complexity: O(1). Threading: any thread (the layer is immutable).
     const std::shared_ptr<const ColourLayer>& colours() const { return mColours; }

@@ -6,6 +6,8 @@
 #include "adf/generate.h"
 #include "mesh/mesh_colours.h"
 
+#include <glm/common.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -17,17 +19,37 @@ namespace {
 
 /// The fine field as a source: plain trilinear reconstruction (the coarse ADF is a new, full
 /// generation, so every lattice point is evaluated once and signs agree between its cells).
+/// The coarse lattice is a sub-lattice of the fine one, so every point the generator asks for
+/// is a fine lattice point, nearly always a stored corner, read without gradient (a
+/// world-space sample costs twice the instructions, and its float coordinates can land a
+/// rounding error off the corner).
 class AdfSampler final : public adf::DistanceSource {
 public:
-    explicit AdfSampler(adf::AdfPtr adf) : mAdf(std::move(adf)) {}
-    double distance(const glm::dvec3& p) const override { return mAdf->sample(glm::vec3(p)).distance; }
+    explicit AdfSampler(adf::AdfPtr adf)
+        : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld),
+          mLatticePerMetre(1.0 / mAdf->domain().finestCellSize()), mTop(double(mAdf->domain().latticeSize()) + 1.0) {}
+    double distance(const glm::dvec3& p) const override {
+        glm::uvec3 lattice;
+        return onLattice(p, lattice) ? mAdf->latticeDistance(lattice) : mAdf->sample(glm::vec3(p)).distance;
+    }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
-        adf::AdfAccessor acc(*mAdf);
-        for (std::size_t i = 0; i < p.size(); ++i) out[i] = acc.sample(glm::vec3(p[i])).distance;
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = distance(p[i]);
     }
 
 private:
+    /// True when `p` is a lattice point of the fine domain (to rounding), which it sets.
+    bool onLattice(const glm::dvec3& p, glm::uvec3& lattice) const {
+        const glm::dvec3 u = (p - mOrigin) * mLatticePerMetre + 0.5;  // rounds by truncation
+        if (!(u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x < mTop && u.y < mTop && u.z < mTop)) return false;
+        lattice = glm::uvec3(u);
+        const glm::dvec3 miss = glm::abs(u - 0.5 - glm::dvec3(lattice));
+        return miss.x < 1e-6 && miss.y < 1e-6 && miss.z < 1e-6;
+    }
+
     adf::AdfPtr mAdf;
+    glm::dvec3 mOrigin;
+    double mLatticePerMetre;
+    double mTop;  ///< bound of u + 0.5 for u on the lattice
 };
 
 }  // namespace

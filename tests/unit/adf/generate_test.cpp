@@ -241,6 +241,31 @@ TEST(Generate, BricksAndLoneLeavesReconstructTheSameField) {
     EXPECT_GT(inBricks, leaves / 4);
 }
 
+TEST(Generate, LatticeDistanceReadsTheStoredCornersAndInterpolatesBetweenThem) {
+    const Domain d = testPartDomain(7);
+    const AdfPtr adf = generate(*makeTestPart(d), d, testPartSettings());
+    const uint32_t top = d.latticeSize();
+    std::size_t interpolated = 0;
+    adf->forEachTile([&](const Tile& t) {
+        forEachLeaf(t, d.maxLevel, [&](const LeafRef& leaf) {
+            // A leaf owns its lower corner, and its upper ones on the domain's far faces.
+            for (int c = 0; c < 8; ++c) {
+                const glm::uvec3 o(c & 1, (c >> 1) & 1, c >> 2);
+                const glm::uvec3 p = leaf.latticeOrigin + o * leaf.latticeSize;
+                if ((o.x && p.x != top) || (o.y && p.y != top) || (o.z && p.z != top)) continue;
+                ASSERT_EQ(adf->latticeDistance(p), leaf.corners[c]);
+            }
+            if (leaf.latticeSize < 2) return;
+            // Inside the leaf: its trilinear value, as a world-space sample finds it.
+            const glm::uvec3 mid = leaf.latticeOrigin + leaf.latticeSize / 2;
+            const float s = adf->sample(glm::vec3(d.latticeToWorld(mid.x, mid.y, mid.z))).distance;
+            ASSERT_NEAR(adf->latticeDistance(mid), s, 1e-6);
+            ++interpolated;
+        });
+    });
+    EXPECT_GT(interpolated, 100u);
+}
+
 TEST(Generate, LocalRegenerationEqualsFullGeneration) {
     util::ThreadPool pool(2);
     for (int span : {3, 5}) {

@@ -47,6 +47,25 @@ TEST(Lod, ErrorForATriangleCountHitsIt) {
     EXPECT_THROW(mesh::meshLod(fine, 0.0), std::invalid_argument);
 }
 
+TEST(Lod, CoarseCornersAreTheFineFieldAtTheSameLatticePoints) {
+    const Domain d = testPartDomain(8);
+    const AdfPtr fine = generate(*makeTestPart(d), d, testPartSettings());
+    const AdfPtr coarse = mesh::coarsenAdf(fine, 6.0 * d.finestCellSize());
+    const Domain& cd = coarse->domain();
+    ASSERT_LT(cd.maxLevel, d.maxLevel);
+    const uint32_t shift = uint32_t(d.maxLevel - cd.maxLevel);
+    // Stored values are rounded to 16 bits, packed ones to a leaf step (4/127 finest cell).
+    const double tolerance = 0.05 * cd.finestCellSize();
+    std::size_t leaves = 0;
+    coarse->forEachTile([&](const Tile& t) {
+        forEachLeaf(t, cd.maxLevel, [&](const LeafRef& leaf) {
+            ASSERT_NEAR(leaf.corners[0], fine->latticeDistance(leaf.latticeOrigin << shift), tolerance);
+            ++leaves;
+        });
+    });
+    EXPECT_GT(leaves, 500u);
+}
+
 TEST(Lod, SameBytesOnAnyThreadCount) {
     util::ThreadPool two(2), three(3);
     const Domain d = testPartDomain(9);
