@@ -96,8 +96,7 @@ float Adf::latticeDistance(glm::uvec3 p) const noexcept {
     }
     float v[8];
     if (brickChild < 0) tile->leafCorners(node::leafIndex(w), v);
-    else
-        for (int c = 0; c < 8; ++c) v[c] = tile->brickCorner(node::brickIndex(w), brickChild, c);
+    else tile->brickCorners(node::brickIndex(w), brickChild, v);
     return trilinear(v, glm::vec3(rel) / float(size)).distance;
 }
 
