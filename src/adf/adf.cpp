@@ -28,37 +28,14 @@ inline glm::vec3 toLattice(const Adf& adf, const glm::vec3& pWorld, float& outsi
 }  // namespace
 
 LeafRef Adf::findLeaf(glm::uvec3 p) const noexcept {
-    assert(p.x < mDomain.latticeSize() && p.y < mDomain.latticeSize() && p.z < mDomain.latticeSize() &&
-           "findLeaf needs a point inside the domain");
-    const int tileShift = mDomain.maxLevel - mDomain.tileLevel();
-    const Tile* tile = tileAtSlot(p >> uint32_t(tileShift));
-    const int maxLevel = mDomain.maxLevel;
-    auto childAt = [&](int level) {
-        const int shift = maxLevel - level - 1;
-        return int(((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2));
-    };
-    uint32_t at = 0;
-    uint32_t w = tile->node(0);
-    int level = tile->level();
-    while (node::isInternal(w)) {
-        at = w + uint32_t(childAt(level));
-        w = tile->node(at);
-        ++level;
-    }
+    const LeafCell c = locateLeaf(p);
     LeafRef r;
-    r.tile = tile;
-    const float scale = tile->scale();
-    if (node::isLeaf(w)) {
-        tile->leafCorners(node::leafIndex(w), r.corners);
-    } else {
-        r.brickChild = childAt(level);
-        for (int c = 0; c < 8; ++c) r.corners[c] = float(tile->brickValue(node::brickIndex(w), brickPoint(r.brickChild, c))) * scale;
-        ++level;
-    }
-    const int cellShift = maxLevel - level;
-    r.level = level;
-    r.latticeOrigin = (p >> uint32_t(cellShift)) << uint32_t(cellShift);
-    r.latticeSize = 1u << cellShift;
+    r.tile = c.tile;
+    r.latticeOrigin = c.origin;
+    r.latticeSize = c.size;
+    r.level = c.level;
+    r.brickChild = c.brickChild;
+    c.corners(r.corners);
     return r;
 }
 
@@ -77,27 +54,12 @@ float Adf::latticeDistance(glm::uvec3 p) const noexcept {
     assert(p.x <= mDomain.latticeSize() && p.y <= mDomain.latticeSize() && p.z <= mDomain.latticeSize() &&
            "latticeDistance needs a point of the domain's lattice");
     // A point on the domain's far faces is a corner of the cell below it.
-    const glm::uvec3 q = glm::min(p, glm::uvec3(mDomain.latticeSize() - 1));
-    const Tile* tile = tileAtSlot(q >> uint32_t(mDomain.tileSpan()));
-    auto childAt = [&](int cellShift) {  // child of the cell 2^cellShift wide holding q
-        const glm::uvec3 b = (q >> uint32_t(cellShift - 1)) & 1u;
-        return int(b.x | (b.y << 1) | (b.z << 2));
-    };
-    int shift = mDomain.maxLevel - tile->level();
-    uint32_t w = tile->node(0);
-    while (node::isInternal(w)) w = tile->node(w + uint32_t(childAt(shift--)));
-    const int brickChild = node::isLeaf(w) ? -1 : childAt(shift--);
-    const uint32_t size = 1u << shift;
-    const glm::uvec3 rel = p - ((q >> uint32_t(shift)) << uint32_t(shift));
-    auto atCorner = [size](uint32_t r) { return r == 0 || r == size; };
-    if (atCorner(rel.x) && atCorner(rel.y) && atCorner(rel.z)) {
-        const int c = int(rel.x == size) | (int(rel.y == size) << 1) | (int(rel.z == size) << 2);
-        return brickChild < 0 ? tile->corner(node::leafIndex(w), c) : tile->brickCorner(node::brickIndex(w), brickChild, c);
-    }
+    const LeafCell leaf = locateLeaf(glm::min(p, glm::uvec3(mDomain.latticeSize() - 1)));
+    const int c = leaf.cornerIndex(p);
+    if (c >= 0) return leaf.corner(c);
     float v[8];
-    if (brickChild < 0) tile->leafCorners(node::leafIndex(w), v);
-    else tile->brickCorners(node::brickIndex(w), brickChild, v);
-    return trilinear(v, glm::vec3(rel) / float(size)).distance;
+    leaf.corners(v);
+    return trilinear(v, glm::vec3(p - leaf.origin) / float(leaf.size)).distance;
 }
 
 void AdfAccessor::descend(glm::uvec3 p) noexcept {

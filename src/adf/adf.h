@@ -20,6 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <cassert>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -34,6 +35,37 @@ struct Sample {
 };
 
 /// A leaf cell found by a lookup: its tile, extent, identity and decoded corner distances.
+/// A leaf found by descending a tile, its corners not decoded: most lookups only ask whether a
+/// point is one of them, or for one of them.
+struct LeafCell {
+    const Tile* tile = nullptr;
+    uint32_t word = 0;     ///< the lone leaf's or the brick's node word
+    int brickChild = -1;   ///< which child of the brick, or -1 for a lone leaf
+    int level = 0;
+    glm::uvec3 origin{0};  ///< lattice
+    uint32_t size = 0;     ///< lattice units (a power of two)
+    bool contains(glm::uvec3 p) const {
+        const glm::uvec3 rel = p - origin;  // wraps around below the origin
+        return (rel.x | rel.y | rel.z) < size;
+    }
+    /// Corner index of lattice point `p`, or -1 when it is not a corner.
+    int cornerIndex(glm::uvec3 p) const {
+        const glm::uvec3 rel = p - origin;
+        // Each coordinate must be 0 or size: no bit of any below size, none above it.
+        if (((rel.x | rel.y | rel.z) & ~size) != 0) return -1;
+        return int((rel.x != 0) | ((rel.y != 0) << 1) | ((rel.z != 0) << 2));
+    }
+    /// Decoded corner `c`, m.
+    float corner(int c) const {
+        return brickChild < 0 ? tile->corner(node::leafIndex(word), c) : tile->brickCorner(node::brickIndex(word), brickChild, c);
+    }
+    /// The 8 decoded corners, m.
+    void corners(float out[8]) const {
+        if (brickChild < 0) tile->leafCorners(node::leafIndex(word), out);
+        else tile->brickCorners(node::brickIndex(word), brickChild, out);
+    }
+};
+
 struct LeafRef {
     const Tile* tile = nullptr;
     glm::uvec3 latticeOrigin{0};
@@ -72,8 +104,10 @@ public:
         return reinterpret_cast<const Chunk*>(e)->tiles[(c.z * mChunkDim + c.y) * mChunkDim + c.x];
     }
 
-    /// Leaf cell containing lattice point `p` (each coordinate < latticeSize()).
-    /// Complexity: O(tile span) node loads. Threading: any thread. Memory: none.
+    /// Leaf cell containing lattice point `p` (each coordinate < latticeSize()), corners not
+    /// decoded. Complexity: O(tile span) node loads. Threading: any thread. Memory: none.
+    LeafCell locateLeaf(glm::uvec3 p) const noexcept;
+    /// The same leaf with its corners decoded.
     LeafRef findLeaf(glm::uvec3 p) const noexcept;
 
     /// Distance and gradient at `pWorld` (m). Outside the domain the distance grows by the
@@ -269,6 +303,27 @@ template <class Fn>
 void forEachLeaf(const Tile& tile, int maxLevel, Fn&& fn);
 
 // ---- definitions ----
+
+// Inline: the descent under every query (Adf::sample), the old field and the LOD's re-sampling.
+[[gnu::always_inline]] inline LeafCell Adf::locateLeaf(glm::uvec3 p) const noexcept {
+    assert(p.x < mDomain.latticeSize() && p.y < mDomain.latticeSize() && p.z < mDomain.latticeSize() &&
+           "locateLeaf needs a point inside the domain");
+    LeafCell c;
+    c.tile = tileAtSlot(p >> uint32_t(mDomain.tileSpan()));
+    auto childAt = [&](int cellShift) {  // child of the cell 2^cellShift wide holding p
+        const glm::uvec3 b = (p >> uint32_t(cellShift - 1)) & 1u;
+        return int(b.x | (b.y << 1) | (b.z << 2));
+    };
+    int shift = mDomain.maxLevel - c.tile->level();
+    uint32_t w = c.tile->node(0);
+    while (node::isInternal(w)) w = c.tile->node(w + uint32_t(childAt(shift--)));
+    if (node::isBrick(w)) c.brickChild = childAt(shift--);
+    c.word = w;
+    c.level = mDomain.maxLevel - shift;
+    c.origin = (p >> uint32_t(shift)) << uint32_t(shift);
+    c.size = 1u << shift;
+    return c;
+}
 
 template <class Fn>
 void forEachLeaf(const Tile& t, int maxLevel, Fn&& fn) {

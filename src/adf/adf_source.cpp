@@ -19,24 +19,6 @@ namespace kizamu::adf {
 
 namespace {
 
-/// A leaf found by descending a tile, without decoding its corners (most lookups only need to
-/// know whether a point is one of them).
-struct LeafCell {
-    const Tile* tile = nullptr;
-    uint32_t word = 0;     ///< the lone leaf's or the brick's node word
-    int brickChild = -1;   ///< which child of the brick, or -1 for a lone leaf
-    glm::uvec3 origin{0};  ///< lattice
-    uint32_t size = 0;     ///< lattice units
-    bool contains(glm::uvec3 p) const {
-        const glm::uvec3 rel = p - origin;  // wraps around below the origin
-        return (rel.x | rel.y | rel.z) < size;  // size is a power of two
-    }
-    float corner(int c) const {
-        return brickChild < 0 ? tile->corner(node::leafIndex(word), c)
-                              : tile->brickCorner(node::brickIndex(word), brickChild, c);
-    }
-};
-
 /// The field of a snapshot. At a lattice point that is a corner of some leaf it answers that
 /// corner's stored value rather than whichever leaf the half-open lookup lands in: a larger
 /// neighbour's interpolation there can differ, even in sign, and a regenerated tile must agree
@@ -46,8 +28,7 @@ class AdfSource final : public DistanceSource {
 public:
     explicit AdfSource(AdfPtr adf)
         : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld), mInvCell(1.0 / mAdf->domain().finestCellSize()),
-          mTop(mAdf->domain().latticeSize()), mMaxLevel(mAdf->domain().maxLevel),
-          mTileShift(uint32_t(mAdf->domain().tileSpan())), mSerial(gNextSerial.fetch_add(1, std::memory_order_relaxed)) {}
+          mTop(mAdf->domain().latticeSize()), mSerial(gNextSerial.fetch_add(1, std::memory_order_relaxed)) {}
     double distance(const glm::dvec3& p) const override { return value(p, threadCache()); }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         Cache& cache = threadCache();
@@ -59,14 +40,11 @@ private:
     /// fall inside a few larger old leaves and interpolate there).
     struct CachedLeaf : LeafCell {
         float values[8];
-        bool decoded = false;
-        const float* corners() {
-            if (!decoded) {
-                if (brickChild < 0)
-                    tile->leafCorners(node::leafIndex(word), values);
-                else
-                    tile->brickCorners(node::brickIndex(word), brickChild, values);
-                decoded = true;
+        bool isDecoded = false;
+        const float* decoded() {
+            if (!isDecoded) {
+                corners(values);
+                isDecoded = true;
             }
             return values;
         }
@@ -110,31 +88,10 @@ private:
             }
         last = cache.next;
         CachedLeaf& c = cache.cells[cache.next];
-        c.tile = mAdf->tileAtSlot(p >> mTileShift);
-        c.brickChild = -1;
-        c.decoded = false;
-        int level = c.tile->level();
-        auto childAt = [&](int l) {
-            const uint32_t shift = uint32_t(mMaxLevel - l - 1);
-            return ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
-        };
-        uint32_t w = c.tile->node(0);
-        while (node::isInternal(w)) w = c.tile->node(w + childAt(level++));
-        if (node::isBrick(w)) c.brickChild = int(childAt(level++));
-        c.word = w;
-        const uint32_t shift = uint32_t(mMaxLevel - level);
-        c.origin = (p >> shift) << shift;
-        c.size = 1u << shift;
+        static_cast<LeafCell&>(c) = mAdf->locateLeaf(p);
+        c.isDecoded = false;
         cache.next = (cache.next + 1) % Cache::kSize;
         return c;
-    }
-
-    /// Corner index of lattice point `pt` in `leaf`, or -1.
-    static int cornerIndex(const LeafCell& leaf, glm::uvec3 pt) {
-        const glm::uvec3 rel = pt - leaf.origin;
-        // Each coordinate must be 0 or size: no bit of any below size, none above it.
-        if (((rel.x | rel.y | rel.z) & ~leaf.size) != 0) return -1;
-        return int((rel.x != 0) | ((rel.y != 0) << 1) | ((rel.z != 0) << 2));
     }
 
     double value(const glm::dvec3& p, Cache& cache) const {
@@ -154,14 +111,14 @@ private:
         CachedLeaf first;  // a copy: the lookups below may reuse its cache entry
         if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
             CachedLeaf& found = locate(pt, cache, cache.lastPoint);
-            const int c = cornerIndex(found, pt);
+            const int c = found.cornerIndex(pt);
             if (c >= 0) return found.corner(c);
             onFace = 0;
             for (int k = 0; k < 3; ++k)
                 if (pt[k] == found.origin[k]) onFace |= 1u << k;
             const glm::vec3 f = (glm::vec3(pt) - glm::vec3(found.origin)) / float(found.size);
-            if (onFace == 0) return trilinear(found.corners(), f).distance;  // strictly inside it
-            found.corners();  // decoded where it stays cached, before the copy (most points need them)
+            if (onFace == 0) return trilinear(found.decoded(), f).distance;  // strictly inside it
+            found.decoded();  // decoded where it stays cached, before the copy (most points need them)
             first = found;
         }
         for (uint32_t o = 1; o < 8; ++o) {
@@ -170,12 +127,12 @@ private:
             const glm::uvec3 cube = pt - glm::uvec3(o & 1, (o >> 1) & 1, o >> 2);
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
             const CachedLeaf& leaf = locate(cube, cache, cache.lastNeighbour);
-            const int c = cornerIndex(leaf, pt);
+            const int c = leaf.cornerIndex(pt);
             if (c >= 0) return leaf.corner(c);
         }
         if (!first.tile) return mAdf->sample(glm::vec3(p)).distance;  // on the domain's upper faces
         // On the first leaf's faces but a corner of no leaf: interpolate there.
-        return trilinear(first.corners(), (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
+        return trilinear(first.decoded(), (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
     }
 
     static inline std::atomic<uint64_t> gNextSerial{1};
@@ -183,8 +140,6 @@ private:
     glm::dvec3 mOrigin;
     double mInvCell;
     uint32_t mTop;
-    int mMaxLevel;
-    uint32_t mTileShift;
     uint64_t mSerial;  ///< tags this source's entries in the per-thread leaf caches
 };
 

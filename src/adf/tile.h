@@ -190,11 +190,9 @@ public:
     /// Quantised value of half-grid point g (tile.h's brickPoint order) of brick `brick`.
     /// Packed bricks share one layout; the step is a select on the index (no extra branch).
     int16_t brickValue(uint32_t brick, int g) const {
-        if (brick < mPackedCount) {
-            const int32_t step = brick < mNarrowCount ? mStep : 2 * mStep;
-            return int16_t(int32_t(mBrickBases[brick]) + int32_t(mBrickDeltas[27 * brick + uint32_t(g)]) * step);
-        }
-        return mWideBricks[27 * (brick - mPackedCount) + uint32_t(g)];
+        int16_t q;
+        decodeBrick(brick, g, kOnePoint, &q);
+        return q;
     }
     /// The 27 quantised values of brick `brick`, as brickValue gives them (one branch for all:
     /// readers comparing or scanning whole bricks).
@@ -226,6 +224,7 @@ private:
     Tile() = default;
     static constexpr std::array<int, 27> kBrickPoints{0,  1,  2,  3,  4,  5,  6,  7,  8,  9,  10, 11, 12, 13,
                                                       14, 15, 16, 17, 18, 19, 20, 21, 22, 23, 24, 25, 26};
+    static constexpr std::array<int, 1> kOnePoint{0};
     static constexpr std::array<int, 8> kChildCornerPoints{brickPoint(0, 0), brickPoint(0, 1), brickPoint(0, 2),
                                                            brickPoint(0, 3), brickPoint(0, 4), brickPoint(0, 5),
                                                            brickPoint(0, 6), brickPoint(0, 7)};

@@ -32,7 +32,7 @@ struct CellLoc {
     int level;
 };
 
-/// The leaf containing a lattice point (like Adf::findLeaf, without decoding corners), with a
+/// The leaf containing a lattice point (like Adf::locateLeaf), with a
 /// cached path: a query near the last one climbs only to their common cell.
 class LeafLocator {
 public:
