@@ -384,6 +384,14 @@ constexpr std::array<CellEdge, 12> kCellEdges = [] {
         }
     return e;
 }();
+/// Bit i: edge i of kCellEdges changes sign, by the cell's inside corners (bit c: corner c).
+constexpr std::array<uint16_t, 256> kSignChangingEdges = [] {
+    std::array<uint16_t, 256> t{};
+    for (uint32_t inside = 0; inside < 256; ++inside)
+        for (int i = 0; i < 12; ++i)
+            t[inside] |= uint16_t((((inside >> kCellEdges[i].c0) ^ (inside >> kCellEdges[i].c1)) & 1u) << i);
+    return t;
+}();
 /// For a brick child (by its position in the brick) and each edge: the quadrants whose unit
 /// cube lies in a sibling (same size, same tile: no lookup), and whether one of them comes
 /// before the child's own quadrant, so that the sibling emits the crossing (12-bit mask).
@@ -419,8 +427,7 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
     for (const BoundaryCell& leaf : leaves) {
         uint32_t inside = 0;  // bit c: corner c negative
         for (int c = 0; c < 8; ++c) inside |= uint32_t(leaf.corners[c] < 0.0f) << c;
-        uint32_t todo = 0;  // bit i: edge i changes sign
-        for (int i = 0; i < 12; ++i) todo |= (((inside >> kCellEdges[i].c0) ^ (inside >> kCellEdges[i].c1)) & 1u) << i;
+        uint32_t todo = kSignChangingEdges[inside];
         // Away from the domain's border no quadrant can leave it; there a brick child knows its
         // siblings from its position, and skips the edges a sibling emits without a lookup.
         const glm::uvec3 hi = leaf.origin + leaf.size;
