@@ -32,8 +32,10 @@ struct CellLoc {
     int level;
 };
 
-/// The leaf containing a lattice point (like Adf::locateLeaf), with a
-/// cached path: a query near the last one climbs only to their common cell.
+/// The leaf containing a lattice point (like Adf::locateLeaf), with a cached path: a query
+/// near the last one climbs only to their common cell. The path keeps node indices only: a
+/// cell's size and origin follow from its depth and the point, and a child's index from one
+/// bit per axis (sizes are powers of two: shifts and masks, no divisions).
 class LeafLocator {
 public:
     explicit LeafLocator(const Adf& adf)
@@ -42,48 +44,40 @@ public:
 
     CellLoc locate(glm::uvec3 p) {
         if (mDepth > 0) {
-            // Keep the ancestors that hold p: cells are aligned to their power-of-two size, so
-            // those are the ones larger than every bit where p differs from the last cell.
-            const glm::uvec3 d = p ^ mPath[mDepth - 1].origin;
-            const int differ = std::bit_width(d.x | d.y | d.z);
-            const int keep = std::countr_zero(mPath[0].size) - differ + 1;  // entry i has size root >> i
-            mDepth = std::clamp(keep, 0, mDepth);
+            // Keep the cells that hold p: every cell of the path holds the last point, and
+            // cells are aligned to their size, so those larger than every bit where p differs
+            // from it (entry i has size 2^(rootShift - i)).
+            const glm::uvec3 d = p ^ mLast;
+            mDepth = std::clamp(mRootShift - int(std::bit_width(d.x | d.y | d.z)) + 1, 0, mDepth);
         }
         if (mDepth == 0) {
             mTile = mAdf.tileAtSlot(p >> mSlotShift);
-            mPath[0] = {mTile->latticeOrigin(), 1u << uint32_t(mMaxLevel - mTile->level()), 0, mTile->level()};
+            mRootShift = mMaxLevel - mTile->level();
+            mNode[0] = 0;
             mDepth = 1;
         }
-        Entry e = mPath[mDepth - 1];
-        uint32_t w = mTile->node(e.node);
-        // Sizes are powers of two: shifts and masks, no divisions.
+        mLast = p;
+        uint32_t w = mTile->node(mNode[mDepth - 1]);
         while (adf::node::isInternal(w)) {
-            const uint32_t shift = uint32_t(mMaxLevel - e.level - 1), half = 1u << shift;
-            const glm::uvec3 bit = ((p - e.origin) >> shift) & 1u;
-            e = {e.origin + (bit << shift), half, w + (bit.x | (bit.y << 1) | (bit.z << 2)), e.level + 1};
-            mPath[mDepth++] = e;
-            w = mTile->node(e.node);
+            const int shift = mRootShift - mDepth;  // of the child's size
+            const uint32_t child = ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
+            mNode[mDepth++] = w + child;
+            w = mTile->node(w + child);
         }
-        if (adf::node::isBrick(w)) {
-            const uint32_t shift = uint32_t(mMaxLevel - e.level - 1);
-            return {mTile, (p >> shift) << shift, 1u << shift, e.level + 1};
-        }
-        return {mTile, e.origin, e.size, e.level};
+        const int depth = mDepth - 1 + int(adf::node::isBrick(w));  // a brick: its child holding p
+        const uint32_t shift = uint32_t(mRootShift - depth);
+        return {mTile, (p >> shift) << shift, 1u << shift, mTile->level() + depth};
     }
 
 private:
-    struct Entry {
-        glm::uvec3 origin;
-        uint32_t size;
-        uint32_t node;
-        int level;
-    };
     const Adf& mAdf;
     int mMaxLevel;
     uint32_t mSlotShift;
     const Tile* mTile = nullptr;
+    int mRootShift = 0;  ///< the tile root's size is 2^mRootShift
+    glm::uvec3 mLast{0};
     int mDepth = 0;
-    Entry mPath[adf::kMaxSupportedLevel + 2];
+    uint32_t mNode[adf::kMaxSupportedLevel + 2];
 };
 
 inline bool isBoundary(const float* c) {
