@@ -490,10 +490,9 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                     continue;
                 }
             } else {
-                for (int q = 0; q < 4 && !skip; ++q)
-                    if (((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
-                for (int q = 0; q < 4 && !skip; ++q)
-                    if (!((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
+                const uint32_t others = 0xfu & ~(1u << mine);
+                for (uint32_t m = siblingAt & others; m && !skip; m &= m - 1) skip = lookUp(std::countr_zero(m));
+                for (uint32_t m = ~siblingAt & others; m && !skip; m &= m - 1) skip = lookUp(std::countr_zero(m));
             }
             if (skip) continue;
             Crossing& x = out.emplace_back();
