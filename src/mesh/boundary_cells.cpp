@@ -5,6 +5,7 @@
 
 #include "mesh/tile_diff.h"
 
+#include <algorithm>
 #include <array>
 
 namespace kizamu::mesh {
@@ -70,9 +71,12 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
             for (int c = 0; c < 8; ++c) b.corners[c] = float(q[c]) * scale;
             out.push_back(b);
         } else {
-            int16_t q[27];
+            // Padded to 32 with copies of a value (they change no test): a whole number of
+            // vectors, which -O2 vectorises (27 values took a scalar loop, 2/3 of the scan).
+            int16_t q[32];
             t.brickValues(node::brickIndex(w), q);
-            if (!signChange<27>(q)) continue;
+            std::fill(q + 27, q + 32, q[0]);
+            if (!signChange<32>(q)) continue;
             uint32_t inside = 0;  // bit g: point g negative; a child's test is then two masks
             for (int g = 0; g < 27; ++g) inside |= uint32_t(q[g] < 0) << g;
             for (int child = 0; child < 8; ++child) {
