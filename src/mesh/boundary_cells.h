@@ -2,9 +2,10 @@
 /// @file boundary_cells.h
 /// @brief The leaf cells of a tile whose corners change sign: where the surface is.
 ///
-/// Both the mesher and the point sampler start here. Cells without a sign change are skipped
-/// on their raw 16-bit values (quantisation keeps signs), a brick's 27 values once for its
-/// 8 children, so the cost follows the cells near the surface, not the tile's volume.
+/// Both the mesher and the point sampler start here. A lone leaf without a sign change is
+/// skipped on the type in its node word (no corner decoded), a brick on its 27 raw 16-bit
+/// values (quantisation keeps signs), decoded once for its 8 children, which are then told
+/// apart by masks of those values' signs; so the cost follows the cells near the surface.
 /// Complexity: O(nodes of the tile). Threading: any thread. Memory: the output only.
 #pragma once
 

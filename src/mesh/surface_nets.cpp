@@ -32,58 +32,76 @@ struct CellLoc {
     int level;
 };
 
-/// The leaf containing a lattice point (like Adf::locateLeaf), with a
-/// cached path: a query near the last one climbs only to their common cell.
+/// The leaf containing a lattice point (like Adf::locateLeaf), for the neighbours of a leaf of
+/// a given size: where that leaf is smaller, any smaller cell (all the callers ask then).
+/// Two caches:
+/// - the leaf found, by the block of the given size holding the point: neighbouring leaves
+///   ask about the same blocks (136k distinct of 313k asks on the level-10 test part). Where
+///   the leaf is no smaller than the block it holds the whole block (cells nest); where it is
+///   smaller, so is the leaf at any point of the block. Direct-mapped: a collision only costs
+///   a search.
+/// - the path of the last search: a search near it climbs only to their common cell. It keeps
+///   node indices only: a cell's size and origin follow from its depth and the point, and a
+///   child's index from one bit per axis (sizes are powers of two: shifts, no divisions).
 class LeafLocator {
 public:
     explicit LeafLocator(const Adf& adf)
         : mAdf(adf), mMaxLevel(adf.domain().maxLevel),
-          mSlotShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())) {}
+          mSlotShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())) {
+        std::fill(std::begin(mKeys), std::end(mKeys), kEmpty);
+    }
 
-    CellLoc locate(glm::uvec3 p) {
-        if (mDepth > 0) {
-            // Keep the ancestors that hold p: cells are aligned to their power-of-two size, so
-            // those are the ones larger than every bit where p differs from the last cell.
-            const glm::uvec3 d = p ^ mPath[mDepth - 1].origin;
-            const int differ = std::bit_width(d.x | d.y | d.z);
-            const int keep = std::countr_zero(mPath[0].size) - differ + 1;  // entry i has size root >> i
-            mDepth = std::clamp(keep, 0, mDepth);
+    CellLoc locate(glm::uvec3 p, uint32_t size) {
+        // Lattice coordinates stay below 2^17: bits 57 up of a packed point are free.
+        const uint64_t key = packLattice(p & ~glm::uvec3(size - 1)) | (uint64_t(std::countr_zero(size)) << 58);
+        const uint32_t i = uint32_t((key * 0x9e3779b97f4a7c15ull) >> (64 - kCacheBits));
+        if (mKeys[i] != key) {
+            mKeys[i] = key;
+            mFound[i] = search(p);
         }
-        if (mDepth == 0) {
-            mTile = mAdf.tileAtSlot(p >> mSlotShift);
-            mPath[0] = {mTile->latticeOrigin(), 1u << uint32_t(mMaxLevel - mTile->level()), 0, mTile->level()};
-            mDepth = 1;
-        }
-        Entry e = mPath[mDepth - 1];
-        uint32_t w = mTile->node(e.node);
-        // Sizes are powers of two: shifts and masks, no divisions.
-        while (adf::node::isInternal(w)) {
-            const uint32_t shift = uint32_t(mMaxLevel - e.level - 1), half = 1u << shift;
-            const glm::uvec3 bit = ((p - e.origin) >> shift) & 1u;
-            e = {e.origin + (bit << shift), half, w + (bit.x | (bit.y << 1) | (bit.z << 2)), e.level + 1};
-            mPath[mDepth++] = e;
-            w = mTile->node(e.node);
-        }
-        if (adf::node::isBrick(w)) {
-            const uint32_t shift = uint32_t(mMaxLevel - e.level - 1);
-            return {mTile, (p >> shift) << shift, 1u << shift, e.level + 1};
-        }
-        return {mTile, e.origin, e.size, e.level};
+        return mFound[i];
     }
 
 private:
-    struct Entry {
-        glm::uvec3 origin;
-        uint32_t size;
-        uint32_t node;
-        int level;
-    };
+    CellLoc search(glm::uvec3 p) {
+        if (mDepth > 0) {
+            // Keep the cells that hold p: every cell of the path holds the last point, and
+            // cells are aligned to their size, so those larger than every bit where p differs
+            // from it (entry i has size 2^(rootShift - i)).
+            const glm::uvec3 d = p ^ mLast;
+            mDepth = std::clamp(mRootShift - int(std::bit_width(d.x | d.y | d.z)) + 1, 0, mDepth);
+        }
+        if (mDepth == 0) {
+            mTile = mAdf.tileAtSlot(p >> mSlotShift);
+            mRootShift = mMaxLevel - mTile->level();
+            mNode[0] = 0;
+            mDepth = 1;
+        }
+        mLast = p;
+        uint32_t w = mTile->node(mNode[mDepth - 1]);
+        while (adf::node::isInternal(w)) {
+            const int shift = mRootShift - mDepth;  // of the child's size
+            const uint32_t child = ((p.x >> shift) & 1u) | (((p.y >> shift) & 1u) << 1) | (((p.z >> shift) & 1u) << 2);
+            mNode[mDepth++] = w + child;
+            w = mTile->node(w + child);
+        }
+        const int depth = mDepth - 1 + int(adf::node::isBrick(w));  // a brick: its child holding p
+        const uint32_t shift = uint32_t(mRootShift - depth);
+        return {mTile, (p >> shift) << shift, 1u << shift, mTile->level() + depth};
+    }
+
     const Adf& mAdf;
     int mMaxLevel;
     uint32_t mSlotShift;
+    static constexpr int kCacheBits = 8;
+    static constexpr uint64_t kEmpty = ~uint64_t(0);
+    uint64_t mKeys[1u << kCacheBits];
+    CellLoc mFound[1u << kCacheBits];
     const Tile* mTile = nullptr;
+    int mRootShift = 0;  ///< the tile root's size is 2^mRootShift
+    glm::uvec3 mLast{0};
     int mDepth = 0;
-    Entry mPath[adf::kMaxSupportedLevel + 2];
+    uint32_t mNode[adf::kMaxSupportedLevel + 2];
 };
 
 inline bool isBoundary(const float* c) {
@@ -384,6 +402,14 @@ constexpr std::array<CellEdge, 12> kCellEdges = [] {
         }
     return e;
 }();
+/// Bit i: edge i of kCellEdges changes sign, by the cell's inside corners (bit c: corner c).
+constexpr std::array<uint16_t, 256> kSignChangingEdges = [] {
+    std::array<uint16_t, 256> t{};
+    for (uint32_t inside = 0; inside < 256; ++inside)
+        for (int i = 0; i < 12; ++i)
+            t[inside] |= uint16_t((((inside >> kCellEdges[i].c0) ^ (inside >> kCellEdges[i].c1)) & 1u) << i);
+    return t;
+}();
 /// For a brick child (by its position in the brick) and each edge: the quadrants whose unit
 /// cube lies in a sibling (same size, same tile: no lookup), and whether one of them comes
 /// before the child's own quadrant, so that the sibling emits the crossing (12-bit mask).
@@ -419,8 +445,7 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
     for (const BoundaryCell& leaf : leaves) {
         uint32_t inside = 0;  // bit c: corner c negative
         for (int c = 0; c < 8; ++c) inside |= uint32_t(leaf.corners[c] < 0.0f) << c;
-        uint32_t todo = 0;  // bit i: edge i changes sign
-        for (int i = 0; i < 12; ++i) todo |= (((inside >> kCellEdges[i].c0) ^ (inside >> kCellEdges[i].c1)) & 1u) << i;
+        uint32_t todo = kSignChangingEdges[inside];
         // Away from the domain's border no quadrant can leave it; there a brick child knows its
         // siblings from its position, and skips the edges a sibling emits without a lookup.
         const glm::uvec3 hi = leaf.origin + leaf.size;
@@ -471,28 +496,22 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             // first; only where a quadrant leaves the domain does the quadrant order decide
             // (whether the crossing is counted open).
             CellLoc ring[4];
-            auto lookUp = [&](int q) {
+            const uint32_t others = 0xfu & ~(1u << mine);
+            const uint32_t asks = openAt ? others : (siblingAt & others) | ((~siblingAt & others) << 4);  // in order
+            bool skip = false, open = false;
+            for (uint32_t m = asks; m && !skip; m &= m - 1) {
+                const int q = std::countr_zero(m) & 3;
+                if ((openAt >> q) & 1) {
+                    open = true;
+                    break;
+                }
                 if ((siblingAt >> q) & 1) ring[q] = {nullptr, cube[q] & ~glm::uvec3(leaf.size - 1), leaf.size, 0};
-                else ring[q] = locator.locate(cube[q]);
-                return ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine);
-            };
-            bool skip = false;
-            if (openAt) {
-                bool open = false;
-                for (int q = 0; q < 4 && !skip && !open; ++q) {
-                    if (q == mine) continue;
-                    if ((openAt >> q) & 1) open = true;
-                    else skip = lookUp(q);
-                }
-                if (open) {
-                    ++st.openCrossings;
-                    continue;
-                }
-            } else {
-                for (int q = 0; q < 4 && !skip; ++q)
-                    if (((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
-                for (int q = 0; q < 4 && !skip; ++q)
-                    if (!((siblingAt >> q) & 1) && q != mine) skip = lookUp(q);
+                else ring[q] = locator.locate(cube[q], leaf.size);
+                skip = ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine);
+            }
+            if (open) {
+                ++st.openCrossings;
+                continue;
             }
             if (skip) continue;
             Crossing& x = out.emplace_back();
