@@ -19,6 +19,7 @@
 #include "util/thread_pool.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <stdexcept>
 
@@ -116,6 +117,56 @@ public:
                 if (u.x >= mTop || u.y >= mTop || u.z >= mTop) continue;
                 if (unitChanged(u)) return true;
             }
+            return false;
+        }
+
+        /// A corner of the cell [lo, lo + size]^3 lies on the closed box of a changed cell
+        /// (pointChanged at any corner). The unit cubes around its corners are those at 4 x 4 x 4
+        /// coordinates: grouped by slot (nearly always one), each slot is looked up once and,
+        /// with rows of at most a word, read row by row with one mask, not 8 point queries.
+        bool cornerChanged(glm::uvec3 lo, uint32_t size) const {
+            if (mShift > 6) {
+                for (int c = 0; c < 8; ++c)
+                    if (pointChanged(lo + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * size)) return true;
+                return false;
+            }
+            // Per axis, the cube coordinates in the domain by slot: its index and the bits within it.
+            struct Axis {
+                uint32_t slot[4];
+                uint64_t bits[4];
+                int n = 0;
+            } axis[3];
+            const uint32_t span = 1u << mShift, mask = span - 1;
+            for (int k = 0; k < 3; ++k) {
+                Axis& a = axis[k];
+                const uint32_t local = lo[k] & mask;
+                if (local > 0 && local + size < span) {  // nearly always: all four in lo's slot
+                    a.n = 1;
+                    a.slot[0] = lo[k] >> mShift;
+                    a.bits[0] = (uint64_t(3) << (local - 1)) | (uint64_t(3) << (local + size - 1));
+                    continue;
+                }
+                for (uint32_t c : {lo[k] - 1, lo[k], lo[k] + size - 1, lo[k] + size}) {  // increasing
+                    if (c >= mTop) continue;  // outside (lo - 1 wraps)
+                    if (a.n == 0 || a.slot[a.n - 1] != (c >> mShift)) {
+                        a.slot[a.n] = c >> mShift;
+                        a.bits[a.n++] = 0;
+                    }
+                    a.bits[a.n - 1] |= uint64_t(1) << (c & mask);
+                }
+            }
+            for (int gz = 0; gz < axis[2].n; ++gz)
+                for (int gy = 0; gy < axis[1].n; ++gy)
+                    for (int gx = 0; gx < axis[0].n; ++gx) {
+                        const Slot* s = slot({axis[0].slot[gx], axis[1].slot[gy], axis[2].slot[gz]});
+                        if (!s) continue;
+                        if (s->whole) return true;
+                        for (uint64_t zs = axis[2].bits[gz]; zs; zs &= zs - 1)
+                            for (uint64_t ys = axis[1].bits[gy]; ys; ys &= ys - 1) {
+                                const std::size_t row = bit({0, uint32_t(std::countr_zero(ys)), uint32_t(std::countr_zero(zs))});
+                                if ((s->bits[row >> 6] >> (row & 63)) & axis[0].bits[gx]) return true;  // a row lies in one word
+                            }
+                    }
             return false;
         }
 
@@ -299,11 +350,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         const std::vector<LatticeBox> region{{box.lo, std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z})}};
         // Only a leaf with a corner on a changed cell can emit (or have emitted) such a crossing.
         auto dropUnchanged = [&](std::vector<BoundaryCell>& leaves) {
-            std::erase_if(leaves, [&](const BoundaryCell& b) {
-                for (int c = 0; c < 8; ++c)
-                    if (changedAt.pointChanged(b.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * b.size)) return false;
-                return true;
-            });
+            std::erase_if(leaves, [&](const BoundaryCell& b) { return !changedAt.cornerChanged(b.origin, b.size); });
         };
         // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
         // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
