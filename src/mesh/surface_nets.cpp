@@ -587,39 +587,48 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         --cycles;
     };
     const uint32_t nf = 2 * n;
-    for (uint32_t j = 0; j < n; ++j) {
-        const Incidence& c = inc[j];
-        const int qa = (c.first + 3) % 4, qb = (c.last + 1) % 4;
-        faces[2 * j] = {c.x->ringCell[qa], qa, j};
-        faces[2 * j + 1] = {c.x->ringCell[qb], qb, j};
-        // This cell owns the faces toward larger keys: their split vertices are decided
-        // again (splitFaces), so forget old ones (the crossing may be kept unchanged).
-        if (s.freshCrossings) continue;
-        if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = Crossing::kNoSplit;
-        if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = Crossing::kNoSplit;
-    }
-    // Most faces carry two crossings: pair the entries by neighbour (a few comparisons, no
-    // sort). Any other count groups them all in order below (the unions made here stay: uniting
-    // twice is a no-op).
-    bool paired = nf <= 32;
-    uint32_t taken = 0;  // bit f: entry f is the partner of an earlier one
+    // Entry 2j (2j + 1): crossing j's face toward the ring cell before (after) its run.
+    auto faceRing = [&](uint32_t f) {
+        const Incidence& c = inc[f / 2];
+        return f % 2 ? (c.last + 1) % 4 : (c.first + 3) % 4;
+    };
+    // This cell owns the faces toward larger keys: their split vertices are decided again
+    // (splitFaces), so forget old ones (the crossing may be kept unchanged).
+    if (!s.freshCrossings)
+        for (uint32_t j = 0; j < n; ++j) {
+            const Incidence& c = inc[j];
+            const int qa = faceRing(2 * j), qb = faceRing(2 * j + 1);
+            if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = Crossing::kNoSplit;
+            if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = Crossing::kNoSplit;
+        }
+    // Nearly every face carries two crossings: pair the entries by neighbour through a small
+    // open-addressed table (no sort, no search). Any other count on a face regroups all
+    // entries in order below, from scratch.
+    constexpr uint32_t kTable = 32;  // twice the most entries taken here
+    uint64_t tableKey[kTable];
+    uint32_t tableEntry[kTable];
+    uint32_t used = 0, closed = 0;  // bit t: slot t holds a neighbour; its second entry came
+    bool paired = nf <= kTable / 2;
     for (uint32_t f = 0; f < nf && paired; ++f) {
-        if ((taken >> f) & 1) continue;
-        uint32_t partner = UINT32_MAX;
-        for (uint32_t g = f + 1; g < nf; ++g) {
-            if (faces[g].neighbour != faces[f].neighbour) continue;
-            if (partner != UINT32_MAX) {  // a third entry on this face
-                paired = false;
-                break;
-            }
-            partner = g;
+        const uint64_t neighbour = inc[f / 2].x->ringCell[faceRing(f)];
+        uint32_t t = uint32_t((neighbour * 0x9E3779B97F4A7C15ull) >> 59);
+        while (((used >> t) & 1) && tableKey[t] != neighbour) t = (t + 1) % kTable;
+        if (!((used >> t) & 1)) {
+            used |= 1u << t;
+            tableKey[t] = neighbour;
+            tableEntry[t] = f / 2;
+        } else if ((closed >> t) & 1) {
+            paired = false;  // a third entry on this face
+        } else {
+            closed |= 1u << t;
+            unite(tableEntry[t], f / 2);
         }
-        if (!paired || partner == UINT32_MAX) {
-            paired = false;
-            break;
-        }
-        taken |= 1u << partner;
-        unite(faces[f].local, faces[partner].local);
+    }
+    paired = paired && used == closed;
+    if (!paired) {
+        for (uint32_t j = 0; j < n; ++j) parent[j] = j;
+        cycles = n;
+        for (uint32_t f = 0; f < nf; ++f) faces[f] = {inc[f / 2].x->ringCell[faceRing(f)], faceRing(f), f / 2};
     }
     // Group the entries by face (stable: within a face they stay in crossing order).
     auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
