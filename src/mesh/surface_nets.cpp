@@ -765,17 +765,18 @@ void splitFaces(TileMesh& tm) {
 }
 
 void relaxVertex(TileMesh& tm, Vertex& v) {
+    auto projectedAt = [](const VertexRef& r) -> const glm::vec3& {
+        if (!r.tile) throw std::logic_error("surface nets: a neighbouring vertex was not computed");
+        return r.tile->vertices[r.index].projected;
+    };
+    // The ring cells on both sides of each crossing's run (most neighbours come twice).
     glm::vec3 sum(0.0f);
-    uint32_t count = 0;
     for (uint32_t i = v.incBegin; i < v.incEnd; ++i) {
         const VertexIncidence& c = tm.incidences[i];
-        for (int q : {(c.first + 3) % 4, (c.last + 1) % 4}) {
-            const VertexRef r = c.x->ringVertex[q];
-            if (!r.tile) throw std::logic_error("surface nets: a neighbouring vertex was not computed");
-            sum += r.tile->vertices[r.index].projected;
-            ++count;
-        }
+        sum += projectedAt(c.x->ringVertex[(c.first + 3) % 4]);
+        sum += projectedAt(c.x->ringVertex[(c.last + 1) % 4]);
     }
+    const uint32_t count = 2 * (v.incEnd - v.incBegin);
     const glm::vec3 p = v.projected;
     const adf::Sample s = cellSample(v, p);
     glm::vec3 moved = p;
