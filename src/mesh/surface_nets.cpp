@@ -533,25 +533,15 @@ template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryC
 template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, PoolAppender&,
                                SurfaceNetsStats&, StartFilter);
 
-/// The run (first, last) of each mask of quadrants filled by one cell (a cyclic run; never all
-/// four: no leaf holds an edge inside it).
-constexpr std::array<std::pair<uint8_t, uint8_t>, 16> kRuns = [] {
-    std::array<std::pair<uint8_t, uint8_t>, 16> t{};
-    for (int mask = 1; mask < 15; ++mask) {
-        int first = 0;
-        while (!((mask >> first) & 1) || ((mask >> ((first + 3) % 4)) & 1)) ++first;
-        int last = first;
-        while ((mask >> ((last + 1) % 4)) & 1) last = (last + 1) % 4;
-        t[mask] = {uint8_t(first), uint8_t(last)};
-    }
-    return t;
-}();
-
 void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
-    uint32_t mask = 0;
-    for (int r = 0; r < 4; ++r) mask |= uint32_t(x.ringCell[r] == x.ringCell[q]) << r;
-    first = kRuns[mask].first;
-    last = kRuns[mask].second;
+    // The run of equal ring cells through q, walked both ways (a cyclic run of at most three:
+    // no leaf holds an edge inside it); nearly always q alone, two comparisons.
+    const uint64_t* c = x.ringCell;
+    int f = q, l = q;
+    for (int i = 0; i < 2 && c[(f + 3) % 4] == c[q]; ++i) f = (f + 3) % 4;
+    for (int i = 0; i < 2 && c[(l + 1) % 4] == c[q]; ++i) l = (l + 1) % 4;
+    first = uint8_t(f);
+    last = uint8_t(l);
 }
 
 uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
