@@ -562,13 +562,17 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         parent = s.parent.data();
         cycleOf = s.cycleOf.data();
     }
-    // Disjoint sets of the cell's crossings; the cycles depend only on the partition.
-    for (uint32_t j = 0; j < n; ++j) parent[j] = j;
+    // Disjoint sets of the cell's crossings (the cycles depend only on the partition), set up
+    // only where the faces do not close one cycle through all of them.
+    uint32_t cycles = n;
+    auto separate = [&] {
+        for (uint32_t j = 0; j < n; ++j) parent[j] = j;
+        cycles = n;
+    };
     auto find = [&](uint32_t i) {
         while (parent[i] != i) i = parent[i] = parent[parent[i]];
         return i;
     };
-    uint32_t cycles = n;
     auto unite = [&](uint32_t a, uint32_t b) {
         a = find(a);
         b = find(b);
@@ -596,7 +600,7 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
     // entries in order below, from scratch.
     constexpr uint32_t kTable = 32;  // twice the most entries taken here
     uint64_t tableKey[kTable];
-    uint32_t tableEntry[kTable];
+    uint32_t tableEntry[kTable], partner[kTable / 2];  // partner: the other entry on the face
     uint32_t used = 0, closed = 0;  // bit t: slot t holds a neighbour; its second entry came
     bool paired = nf <= kTable / 2;
     for (uint32_t f = 0; f < nf && paired; ++f) {
@@ -606,18 +610,30 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         if (!((used >> t) & 1)) {
             used |= 1u << t;
             tableKey[t] = neighbour;
-            tableEntry[t] = f / 2;
+            tableEntry[t] = f;
         } else if ((closed >> t) & 1) {
             paired = false;  // a third entry on this face
         } else {
             closed |= 1u << t;
-            unite(tableEntry[t], f / 2);
+            partner[f] = tableEntry[t];
+            partner[tableEntry[t]] = f;
         }
     }
     paired = paired && used == closed;
-    if (!paired) {
-        for (uint32_t j = 0; j < n; ++j) parent[j] = j;
-        cycles = n;
+    if (paired) {
+        // One cycle when the walk from crossing 0, across a face to the partner entry and out
+        // through its crossing's other face, meets every crossing before it is back.
+        uint32_t met = 1;
+        for (uint32_t f = partner[1]; f / 2 != 0; f = partner[f ^ 1]) ++met;
+        if (met == n) {
+            cycles = 1;
+        } else {
+            separate();
+            for (uint32_t f = 0; f < nf; ++f)
+                if (f < partner[f]) unite(f / 2, partner[f] / 2);
+        }
+    } else {
+        separate();
         for (uint32_t f = 0; f < nf; ++f) faces[f] = {inc[f / 2].x->ringCell[faceRing(f)], faceRing(f), f / 2};
     }
     // Group the entries by face (stable: within a face they stay in crossing order).
