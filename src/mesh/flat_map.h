@@ -54,6 +54,20 @@ public:
         }
     }
 
+    /// The value of `key`, after inserting it with `value` if absent (one probe sequence).
+    uint32_t findOrAssign(uint64_t key, uint32_t value) {
+        assert(key != kEmpty && "FlatMap64: the all-ones key is reserved");
+        if (4 * (mSize + 1) > 3 * mSlots.size()) grow();
+        for (std::size_t i = home(key);; i = (i + 1) & mMask) {
+            if (mSlots[i].key == key) return mSlots[i].value;
+            if (mSlots[i].key == kEmpty) {
+                mSlots[i] = {key, value};
+                ++mSize;
+                return value;
+            }
+        }
+    }
+
     /// Removes `key` if present.
     void erase(uint64_t key) {
         if (mSlots.empty()) return;

@@ -227,13 +227,49 @@ inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient =
     return clampToCell(p - (s.distance / g2) * s.gradient, v);
 }
 
+/// A build's per-thread buffers, reused across tiles and builds (pool workers live on): a
+/// tile's buffers grew from empty every time, thousands of allocations per small mesh.
+struct VertexScratch {
+    std::vector<uint64_t> nbrs;
+    std::vector<Incidence> met, inc;       ///< incidences as gathered, then grouped by cell
+    std::vector<uint32_t> metCell;         ///< per gathered incidence: its cell's number
+    std::vector<std::pair<uint64_t, uint32_t>> cells;  ///< (key, number) of each cell met
+    std::vector<uint32_t> rank;            ///< cell number -> position in key order
+    std::vector<uint32_t> cellBegin;       ///< per cell in key order: its first incidence, then the end
+    CellScratch cell;
+};
+VertexScratch& vertexScratch() {
+    thread_local VertexScratch s;
+    return s;
+}
+
 /// Incidences of cell-owner `tm` during a build: crossings in its own pool and its neighbours'
-/// border lists that have a leaf owned by it, grouped by cell and sorted by crossing key.
-void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
-                      const TileMesh& tm, const std::vector<uint64_t>& nbrs, std::vector<Incidence>& out,
-                      std::vector<Incidence>& tmp, std::vector<uint64_t>& tmpKeys) {
-    out.clear();
+/// border lists that have a leaf owned by it, into s.inc grouped by cell in key order (cell
+/// i's run is [s.cellBegin[i], s.cellBegin[i + 1])), each cell's sorted by crossing key.
+/// A counting sort: cells are numbered as they are met through tm.cellVertex (which maps them to
+/// their first vertex later), only the distinct cells are sorted (a quarter of the incidences),
+/// and each cell's handful of incidences by insertion.
+void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles, TileMesh& tm,
+                      const std::vector<uint64_t>& nbrs, VertexScratch& s) {
+    s.met.clear();
+    s.metCell.clear();
+    s.cells.clear();
+    tm.cellVertex.clear();
+    tm.cellVertex.reserve(tm.leaves.size() + tm.leaves.size() / 8 + 8);  // nearly every cell is a boundary leaf
+    auto add = [&](Crossing& x, int q, uint8_t first, uint8_t last) {
+        const uint32_t number = tm.cellVertex.findOrAssign(x.ringCell[q], uint32_t(s.cells.size()));
+        if (number == s.cells.size()) s.cells.emplace_back(x.ringCell[q], number);
+        s.met.push_back({x.ringCell[q], x.key(), &x, first, last});
+        s.metCell.push_back(number);
+    };
     auto take = [&](Crossing& x) {
+        // A leaf fills a run of adjacent quadrants: nearly always one each (four leaves).
+        const uint64_t* c = x.ringCell;
+        if (c[0] != c[1] && c[1] != c[2] && c[2] != c[3] && c[3] != c[0]) {
+            for (int q = 0; q < 4; ++q)
+                if (x.ringOwner[q] == tm.key) add(x, q, uint8_t(q), uint8_t(q));
+            return;
+        }
         uint8_t done = 0;
         for (int q = 0; q < 4; ++q) {
             if (x.ringOwner[q] != tm.key || ((done >> q) & 1)) continue;
@@ -243,7 +279,7 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
                 done |= uint8_t(1u << r);
                 if (r == last) break;
             }
-            out.push_back({x.ringCell[q], x.key(), &x, first, last});
+            add(x, q, first, last);
         }
     };
     for (uint64_t k : nbrs) {
@@ -257,80 +293,50 @@ void gatherIncidences(const Adf& adf, const std::unordered_map<uint64_t, std::un
             for (; b != src.border.end() && b->owner == tm.key; ++b) take(src.crossings[b->index]);
         }
     }
-    // Group by cell, each cell's crossings by key: one 64-bit key per incidence (tile-local
-    // cell, then the crossing's axis and start point relative to the tile, then its index), so
-    // the sort moves 8 bytes, not the record. Cells lie in the tile and start points on the
-    // closed box of a cell of it; a value too large for its field falls back to comparing
-    // the records.
-    auto byCellThenKey = [](const Incidence& l, const Incidence& r) {
-        return l.cell != r.cell ? l.cell < r.cell : l.crossingKey < r.crossingKey;
-    };
-    const int e = adf.domain().maxLevel - tm.tile->level();  // the tile spans 2^e lattice units
-    const int indexBits = std::bit_width(out.size());
-    const int crossingBits = 2 + 3 * (e + 1);
-    if (3 * e + crossingBits + indexBits > 64) {
-        std::sort(out.begin(), out.end(), byCellThenKey);
-        return;
-    }
-    const glm::uvec3 o = tm.tile->latticeOrigin();
-    const uint32_t extent = 1u << e;
-    std::vector<uint64_t>& keys = tmpKeys;
-    keys.resize(out.size());
-    for (std::size_t i = 0; i < out.size(); ++i) {
-        const Incidence& in = out[i];
-        const glm::uvec3 c = unpackLattice(in.cell) - o, p = unpackLattice(in.crossingKey) - o;
-        if ((c.x | c.y | c.z) >= extent || (p.x | p.y | p.z) >= 2 * extent) {  // a field would overflow
-            std::sort(out.begin(), out.end(), byCellThenKey);
-            return;
+    std::sort(s.cells.begin(), s.cells.end());
+    const std::size_t cells = s.cells.size();
+    s.rank.resize(cells);
+    for (uint32_t i = 0; i < cells; ++i) s.rank[s.cells[i].second] = i;
+    // Counts, then starts; placing an incidence advances its cell's start to the next cell's.
+    s.cellBegin.assign(cells + 1, 0);
+    for (uint32_t number : s.metCell) ++s.cellBegin[s.rank[number] + 1];
+    for (std::size_t i = 1; i <= cells; ++i) s.cellBegin[i] += s.cellBegin[i - 1];
+    s.inc.resize(s.met.size());
+    for (std::size_t j = 0; j < s.met.size(); ++j) s.inc[s.cellBegin[s.rank[s.metCell[j]]]++] = s.met[j];
+    for (std::size_t i = cells; i > 0; --i) s.cellBegin[i] = s.cellBegin[i - 1];
+    s.cellBegin[0] = 0;
+    for (std::size_t i = 0; i < cells; ++i) {
+        Incidence* run = s.inc.data() + s.cellBegin[i];
+        const uint32_t n = s.cellBegin[i + 1] - s.cellBegin[i];
+        for (uint32_t j = 1; j < n; ++j) {
+            const Incidence v = run[j];
+            uint32_t k = j;
+            for (; k > 0 && v.crossingKey < run[k - 1].crossingKey; --k) run[k] = run[k - 1];
+            run[k] = v;
         }
-        const uint64_t cell = uint64_t(c.x) | (uint64_t(c.y) << e) | (uint64_t(c.z) << (2 * e));
-        const uint64_t crossing = uint64_t(p.x) | (uint64_t(p.y) << (e + 1)) | (uint64_t(p.z) << (2 * e + 2)) |
-                                  (uint64_t(in.crossingKey >> 60) << (3 * e + 3));
-        keys[i] = (((cell << crossingBits) | crossing) << indexBits) | i;
     }
-    std::sort(keys.begin(), keys.end());
-    tmp.resize(out.size());
-    const uint64_t indexMask = (uint64_t(1) << indexBits) - 1;
-    for (std::size_t i = 0; i < keys.size(); ++i) tmp[i] = out[keys[i] & indexMask];
-    out.swap(tmp);
-}
-
-/// A build's per-thread buffers, reused across tiles and builds (pool workers live on): a
-/// tile's buffers grew from empty every time, thousands of allocations per small mesh.
-struct VertexScratch {
-    std::vector<uint64_t> nbrs;
-    std::vector<Incidence> inc, tmp;
-    std::vector<uint64_t> keys;
-    CellScratch cell;
-};
-VertexScratch& vertexScratch() {
-    thread_local VertexScratch s;
-    return s;
 }
 
 /// Cycles and projected vertices of every cell `tm` owns, during a build.
 void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
                      TileMesh& tm, const std::vector<uint64_t>& nbrs, SurfaceNetsStats& st) {
     VertexScratch& scratchAll = vertexScratch();
-    std::vector<Incidence>& inc = scratchAll.inc;
-    gatherIncidences(adf, tiles, tm, nbrs, inc, scratchAll.tmp, scratchAll.keys);
+    gatherIncidences(tiles, tm, nbrs, scratchAll);
+    const std::vector<Incidence>& inc = scratchAll.inc;
+    const std::vector<uint32_t>& cellBegin = scratchAll.cellBegin;
+    const std::size_t cells = cellBegin.size() - 1;
     tm.vertices.clear();
     tm.freeVertices.clear();
     tm.liveVertices = 0;
     tm.incidences.clear();
     tm.multiFaces.clear();
-    tm.cellVertex.clear();
-    std::size_t cells = 0;  // incidences are grouped by cell: size the index once
-    for (std::size_t i = 0; i < inc.size(); ++i) cells += i == 0 || inc[i].cell != inc[i - 1].cell;
-    tm.cellVertex.reserve(cells);
     tm.vertices.reserve(cells + cells / 8);  // a few cells hold several sheets
     tm.incidences.reserve(inc.size());       // each incidence goes to one vertex
     CellScratch& scratch = scratchAll.cell;
     scratch.freshCrossings = true;  // a build made every crossing this phase reads
-    std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the incidences
-    for (std::size_t i0 = 0; i0 < inc.size();) {
-        std::size_t i1 = i0;
-        while (i1 < inc.size() && inc[i1].cell == inc[i0].cell) ++i1;
+    std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the cells
+    for (std::size_t i = 0; i < cells; ++i) {
+        const uint32_t i0 = cellBegin[i], i1 = cellBegin[i + 1];
         // The cell's corners: a boundary leaf of this tile, or (figure 9B) looked up.
         const uint64_t cell = inc[i0].cell;
         while (leafAt < tm.leaves.size() && packLattice(tm.leaves[leafAt].origin) < cell) ++leafAt;
@@ -342,8 +348,7 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
             std::copy(r.corners, r.corners + 8, corners);
             if (!isBoundary(corners)) ++st.signlessCells;
         }
-        tm.cellVertex.assign(cell, meshCell(adf, tm, &inc[i0], uint32_t(i1 - i0), corners, scratch, st));
-        i0 = i1;
+        tm.cellVertex.assign(cell, meshCell(adf, tm, &inc[i0], i1 - i0, corners, scratch, st));
     }
     tm.liveIncidences = tm.incidences.size();
 }
@@ -547,25 +552,15 @@ template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryC
 template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, PoolAppender&,
                                SurfaceNetsStats&, StartFilter);
 
-/// The run (first, last) of each mask of quadrants filled by one cell (a cyclic run; never all
-/// four: no leaf holds an edge inside it).
-constexpr std::array<std::pair<uint8_t, uint8_t>, 16> kRuns = [] {
-    std::array<std::pair<uint8_t, uint8_t>, 16> t{};
-    for (int mask = 1; mask < 15; ++mask) {
-        int first = 0;
-        while (!((mask >> first) & 1) || ((mask >> ((first + 3) % 4)) & 1)) ++first;
-        int last = first;
-        while ((mask >> ((last + 1) % 4)) & 1) last = (last + 1) % 4;
-        t[mask] = {uint8_t(first), uint8_t(last)};
-    }
-    return t;
-}();
-
 void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
-    uint32_t mask = 0;
-    for (int r = 0; r < 4; ++r) mask |= uint32_t(x.ringCell[r] == x.ringCell[q]) << r;
-    first = kRuns[mask].first;
-    last = kRuns[mask].second;
+    // The run of equal ring cells through q, walked both ways (a cyclic run of at most three:
+    // no leaf holds an edge inside it); nearly always q alone, two comparisons.
+    const uint64_t* c = x.ringCell;
+    int f = q, l = q;
+    for (int i = 0; i < 2 && c[(f + 3) % 4] == c[q]; ++i) f = (f + 3) % 4;
+    for (int i = 0; i < 2 && c[(l + 1) % 4] == c[q]; ++i) l = (l + 1) % 4;
+    first = uint8_t(f);
+    last = uint8_t(l);
 }
 
 uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
@@ -586,13 +581,17 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         parent = s.parent.data();
         cycleOf = s.cycleOf.data();
     }
-    // Disjoint sets of the cell's crossings; the cycles depend only on the partition.
-    for (uint32_t j = 0; j < n; ++j) parent[j] = j;
+    // Disjoint sets of the cell's crossings (the cycles depend only on the partition), set up
+    // only where the faces do not close one cycle through all of them.
+    uint32_t cycles = n;
+    auto separate = [&] {
+        for (uint32_t j = 0; j < n; ++j) parent[j] = j;
+        cycles = n;
+    };
     auto find = [&](uint32_t i) {
         while (parent[i] != i) i = parent[i] = parent[parent[i]];
         return i;
     };
-    uint32_t cycles = n;
     auto unite = [&](uint32_t a, uint32_t b) {
         a = find(a);
         b = find(b);
@@ -601,39 +600,60 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         --cycles;
     };
     const uint32_t nf = 2 * n;
-    for (uint32_t j = 0; j < n; ++j) {
-        const Incidence& c = inc[j];
-        const int qa = (c.first + 3) % 4, qb = (c.last + 1) % 4;
-        faces[2 * j] = {c.x->ringCell[qa], qa, j};
-        faces[2 * j + 1] = {c.x->ringCell[qb], qb, j};
-        // This cell owns the faces toward larger keys: their split vertices are decided
-        // again (splitFaces), so forget old ones (the crossing may be kept unchanged).
-        if (s.freshCrossings) continue;
-        if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = Crossing::kNoSplit;
-        if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = Crossing::kNoSplit;
-    }
-    // Most faces carry two crossings: pair the entries by neighbour (a few comparisons, no
-    // sort). Any other count groups them all in order below (the unions made here stay: uniting
-    // twice is a no-op).
-    bool paired = nf <= 32;
-    uint32_t taken = 0;  // bit f: entry f is the partner of an earlier one
+    // Entry 2j (2j + 1): crossing j's face toward the ring cell before (after) its run.
+    auto faceRing = [&](uint32_t f) {
+        const Incidence& c = inc[f / 2];
+        return f % 2 ? (c.last + 1) % 4 : (c.first + 3) % 4;
+    };
+    // This cell owns the faces toward larger keys: their split vertices are decided again
+    // (splitFaces), so forget old ones (the crossing may be kept unchanged).
+    if (!s.freshCrossings)
+        for (uint32_t j = 0; j < n; ++j) {
+            const Incidence& c = inc[j];
+            const int qa = faceRing(2 * j), qb = faceRing(2 * j + 1);
+            if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = Crossing::kNoSplit;
+            if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = Crossing::kNoSplit;
+        }
+    // Nearly every face carries two crossings: pair the entries by neighbour through a small
+    // open-addressed table (no sort, no search). Any other count on a face regroups all
+    // entries in order below, from scratch.
+    constexpr uint32_t kTable = 32;  // twice the most entries taken here
+    uint64_t tableKey[kTable];
+    uint32_t tableEntry[kTable], partner[kTable / 2];  // partner: the other entry on the face
+    uint32_t used = 0, closed = 0;  // bit t: slot t holds a neighbour; its second entry came
+    bool paired = nf <= kTable / 2;
     for (uint32_t f = 0; f < nf && paired; ++f) {
-        if ((taken >> f) & 1) continue;
-        uint32_t partner = UINT32_MAX;
-        for (uint32_t g = f + 1; g < nf; ++g) {
-            if (faces[g].neighbour != faces[f].neighbour) continue;
-            if (partner != UINT32_MAX) {  // a third entry on this face
-                paired = false;
-                break;
-            }
-            partner = g;
+        const uint64_t neighbour = inc[f / 2].x->ringCell[faceRing(f)];
+        uint32_t t = uint32_t((neighbour * 0x9E3779B97F4A7C15ull) >> 59);
+        while (((used >> t) & 1) && tableKey[t] != neighbour) t = (t + 1) % kTable;
+        if (!((used >> t) & 1)) {
+            used |= 1u << t;
+            tableKey[t] = neighbour;
+            tableEntry[t] = f;
+        } else if ((closed >> t) & 1) {
+            paired = false;  // a third entry on this face
+        } else {
+            closed |= 1u << t;
+            partner[f] = tableEntry[t];
+            partner[tableEntry[t]] = f;
         }
-        if (!paired || partner == UINT32_MAX) {
-            paired = false;
-            break;
+    }
+    paired = paired && used == closed;
+    if (paired) {
+        // One cycle when the walk from crossing 0, across a face to the partner entry and out
+        // through its crossing's other face, meets every crossing before it is back.
+        uint32_t met = 1;
+        for (uint32_t f = partner[1]; f / 2 != 0; f = partner[f ^ 1]) ++met;
+        if (met == n) {
+            cycles = 1;
+        } else {
+            separate();
+            for (uint32_t f = 0; f < nf; ++f)
+                if (f < partner[f]) unite(f / 2, partner[f] / 2);
         }
-        taken |= 1u << partner;
-        unite(faces[f].local, faces[partner].local);
+    } else {
+        separate();
+        for (uint32_t f = 0; f < nf; ++f) faces[f] = {inc[f / 2].x->ringCell[faceRing(f)], faceRing(f), f / 2};
     }
     // Group the entries by face (stable: within a face they stay in crossing order).
     auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
@@ -770,17 +790,18 @@ void splitFaces(TileMesh& tm) {
 }
 
 void relaxVertex(TileMesh& tm, Vertex& v) {
+    auto projectedAt = [](const VertexRef& r) -> const glm::vec3& {
+        if (!r.tile) throw std::logic_error("surface nets: a neighbouring vertex was not computed");
+        return r.tile->vertices[r.index].projected;
+    };
+    // The ring cells on both sides of each crossing's run (most neighbours come twice).
     glm::vec3 sum(0.0f);
-    uint32_t count = 0;
     for (uint32_t i = v.incBegin; i < v.incEnd; ++i) {
         const VertexIncidence& c = tm.incidences[i];
-        for (int q : {(c.first + 3) % 4, (c.last + 1) % 4}) {
-            const VertexRef r = c.x->ringVertex[q];
-            if (!r.tile) throw std::logic_error("surface nets: a neighbouring vertex was not computed");
-            sum += r.tile->vertices[r.index].projected;
-            ++count;
-        }
+        sum += projectedAt(c.x->ringVertex[(c.first + 3) % 4]);
+        sum += projectedAt(c.x->ringVertex[(c.last + 1) % 4]);
     }
+    const uint32_t count = 2 * (v.incEnd - v.incBegin);
     const glm::vec3 p = v.projected;
     const adf::Sample s = cellSample(v, p);
     glm::vec3 moved = p;

@@ -19,6 +19,7 @@
 #include "util/thread_pool.h"
 
 #include <algorithm>
+#include <bit>
 #include <chrono>
 #include <stdexcept>
 
@@ -119,6 +120,56 @@ public:
             return false;
         }
 
+        /// A corner of the cell [lo, lo + size]^3 lies on the closed box of a changed cell
+        /// (pointChanged at any corner). The unit cubes around its corners are those at 4 x 4 x 4
+        /// coordinates: grouped by slot (nearly always one), each slot is looked up once and,
+        /// with rows of at most a word, read row by row with one mask, not 8 point queries.
+        bool cornerChanged(glm::uvec3 lo, uint32_t size) const {
+            if (mShift > 6) {
+                for (int c = 0; c < 8; ++c)
+                    if (pointChanged(lo + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * size)) return true;
+                return false;
+            }
+            // Per axis, the cube coordinates in the domain by slot: its index and the bits within it.
+            struct Axis {
+                uint32_t slot[4];
+                uint64_t bits[4];
+                int n = 0;
+            } axis[3];
+            const uint32_t span = 1u << mShift, mask = span - 1;
+            for (int k = 0; k < 3; ++k) {
+                Axis& a = axis[k];
+                const uint32_t local = lo[k] & mask;
+                if (local > 0 && local + size < span) {  // nearly always: all four in lo's slot
+                    a.n = 1;
+                    a.slot[0] = lo[k] >> mShift;
+                    a.bits[0] = (uint64_t(3) << (local - 1)) | (uint64_t(3) << (local + size - 1));
+                    continue;
+                }
+                for (uint32_t c : {lo[k] - 1, lo[k], lo[k] + size - 1, lo[k] + size}) {  // increasing
+                    if (c >= mTop) continue;  // outside (lo - 1 wraps)
+                    if (a.n == 0 || a.slot[a.n - 1] != (c >> mShift)) {
+                        a.slot[a.n] = c >> mShift;
+                        a.bits[a.n++] = 0;
+                    }
+                    a.bits[a.n - 1] |= uint64_t(1) << (c & mask);
+                }
+            }
+            for (int gz = 0; gz < axis[2].n; ++gz)
+                for (int gy = 0; gy < axis[1].n; ++gy)
+                    for (int gx = 0; gx < axis[0].n; ++gx) {
+                        const Slot* s = slot({axis[0].slot[gx], axis[1].slot[gy], axis[2].slot[gz]});
+                        if (!s) continue;
+                        if (s->whole) return true;
+                        for (uint64_t zs = axis[2].bits[gz]; zs; zs &= zs - 1)
+                            for (uint64_t ys = axis[1].bits[gy]; ys; ys &= ys - 1) {
+                                const std::size_t row = bit({0, uint32_t(std::countr_zero(ys)), uint32_t(std::countr_zero(zs))});
+                                if ((s->bits[row >> 6] >> (row & 63)) & axis[0].bits[gx]) return true;  // a row lies in one word
+                            }
+                    }
+            return false;
+        }
+
     private:
         const Slot* slot(glm::uvec3 s) const {
             const uint64_t key = slotKey(s);
@@ -162,12 +213,10 @@ inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
     return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
 }
 
-/// A cell to re-mesh, and a crossing added around it (or none). Tasks are ordered by tile and
-/// cell only: the order within a cell does not matter (its incidences are sorted by crossing
-/// key) and no two tasks are equal (a cell is queued once, an added crossing once per cell).
+/// A cell to re-mesh (each once), numbered as it was queued; re-meshed by tile, then cell.
 struct CellTask {
     uint64_t owner, cell;
-    Crossing* added;
+    uint32_t number;
     bool operator<(const CellTask& o) const { return owner != o.owner ? owner < o.owner : cell < o.cell; }
 };
 
@@ -301,11 +350,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         const std::vector<LatticeBox> region{{box.lo, std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z})}};
         // Only a leaf with a corner on a changed cell can emit (or have emitted) such a crossing.
         auto dropUnchanged = [&](std::vector<BoundaryCell>& leaves) {
-            std::erase_if(leaves, [&](const BoundaryCell& b) {
-                for (int c = 0; c < 8; ++c)
-                    if (changedAt.pointChanged(b.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * b.size)) return false;
-                return true;
-            });
+            std::erase_if(leaves, [&](const BoundaryCell& b) { return !changedAt.cornerChanged(b.origin, b.size); });
         };
         // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
         // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
@@ -389,15 +434,16 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     const ChangedCells::Query changedAt(changed);
     // Totals move by what changed (the tiles not visited hold what they held).
     int64_t crossingDelta = 0, vertexDelta = 0, splitDelta = 0;
-    // A cell is named by each of its crossings (about four): tasks without an added crossing
-    // are queued once per cell (a cell key names one cell of one tile), so the sort sees a
-    // fraction of them (it was a fifth of an update's work).
-    FlatMap64 queued;
+    // A cell is named by each of its crossings (about four): it is queued once (a cell key
+    // names one cell of one tile) and its added crossings are grouped by its number, so the
+    // sort sees only the distinct cells (sorting every mention was a fifth of an update's work).
+    FlatMap64 queued;  // cell -> number
     auto queueCell = [&](uint64_t owner, uint64_t cell) {
-        if (queued.find(cell)) return;
-        queued.assign(cell, 0);
-        tasks.push_back({owner, cell, nullptr});
+        const uint32_t number = queued.findOrAssign(cell, uint32_t(tasks.size()));
+        if (number == tasks.size()) tasks.push_back({owner, cell, number});
+        return number;
     };
+    std::vector<std::pair<uint32_t, Crossing*>> addedAt;  // (cell number, crossing)
     for (const ScanOut& s : scans) {
         crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
         st.boundaryLeaves += s.st.boundaryLeaves;
@@ -408,12 +454,22 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         for (Crossing* x : s.added)
             for (int q = 0; q < 4; ++q)
                 if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
-                    tasks.push_back({x->ringOwner[q], x->ringCell[q], x});
+                    addedAt.emplace_back(queueCell(x->ringOwner[q], x->ringCell[q]), x);
         for (Crossing* x : s.kept)
             for (int q = 0; q < 4; ++q)
                 if (changedAt.unitChanged(unpackLattice(x->ringCell[q]))) queueCell(x->ringOwner[q], x->ringCell[q]);
     }
     std::sort(tasks.begin(), tasks.end());
+    // Added crossings by task (a counting sort): task i's are added[addedBegin[i]..addedBegin[i + 1]).
+    std::vector<uint32_t> rank(tasks.size()), addedBegin(tasks.size() + 1, 0);
+    for (uint32_t i = 0; i < tasks.size(); ++i) rank[tasks[i].number] = i;
+    for (const auto& [number, x] : addedAt) ++addedBegin[rank[number] + 1];
+    for (std::size_t i = 1; i <= tasks.size(); ++i) addedBegin[i] += addedBegin[i - 1];
+    std::vector<Crossing*> added(addedAt.size());
+    {
+        std::vector<uint32_t> at(addedBegin.begin(), addedBegin.end() - 1);
+        for (const auto& [number, x] : addedAt) added[at[rank[number]]++] = x;
+    }
 
     const auto tPhase1 = std::chrono::steady_clock::now();
     // 2. Cells around changed crossings, and changed cells: all their vertices, from scratch.
@@ -443,10 +499,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         CellScratch scratch;
         std::vector<Incidence> inc;
         const ChangedCells::Query cellChanged(changed);
-        for (std::size_t c0 = taskBegin[ti]; c0 < taskBegin[ti + 1];) {
-            std::size_t c1 = c0;
-            const uint64_t cell = tasks[c0].cell;
-            while (c1 < taskBegin[ti + 1] && tasks[c1].cell == cell) ++c1;
+        for (std::size_t t = taskBegin[ti]; t < taskBegin[ti + 1]; ++t) {
+            const uint64_t cell = tasks[t].cell;
             ++ms.cellsMeshed;
             inc.clear();
             // Kept crossings, from the old vertices (which go). An unchanged cell (its origin is
@@ -472,16 +526,14 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                 tm.cellVertex.erase(cell);
             }
             // Added crossings.
-            for (std::size_t c = c0; c < c1; ++c) {
-                Crossing* x = tasks[c].added;
-                if (!x) continue;
+            for (uint32_t k = addedBegin[t]; k < addedBegin[t + 1]; ++k) {
+                Crossing* x = added[k];
                 const int q = int(std::find(x->ringCell, x->ringCell + 4, cell) - x->ringCell);
                 uint8_t first, last;
                 incidenceRun(*x, q, first, last);
                 inc.push_back({cell, x->key(), x, first, last});
             }
             std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
-            c0 = c1;
             if (inc.empty()) continue;
             if (!haveCorners) {
                 const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));

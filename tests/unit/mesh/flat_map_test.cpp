@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file flat_map_test.cpp
-/// @brief FlatMap64 against std::unordered_map under random inserts, overwrites and erases.
+/// @brief FlatMap64 against std::unordered_map under random inserts, overwrites, find-or-inserts
+/// and erases.
 #include "mesh/flat_map.h"
 
 #include <gtest/gtest.h>
@@ -21,10 +22,13 @@ TEST(FlatMap64, RandomOperationsMatchAStandardMap) {
         for (int i = 0; i < 200000; ++i) {
             const uint64_t k = key(rng) * 0x100000001ull;  // packed-lattice-like spread
             const int op = int(rng() % 3);
-            if (op < 2) {
+            if (op == 0) {
                 const uint32_t v = uint32_t(rng());
                 map.assign(k, v);
                 ref[k] = v;
+            } else if (op == 1) {  // the value kept, or this one inserted
+                const uint32_t v = uint32_t(rng());
+                ASSERT_EQ(map.findOrAssign(k, v), ref.emplace(k, v).first->second) << "seed " << seed << " step " << i;
             } else {
                 map.erase(k);
                 ref.erase(k);
