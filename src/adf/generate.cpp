@@ -582,9 +582,10 @@ private:
             mOld->leafCorners(node::leafIndex(w), corners);
             makeLeaf(nodeIndex, corners);
         } else if (node::isBrick(w)) {
-            const uint32_t brick = node::brickIndex(w);
+            int16_t q[27];
+            mOld->brickValues(node::brickIndex(w), q);  // one branch on the brick's form for all
             mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
-            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(mOld->brickValue(brick, g)) * scale);
+            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(q[g]) * scale);
         } else {
             const auto first = uint32_t(mNodes.size());
             mNodes.resize(first + 8);
