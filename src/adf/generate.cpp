@@ -262,6 +262,7 @@ struct TileScratch {
     std::vector<uint32_t> nodes;
     std::vector<float> leafCorners;
     std::vector<float> brickValues;
+    std::vector<uint32_t> leafFrom, brickFrom;  ///< per leaf and brick: the old tile's it copies (TileCopies)
     std::vector<BorderRecord> border;
 };
 
@@ -310,7 +311,8 @@ public:
           mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
           mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
           mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
-          mLeafCorners(mScratch->leafCorners), mBrickValues(mScratch->brickValues), mRecorded(mScratch->border) {}
+          mLeafCorners(mScratch->leafCorners), mBrickValues(mScratch->brickValues), mLeafFrom(mScratch->leafFrom),
+          mBrickFrom(mScratch->brickFrom), mRecorded(mScratch->border) {}
     ~TileGenerator() { ScratchPool::instance().release(std::move(mScratch)); }
     TileGenerator(const TileGenerator&) = delete;
     TileGenerator& operator=(const TileGenerator&) = delete;
@@ -331,10 +333,12 @@ public:
         mNodes.assign(1, 0u);
         mLeafCorners.clear();
         mBrickValues.clear();
+        mLeafFrom.clear();
+        mBrickFrom.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
         groupBorder(border);
         return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version, mDomain.finestCellSize(),
-                            mOld ? mOld->scale() : 0.0f);
+                            mOld ? mOld->scale() : 0.0f, {mOld, mLeafFrom, mBrickFrom});
     }
 
     uint64_t evaluations() const { return mEvaluations; }
@@ -453,10 +457,23 @@ private:
         if (m > 0) flush();
     }
 
-    void makeLeaf(uint32_t nodeIndex, const float* corners) {
+    /// `from`: the old tile's leaf it copies, if it does (the tile then takes its packing).
+    void makeLeaf(uint32_t nodeIndex, const float* corners, uint32_t from = TileCopies::kNotCopied) {
         const auto leaf = uint32_t(mLeafCorners.size() / 8);
         mLeafCorners.insert(mLeafCorners.end(), corners, corners + 8);
+        mLeafFrom.push_back(from);
         mNodes[nodeIndex] = node::makeLeaf(leaf, cellTypeOf(std::span<const float, 8>(corners, 8)));
+    }
+    /// `from` as for makeLeaf.
+    void makeBrick(uint32_t nodeIndex, const float* values, uint32_t from = TileCopies::kNotCopied) {
+        mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
+        mBrickValues.insert(mBrickValues.end(), values, values + 27);
+        mBrickFrom.push_back(from);
+    }
+    /// Drops the leaves made since there were `leafMark` corners.
+    void dropLeaves(std::size_t leafMark) {
+        mLeafCorners.resize(leafMark);
+        mLeafFrom.resize(leafMark / 8);
     }
 
     /// True when the cell is clear of the region by half its size: then its circumscribed ball
@@ -580,12 +597,13 @@ private:
         if (node::isLeaf(w)) {
             float corners[8];
             mOld->leafCorners(node::leafIndex(w), corners);
-            makeLeaf(nodeIndex, corners);
+            makeLeaf(nodeIndex, corners, node::leafIndex(w));
         } else if (node::isBrick(w)) {
             int16_t q[27];
             mOld->brickValues(node::brickIndex(w), q);  // one branch on the brick's form for all
-            mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
-            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(q[g]) * scale);
+            float values[27];
+            for (int g = 0; g < 27; ++g) values[g] = float(q[g]) * scale;
+            makeBrick(nodeIndex, values, node::brickIndex(w));
         } else {
             const auto first = uint32_t(mNodes.size());
             mNodes.resize(first + 8);
@@ -636,17 +654,15 @@ private:
         if (!look.nearBand && sameNonBoundaryLeaves(first)) {
             // Coalesce (Kizamu 5.1): the surface did not pass through after all.
             mNodes.resize(first);
-            mLeafCorners.resize(leafMark);
+            dropLeaves(leafMark);
             return makeLeaf(nodeIndex, corners);
         }
         if (allLeaves(first)) {
             // Brick: the 8 children were the last 8 nodes and 8 leaves appended; their corners
             // are exactly this cell's 27 half-grid values.
             mNodes.resize(first);
-            mLeafCorners.resize(leafMark);
-            mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
-            mBrickValues.insert(mBrickValues.end(), v, v + 27);
-            return;
+            dropLeaves(leafMark);
+            return makeBrick(nodeIndex, v);
         }
         mNodes[nodeIndex] = first;
     }
@@ -680,6 +696,8 @@ private:
     std::vector<uint32_t>& mNodes;
     std::vector<float>& mLeafCorners;
     std::vector<float>& mBrickValues;
+    std::vector<uint32_t>& mLeafFrom;
+    std::vector<uint32_t>& mBrickFrom;
     glm::uvec3 mBase{0};
     std::vector<BorderRecord>& mRecorded;
     uint64_t mEvaluations = 0;
