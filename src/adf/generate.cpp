@@ -637,6 +637,8 @@ private:
 
         Keep keep[8];
         for (int c = 0; c < 8; ++c) keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1);
+        if (level + 1 == mDomain.maxLevel && std::all_of(keep, keep + 8, [](Keep k) { return k == Keep::No; }))
+            return finestChildren(nodeIndex, v, corners, look.nearBand);
         if (level + 1 < mDomain.maxLevel) prefetchChildren(o, half, level + 1, keep);
         const auto first = uint32_t(mNodes.size());
         const std::size_t leafMark = mLeafCorners.size();
@@ -665,6 +667,25 @@ private:
             return makeBrick(nodeIndex, v);
         }
         mNodes[nodeIndex] = first;
+    }
+
+    /// A cell one level above the finest splits into finest leaves on its 27 half-grid values
+    /// `v`: it becomes a brick of them, or one leaf on `corners` when they share a type other
+    /// than Boundary outside the band. What subdividing the children and coalescing them gives,
+    /// without making 8 leaves to drop them again.
+    void finestChildren(uint32_t nodeIndex, const float* v, const float* corners, bool nearBand) {
+        if (!nearBand) {
+            auto childType = [&](int c) {
+                float childCorners[8];
+                for (int k = 0; k < 8; ++k) childCorners[k] = v[brickPoint(c, k)];
+                return cellTypeOf(std::span<const float, 8>(childCorners, 8));
+            };
+            const CellType first = childType(0);
+            bool same = first != CellType::Boundary;
+            for (int c = 1; c < 8 && same; ++c) same = childType(c) == first;
+            if (same) return makeLeaf(nodeIndex, corners);
+        }
+        makeBrick(nodeIndex, v);
     }
 
     bool allLeaves(uint32_t first) const {
