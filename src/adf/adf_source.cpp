@@ -49,16 +49,19 @@ private:
             return values;
         }
     };
-    /// The last few leaves found, kept per thread across calls: a regeneration asks for a tile's
-    /// points in many small, coherent batches. A leaf answers for the points of its half-open
-    /// box exactly as a fresh descent would, so the cache changes no result. It is tagged with
-    /// the serial number of the source that filled it and emptied when another source uses the
-    /// thread, so no entry outlives the snapshot it points into.
+    /// Leaves found recently, kept per thread across calls: a regeneration asks for a tile's
+    /// points in many small, coherent batches. Direct-mapped by the point's 4-cell block (the
+    /// table wraps every 32 x 32 x 16 finest cells): a lookup that misses the hint tries one
+    /// entry and otherwise descends into it, cheaper than the search of a few recent leaves this
+    /// replaced (dab edits -3 % instructions), and it keeps more of the leaves a tile's
+    /// traversal returns to. A leaf answers for the points of its half-open box exactly as a
+    /// fresh descent would, so the cache changes no result. It is tagged with the serial number
+    /// of the source that filled it and emptied when another source uses the thread, so no entry
+    /// outlives the snapshot it points into.
     struct Cache {
-        static constexpr int kSize = 8;
+        static constexpr int kSize = 256;  ///< 8 x 8 x 4 blocks, about 20 KB
         uint64_t owner = 0;
         CachedLeaf cells[kSize];  ///< an empty entry has size 0: it contains no point
-        int next = 0;
         /// The entries found last for a point and for the neighbours value() asks about: asked
         /// first (consecutive points share leaves, and so do their neighbours).
         int lastPoint = 0, lastNeighbour = 0;
@@ -68,29 +71,25 @@ private:
         if (cache.owner != mSerial) {
             cache.owner = mSerial;
             for (CachedLeaf& c : cache.cells) c.size = 0;
-            cache.next = cache.lastPoint = cache.lastNeighbour = 0;
+            cache.lastPoint = cache.lastNeighbour = 0;
         }
         return cache;
     }
 
-    /// The cached leaf holding `p`, asking entry `last` first (the common case, inline) and
-    /// setting it to the entry found.
+    /// The cached leaf holding `p`, asking entry `last` first (the common case, inline), then
+    /// the entry of p's block; sets `last` to the entry used.
     CachedLeaf& locate(glm::uvec3 p, Cache& cache, int& last) const {
         CachedLeaf& hint = cache.cells[last];
         return hint.contains(p) ? hint : locateFurther(p, cache, last);
     }
 
     [[gnu::noinline]] CachedLeaf& locateFurther(glm::uvec3 p, Cache& cache, int& last) const {
-        for (int i = 0; i < Cache::kSize; ++i)
-            if (cache.cells[i].contains(p)) {
-                last = i;
-                return cache.cells[i];
-            }
-        last = cache.next;
-        CachedLeaf& c = cache.cells[cache.next];
+        const glm::uvec3 b = p >> 2u;
+        last = int((b.x & 7u) | ((b.y & 7u) << 3) | ((b.z & 3u) << 6));
+        CachedLeaf& c = cache.cells[last];
+        if (c.contains(p)) return c;
         static_cast<LeafCell&>(c) = mAdf->locateLeaf(p);
         c.isDecoded = false;
-        cache.next = (cache.next + 1) % Cache::kSize;
         return c;
     }
 

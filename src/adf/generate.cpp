@@ -262,6 +262,7 @@ struct TileScratch {
     std::vector<uint32_t> nodes;
     std::vector<float> leafCorners;
     std::vector<float> brickValues;
+    std::vector<uint32_t> leafFrom, brickFrom;  ///< per leaf and brick: the old tile's it copies (TileCopies)
     std::vector<BorderRecord> border;
 };
 
@@ -310,7 +311,8 @@ public:
           mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
           mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
           mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
-          mLeafCorners(mScratch->leafCorners), mBrickValues(mScratch->brickValues), mRecorded(mScratch->border) {}
+          mLeafCorners(mScratch->leafCorners), mBrickValues(mScratch->brickValues), mLeafFrom(mScratch->leafFrom),
+          mBrickFrom(mScratch->brickFrom), mRecorded(mScratch->border) {}
     ~TileGenerator() { ScratchPool::instance().release(std::move(mScratch)); }
     TileGenerator(const TileGenerator&) = delete;
     TileGenerator& operator=(const TileGenerator&) = delete;
@@ -331,10 +333,12 @@ public:
         mNodes.assign(1, 0u);
         mLeafCorners.clear();
         mBrickValues.clear();
+        mLeafFrom.clear();
+        mBrickFrom.clear();
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
         groupBorder(border);
         return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version, mDomain.finestCellSize(),
-                            mOld ? mOld->scale() : 0.0f);
+                            mOld ? mOld->scale() : 0.0f, {mOld, mLeafFrom, mBrickFrom});
     }
 
     uint64_t evaluations() const { return mEvaluations; }
@@ -453,10 +457,23 @@ private:
         if (m > 0) flush();
     }
 
-    void makeLeaf(uint32_t nodeIndex, const float* corners) {
+    /// `from`: the old tile's leaf it copies, if it does (the tile then takes its packing).
+    void makeLeaf(uint32_t nodeIndex, const float* corners, uint32_t from = TileCopies::kNotCopied) {
         const auto leaf = uint32_t(mLeafCorners.size() / 8);
         mLeafCorners.insert(mLeafCorners.end(), corners, corners + 8);
+        mLeafFrom.push_back(from);
         mNodes[nodeIndex] = node::makeLeaf(leaf, cellTypeOf(std::span<const float, 8>(corners, 8)));
+    }
+    /// `from` as for makeLeaf.
+    void makeBrick(uint32_t nodeIndex, const float* values, uint32_t from = TileCopies::kNotCopied) {
+        mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
+        mBrickValues.insert(mBrickValues.end(), values, values + 27);
+        mBrickFrom.push_back(from);
+    }
+    /// Drops the leaves made since there were `leafMark` corners.
+    void dropLeaves(std::size_t leafMark) {
+        mLeafCorners.resize(leafMark);
+        mLeafFrom.resize(leafMark / 8);
     }
 
     /// True when the cell is clear of the region by half its size: then its circumscribed ball
@@ -580,11 +597,13 @@ private:
         if (node::isLeaf(w)) {
             float corners[8];
             mOld->leafCorners(node::leafIndex(w), corners);
-            makeLeaf(nodeIndex, corners);
+            makeLeaf(nodeIndex, corners, node::leafIndex(w));
         } else if (node::isBrick(w)) {
-            const uint32_t brick = node::brickIndex(w);
-            mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
-            for (int g = 0; g < 27; ++g) mBrickValues.push_back(float(mOld->brickValue(brick, g)) * scale);
+            int16_t q[27];
+            mOld->brickValues(node::brickIndex(w), q);  // one branch on the brick's form for all
+            float values[27];
+            for (int g = 0; g < 27; ++g) values[g] = float(q[g]) * scale;
+            makeBrick(nodeIndex, values, node::brickIndex(w));
         } else {
             const auto first = uint32_t(mNodes.size());
             mNodes.resize(first + 8);
@@ -618,6 +637,8 @@ private:
 
         Keep keep[8];
         for (int c = 0; c < 8; ++c) keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1);
+        if (level + 1 == mDomain.maxLevel && std::all_of(keep, keep + 8, [](Keep k) { return k == Keep::No; }))
+            return finestChildren(nodeIndex, v, corners, look.nearBand);
         if (level + 1 < mDomain.maxLevel) prefetchChildren(o, half, level + 1, keep);
         const auto first = uint32_t(mNodes.size());
         const std::size_t leafMark = mLeafCorners.size();
@@ -635,19 +656,36 @@ private:
         if (!look.nearBand && sameNonBoundaryLeaves(first)) {
             // Coalesce (Kizamu 5.1): the surface did not pass through after all.
             mNodes.resize(first);
-            mLeafCorners.resize(leafMark);
+            dropLeaves(leafMark);
             return makeLeaf(nodeIndex, corners);
         }
         if (allLeaves(first)) {
             // Brick: the 8 children were the last 8 nodes and 8 leaves appended; their corners
             // are exactly this cell's 27 half-grid values.
             mNodes.resize(first);
-            mLeafCorners.resize(leafMark);
-            mNodes[nodeIndex] = node::makeBrick(uint32_t(mBrickValues.size() / 27));
-            mBrickValues.insert(mBrickValues.end(), v, v + 27);
-            return;
+            dropLeaves(leafMark);
+            return makeBrick(nodeIndex, v);
         }
         mNodes[nodeIndex] = first;
+    }
+
+    /// A cell one level above the finest splits into finest leaves on its 27 half-grid values
+    /// `v`: it becomes a brick of them, or one leaf on `corners` when they share a type other
+    /// than Boundary outside the band. What subdividing the children and coalescing them gives,
+    /// without making 8 leaves to drop them again.
+    void finestChildren(uint32_t nodeIndex, const float* v, const float* corners, bool nearBand) {
+        if (!nearBand) {
+            auto childType = [&](int c) {
+                float childCorners[8];
+                for (int k = 0; k < 8; ++k) childCorners[k] = v[brickPoint(c, k)];
+                return cellTypeOf(std::span<const float, 8>(childCorners, 8));
+            };
+            const CellType first = childType(0);
+            bool same = first != CellType::Boundary;
+            for (int c = 1; c < 8 && same; ++c) same = childType(c) == first;
+            if (same) return makeLeaf(nodeIndex, corners);
+        }
+        makeBrick(nodeIndex, v);
     }
 
     bool allLeaves(uint32_t first) const {
@@ -679,6 +717,8 @@ private:
     std::vector<uint32_t>& mNodes;
     std::vector<float>& mLeafCorners;
     std::vector<float>& mBrickValues;
+    std::vector<uint32_t>& mLeafFrom;
+    std::vector<uint32_t>& mBrickFrom;
     glm::uvec3 mBase{0};
     std::vector<BorderRecord>& mRecorded;
     uint64_t mEvaluations = 0;

@@ -189,8 +189,9 @@ std::vector<uint32_t> numberByForm(const std::vector<uint8_t>& form, std::array<
 
 TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                      std::span<const float> leafCorners, std::span<const float> brickValues,
-                     uint64_t version, double finestCell, float keepScale) {
+                     uint64_t version, double finestCell, float keepScale, const TileCopies& copies) {
     assert(leafCorners.size() % 8 == 0 && brickValues.size() % 27 == 0);
+    assert(!copies.from || (copies.leaves.size() == leafCorners.size() / 8 && copies.bricks.size() == brickValues.size() / 27));
     float maxAbs = 0.0f;
     for (float v : leafCorners) maxAbs = std::max(maxAbs, std::abs(v));
     for (float v : brickValues) maxAbs = std::max(maxAbs, std::abs(v));
@@ -202,10 +203,27 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
     const float scale = keepScale > 0.0f && maxAbs > 0.0f && own <= keepScale && keepScale <= 2.0f * own ? keepScale
                         : maxAbs > 0.0f                                                            ? own
                                                                                                    : 1.0f;
+    // Copied items keep their quantised values (quantising a decoded value at its own scale
+    // gives it back) and, in build, their packing.
+    const Tile* from = copies.from && scale == copies.from->mScale && narrowStep(scale, finestCell) == copies.from->mStep
+                           ? copies.from
+                           : nullptr;
     std::vector<int16_t> corners(leafCorners.size()), bricks(brickValues.size());
-    for (std::size_t i = 0; i < leafCorners.size(); ++i) corners[i] = quantise(leafCorners[i], scale);
-    for (std::size_t i = 0; i < brickValues.size(); ++i) bricks[i] = quantise(brickValues[i], scale);
-    return build(level, latticeOrigin, nodes, corners, bricks, scale, version, finestCell);
+    for (std::size_t l = 0; l < leafCorners.size() / 8; ++l) {
+        if (from && copies.leaves[l] != TileCopies::kNotCopied) {
+            from->leafValues(copies.leaves[l], &corners[8 * l]);
+            continue;
+        }
+        for (std::size_t i = 8 * l; i < 8 * l + 8; ++i) corners[i] = quantise(leafCorners[i], scale);
+    }
+    for (std::size_t b = 0; b < brickValues.size() / 27; ++b) {
+        if (from && copies.bricks[b] != TileCopies::kNotCopied) {
+            from->brickValues(copies.bricks[b], &bricks[27 * b]);
+            continue;
+        }
+        for (std::size_t i = 27 * b; i < 27 * b + 27; ++i) bricks[i] = quantise(brickValues[i], scale);
+    }
+    return build(level, latticeOrigin, nodes, corners, bricks, scale, version, finestCell, from ? copies : TileCopies{});
 }
 
 TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
@@ -217,7 +235,7 @@ TilePtr Tile::createQuantised(int level, glm::uvec3 latticeOrigin, std::span<con
 
 TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                     std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues, float scale,
-                    uint64_t version, double finestCell) {
+                    uint64_t version, double finestCell, const TileCopies& copies) {
     const auto brickCount = uint32_t(brickValues.size() / 27);
     const int32_t step = narrowStep(scale, finestCell), leafStep = 2 * step;
     // Which form each brick takes (the brick step, else the leaf step, else wide), and their new
@@ -233,9 +251,18 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     enum : uint8_t { kNarrow, kCoarse, kWide };
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
     std::vector<uint8_t> form(brickCount);
+    // A copied item's form and steps are its source's: packing its decoded values again would
+    // find the same (the encoding is idempotent), at the price of every value.
+    const Tile* from = copies.from;
     for (uint32_t b = 0; b < brickCount; ++b) {
         const int16_t* q = brickValues.data() + 27 * std::size_t(b);
         int8_t* d = deltas.data() + 27 * std::size_t(b);
+        if (from && copies.bricks[b] != TileCopies::kNotCopied) {
+            const uint32_t i = copies.bricks[b];
+            if (i < from->mPackedCount) std::memcpy(d, from->mBrickDeltas + 27 * std::size_t(i), 27);
+            form[b] = i < from->mNarrowCount ? kNarrow : i < from->mPackedCount ? kCoarse : kWide;
+            continue;
+        }
         form[b] = packs(q, 27, q[13], step, d) ? kNarrow : packs(q, 27, q[13], leafStep, d) ? kCoarse : kWide;
     }
     std::array<uint32_t, 3> brickForms;
@@ -249,6 +276,12 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     std::vector<uint8_t> leafForm(leafCount);
     for (uint32_t l = 0; l < leafCount; ++l) {
         const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
+        if (from && copies.leaves[l] != TileCopies::kNotCopied) {
+            const uint32_t i = copies.leaves[l];
+            if (i < from->mNarrowLeafCount) std::memcpy(leafDeltas.data() + 7 * std::size_t(l), from->mLeafDeltas + 7 * std::size_t(i), 7);
+            leafForm[l] = i < from->mNarrowLeafCount ? kNarrow : kWide;
+            continue;
+        }
         leafForm[l] = packs(q + 1, 7, q[0], leafStep, leafDeltas.data() + 7 * std::size_t(l)) ? kNarrow : kWide;
     }
     std::array<uint32_t, 3> leafForms;

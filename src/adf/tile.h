@@ -93,6 +93,18 @@ inline constexpr int brickPoint(int child, int c) {
 /// Corner order everywhere: corner c sits at (c & 1, (c >> 1) & 1, (c >> 2) & 1).
 CellType cellTypeOf(std::span<const float, 8> corners);
 
+class Tile;
+
+/// Items of a tile being built that copy another tile's unchanged (regeneration keeps the old
+/// tile's cells outside its edit): for each lone leaf and each brick of the new tile, the index
+/// of the item of `from` it copies, or kNotCopied. Their values must be the ones `from` decodes
+/// for them.
+struct TileCopies {
+    static constexpr uint32_t kNotCopied = ~0u;
+    const Tile* from = nullptr;
+    std::span<const uint32_t> leaves, bricks;
+};
+
 /// Immutable subtree block. Owned through std::shared_ptr by snapshots (writer side only).
 class Tile {
 public:
@@ -108,6 +120,10 @@ public:
     ///                        what the values need (0: none). Regeneration
     ///                        passes the old tile's, so cells it copies keep their bits and
     ///                        the mesher sees them unchanged.
+    /// @param copies          items that copy another tile's (none by default): where the new
+    ///                        tile keeps that tile's scale (and so its steps), their packed
+    ///                        bytes are taken as they are instead of being quantised and packed
+    ///                        again, which gives the same bits (the encodings are idempotent).
     /// Brick and leaf indices in `nodes` are renumbered (narrow ones first, then coarse-narrow
     /// bricks); the field is unchanged but for narrow bricks' and leaves' rounding to their
     /// step: a narrow brick value within one brick step (2/127 finest cell, rounded up to whole
@@ -119,7 +135,7 @@ public:
                                               std::span<const uint32_t> nodes,
                                               std::span<const float> leafCorners,
                                               std::span<const float> brickValues, uint64_t version,
-                                              double finestCell, float keepScale = 0.0f);
+                                              double finestCell, float keepScale = 0.0f, const TileCopies& copies = {});
     /// Builds a tile from already quantised data (file loading). Checksum is recomputed. Brick
     /// and leaf words with an index out of range are left as they are (the file validation
     /// rejects them).
@@ -244,10 +260,11 @@ private:
     }
     static Tile* allocate(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
                           uint32_t coarseCount, uint32_t wideCount);
-    /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed.
+    /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed
+    /// (`copies`, whose source must share the scale: take its packing).
     static std::shared_ptr<const Tile> build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                                              std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues,
-                                             float scale, uint64_t version, double finestCell);
+                                             float scale, uint64_t version, double finestCell, const TileCopies& copies = {});
     /// Sets the header of a filled block, seals it with its checksum and hands it out.
     static std::shared_ptr<const Tile> finish(Tile* t, int level, glm::uvec3 latticeOrigin, float scale,
                                               uint64_t version);

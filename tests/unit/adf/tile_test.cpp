@@ -387,6 +387,64 @@ TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
     EXPECT_EQ(copied->checksum(), t->checksum());
 }
 
+TEST(Tile, CopiedItemsTakeTheirSourcesPackingWithTheSameBits) {
+    // A source with bricks of all three forms and a narrow and a wide lone leaf.
+    std::vector<float> values;
+    std::vector<uint32_t> nodes{1};
+    for (int b = 0; b < 6; ++b) {
+        const glm::dvec3 o = glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 4.0;
+        auto v = b % 3 == 0 ? sphereBrick(o, {0.4, 0.9, 1.1}, 0.7 + 0.05 * b) : diagonalBrick(o, 105.5 + 0.1 * b);
+        if (b % 3 == 2) v[3] += float(12.0 * kCell);
+        values.insert(values.end(), v.begin(), v.end());
+        nodes.push_back(node::makeBrick(uint32_t(b)));
+    }
+    std::vector<float> corners = sphereLeaf(glm::dvec3(8.0), 2.0, {0.4, 0.9, 1.1}, 0.7);
+    for (int k = 0; k < 8; ++k) corners.push_back(k % 2 ? -0.01f : 0.01f);  // no 8-bit step reaches: wide
+    for (uint32_t l = 0; l < 2; ++l)
+        nodes.push_back(node::makeLeaf(l, cellTypeOf(std::span<const float, 8>(corners.data() + 8 * l, 8))));
+    const TilePtr from = Tile::create(9, glm::uvec3(0), nodes, corners, values, 1, kCell);
+    ASSERT_GT(from->narrowBrickCount(), 0u);
+    ASSERT_GT(from->coarseBrickCount(), 0u);
+    ASSERT_LT(from->packedBrickCount(), from->brickCount());
+    ASSERT_EQ(from->narrowLeafCount(), 1u);
+    ASSERT_EQ(from->leafCount(), 2u);
+
+    // A new tile holding the source's items decoded, in reverse order, the last brick fresh.
+    const std::vector<uint32_t> fromWords = from->nodeWords();
+    std::vector<uint32_t> words{1};
+    std::vector<float> leafFloats, brickFloats;
+    std::vector<uint32_t> leafFrom, brickFrom;
+    for (int c = 7; c >= 0; --c) {
+        const uint32_t w = fromWords[1 + uint32_t(c)];
+        float v[27];
+        if (node::isBrick(w)) {
+            int16_t q[27];
+            from->brickValues(node::brickIndex(w), q);
+            for (int g = 0; g < 27; ++g) v[g] = float(q[g]) * from->scale();
+            words.push_back(node::makeBrick(uint32_t(brickFrom.size())));
+            brickFloats.insert(brickFloats.end(), v, v + 27);
+            brickFrom.push_back(c == 0 ? TileCopies::kNotCopied : node::brickIndex(w));
+        } else {
+            from->leafCorners(node::leafIndex(w), v);
+            words.push_back(node::makeLeaf(uint32_t(leafFrom.size()), node::leafType(w)));
+            leafFloats.insert(leafFloats.end(), v, v + 8);
+            leafFrom.push_back(node::leafIndex(w));
+        }
+    }
+    const TileCopies copies{from.get(), leafFrom, brickFrom};
+    for (float keepScale : {from->scale(), 1.5f * from->scale(), 0.0f}) {  // kept: packing taken; else requantised
+        const TilePtr copied = Tile::create(9, glm::uvec3(0), words, leafFloats, brickFloats, 2, kCell, keepScale, copies);
+        const TilePtr packed = Tile::create(9, glm::uvec3(0), words, leafFloats, brickFloats, 2, kCell, keepScale);
+        EXPECT_EQ(copied->checksum(), packed->checksum()) << "keep scale " << keepScale;
+        EXPECT_EQ(copied->nodeWords(), packed->nodeWords());
+        EXPECT_EQ(copied->bytes(), packed->bytes());
+        for (uint32_t b = 0; b < packed->brickCount(); ++b)
+            for (int g = 0; g < 27; ++g) EXPECT_EQ(copied->brickValue(b, g), packed->brickValue(b, g)) << b << " " << g;
+        for (uint32_t l = 0; l < packed->leafCount(); ++l)
+            for (int c = 0; c < 8; ++c) EXPECT_EQ(copied->leafValue(l, c), packed->leafValue(l, c)) << l << " " << c;
+    }
+}
+
 TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
     // The argument in Tile::build, checked exhaustively: a brick whose one off-centre value q
     // misses the brick step and takes the leaf step decodes to a value the brick step cannot
