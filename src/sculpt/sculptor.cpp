@@ -68,7 +68,8 @@ void Sculptor::apply(const Stroke& stroke) {
     const auto t0 = std::chrono::steady_clock::now();
     validate(stroke);  // before anything changes: a rejected stroke leaves no trace
     const ToolLimits limits = limitsFor(stroke);
-    const adf::Domain& d = mCurrent->domain();
+    // A copy: correctNear below replaces the current snapshot, which may free the old one.
+    const adf::Domain d = mCurrent->domain();
     if (stroke.constraints.followOffset && mCorrecting) {
         // Following reads the field away from the surface: make it true around the path first.
         adf::BoxWorld near{glm::dvec3(std::numeric_limits<double>::max()), glm::dvec3(std::numeric_limits<double>::lowest())};
