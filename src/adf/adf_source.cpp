@@ -8,7 +8,9 @@
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -18,6 +20,15 @@
 namespace kizamu::adf {
 
 namespace {
+
+/// Bit m set for each non-empty subset m of the axis set a, for each a (bit k: axis k).
+constexpr std::array<uint8_t, 8> kSubsetsOf = [] {
+    std::array<uint8_t, 8> t{};
+    for (uint32_t a = 0; a < 8; ++a)
+        for (uint32_t m = 1; m < 8; ++m)
+            if ((m & a) == m) t[a] |= uint8_t(1u << m);
+    return t;
+}();
 
 /// The field of a snapshot. At a lattice point that is a corner of some leaf it answers that
 /// corner's stored value rather than whichever leaf the half-open lookup lands in: a larger
@@ -37,10 +48,12 @@ public:
 
 private:
     /// A found leaf and, once asked for, its 8 decoded corners (most of a regeneration's points
-    /// fall inside a few larger old leaves and interpolate there).
+    /// fall inside a few larger old leaves and interpolate there) and which of its neighbours
+    /// are finer (finerNeighbours).
     struct CachedLeaf : LeafCell {
         float values[8];
         bool isDecoded = false;
+        uint8_t neighboursKnown = 0, neighboursFiner = 0;  ///< bit m: neighbour cell m (finerNeighbours)
         const float* decoded() {
             if (!isDecoded) {
                 corners(values);
@@ -90,7 +103,28 @@ private:
         if (c.contains(p)) return c;
         static_cast<LeafCell&>(c) = mAdf->locateLeaf(p);
         c.isDecoded = false;
+        c.neighboursKnown = c.neighboursFiner = 0;
         return c;
+    }
+
+    /// Bit m set for each non-empty subset m of `axes` whose neighbour cell of `leaf` (the
+    /// cell of its size across its lower faces along m) lies in finer leaves: only those can
+    /// have a point on the leaf's faces as a corner. One descent per leaf and m, kept with the
+    /// leaf: most face points of a leaf have neighbours no finer than it, and then need no
+    /// lookup of their own (dab edits -6 % instructions).
+    uint32_t finerNeighbours(CachedLeaf& leaf, uint32_t axes) const {
+        const uint32_t wanted = kSubsetsOf[axes];
+        for (uint32_t missing = wanted & ~uint32_t(leaf.neighboursKnown); missing != 0; missing &= missing - 1) {
+            const uint32_t m = uint32_t(std::countr_zero(missing));
+            // The neighbour cell's point next to the leaf's origin; below 0 wraps past the top
+            // (no neighbour there). A leaf at least as large as ours holding it holds the whole
+            // cell.
+            const glm::uvec3 q = leaf.origin - glm::uvec3(m & 1, (m >> 1) & 1, m >> 2);
+            if (q.x < mTop && q.y < mTop && q.z < mTop && mAdf->locateLeaf(q).size < leaf.size)
+                leaf.neighboursFiner |= uint8_t(1u << m);
+        }
+        leaf.neighboursKnown |= uint8_t(wanted);
+        return leaf.neighboursFiner & wanted;
     }
 
     double value(const glm::dvec3& p, Cache& cache) const {
@@ -106,7 +140,8 @@ private:
         // Octant 0 (the unit cube above p) when inside the domain; then only octants across
         // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
         // octant order wins (their values differ only by quantisation).
-        uint32_t onFace = 7;
+        uint32_t onFace = 7;    // axes along which p lies on the first leaf's lower face
+        uint32_t finer = 0xff;  // bit m: the first leaf's neighbour cell across its faces m is finer
         CachedLeaf first;  // a copy: the lookups below may reuse its cache entry
         if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
             CachedLeaf& found = locate(pt, cache, cache.lastPoint);
@@ -117,11 +152,16 @@ private:
                 if (pt[k] == found.origin[k]) onFace |= 1u << k;
             const glm::vec3 f = (glm::vec3(pt) - glm::vec3(found.origin)) / float(found.size);
             if (onFace == 0) return trilinear(found.decoded(), f).distance;  // strictly inside it
+            // p, no corner of the found leaf, is no corner of a leaf at least as large next to
+            // it (along an axis where p lies strictly inside, such a leaf has no corner there).
+            finer = finerNeighbours(found, onFace);
+            if (finer == 0) return trilinear(found.decoded(), f).distance;
             found.decoded();  // decoded where it stays cached, before the copy (most points need them)
             first = found;
         }
         for (uint32_t o = 1; o < 8; ++o) {
-            if ((o & onFace) == 0) continue;  // moves only along axes where p is inside the first leaf
+            // Octant o reaches the neighbour cell across the faces o & onFace (none: the first leaf).
+            if ((o & onFace) == 0 || !((finer >> (o & onFace)) & 1u)) continue;
             // Below 0 wraps around past the top: one test for both ends of the domain.
             const glm::uvec3 cube = pt - glm::uvec3(o & 1, (o >> 1) & 1, o >> 2);
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
