@@ -169,6 +169,27 @@ constexpr std::array<int8_t, 27> kNeighbourOfOffset = [] {
 }();
 constexpr int neighbourIndex(glm::ivec3 o) { return kNeighbourOfOffset[(o.x + 1) + 3 * (o.y + 1) + 9 * (o.z + 1)]; }
 
+/// The border lists (BorderSamples) a tile reads from the neighbour at offset n from it: those
+/// of the neighbour's face or edge at -n, and for a face the 4 edges around it.
+struct BorderLists {
+    int count = 0;
+    std::array<int, 5> lists{};
+};
+constexpr std::array<BorderLists, kNeighbours> kBorderLists = [] {
+    auto nonzero = [](glm::ivec3 o) { return (o.x != 0) + (o.y != 0) + (o.z != 0); };
+    std::array<BorderLists, kNeighbours> t{};
+    for (int n = 0; n < kNeighbours; ++n) {
+        const glm::ivec3 back = -kNeighbourOffsets[n];
+        for (int m = 0; m < kNeighbours; ++m) {
+            const glm::ivec3 e = kNeighbourOffsets[m];
+            const bool edgeOfFace =
+                nonzero(back) == 1 && nonzero(e) == 2 && e.x * back.x + e.y * back.y + e.z * back.z == 1;
+            if (e == back || edgeOfFace) t[n].lists[t[n].count++] = m;
+        }
+    }
+    return t;
+}();
+
 /// Open-addressing map from packed lattice keys to values: the tile pass looks up 18
 /// neighbours per tile and the upper pass caches its samples here, both hot enough that
 /// std::unordered_map's node allocations showed in profiles.
@@ -223,14 +244,16 @@ private:
     std::size_t mSize = 0;
 };
 
-/// Samples a tile evaluated itself on its border, filed under each neighbour that shares them;
-/// read by the neighbours generated in later colour phases. Points are packed local coordinates.
-/// One array grouped by neighbour, filled once when the tile is done: 18 growing lists cost a
-/// small tile (a LOD's) dozens of allocations, most of its generation's.
+/// Samples a tile evaluated itself on its border, filed once under the face or edge they lie on
+/// (named by the neighbour across it); read by the neighbours generated in later colour phases
+/// (an edge neighbour reads its edge, a face neighbour its face and the 4 edges around it, see
+/// kBorderLists). Points are packed local coordinates. One array grouped by face and edge,
+/// filled once when the tile is done: 18 growing lists cost a small tile (a LOD's) dozens of
+/// allocations, most of its generation's.
 struct BorderSamples {
     std::vector<std::pair<uint32_t, float>> entries;
-    std::array<uint32_t, kNeighbours + 1> begin{};  ///< neighbour n's: [begin[n], begin[n + 1])
-    std::span<const std::pair<uint32_t, float>> to(int n) const {
+    std::array<uint32_t, kNeighbours + 1> begin{};  ///< face or edge n's: [begin[n], begin[n + 1])
+    std::span<const std::pair<uint32_t, float>> on(int n) const {
         return {entries.data() + begin[n], entries.data() + begin[n + 1]};
     }
 };
@@ -239,7 +262,7 @@ struct BorderSamples {
 struct BorderRecord {
     uint32_t key;
     float value;
-    int neighbour;
+    int list;  ///< face or edge, by the neighbour across it
 };
 
 constexpr uint32_t packLocal(glm::uvec3 p) { return p.x | (p.y << 11) | (p.z << 22); }
@@ -328,7 +351,7 @@ public:
         mOld = job.old && job.old->level() == mDomain.tileLevel() && job.old->latticeOrigin() == mBase ? job.old : nullptr;
         for (int c = 0; c < 8; ++c) set(index(childOffset(c) * mSpan), job.corners[c]);
         for (int i = 0; i < kNeighbours; ++i)
-            if (neighbours[i]) importFrom(*neighbours[i], kNeighbourOffsets[i]);
+            if (neighbours[i]) importFrom(*neighbours[i], i);
         mRecorded.clear();
         mNodes.assign(1, 0u);
         mLeafCorners.clear();
@@ -351,13 +374,16 @@ private:
         mStamp[i] = mCurrent;
     }
 
-    /// Copies the samples neighbour `n` (at offset `o` from us) evaluated on our shared border.
-    void importFrom(const BorderSamples& n, glm::ivec3 o) {
-        const glm::ivec3 shift = o * int(mSpan);
-        for (const auto& [key, v] : n.to(neighbourIndex(-o))) {
-            const uint32_t i = index(glm::uvec3(glm::ivec3(unpackLocal(key)) + shift));
-            if (!valid(i)) set(i, v);
-        }
+    /// Copies the samples neighbour `n` (the `neighbour`-th offset from us) evaluated on our
+    /// shared border.
+    void importFrom(const BorderSamples& n, int neighbour) {
+        const glm::ivec3 shift = kNeighbourOffsets[neighbour] * int(mSpan);
+        const BorderLists& from = kBorderLists[neighbour];
+        for (int l = 0; l < from.count; ++l)
+            for (const auto& [key, v] : n.on(from.lists[l])) {
+                const uint32_t i = index(glm::uvec3(glm::ivec3(unpackLocal(key)) + shift));
+                if (!valid(i)) set(i, v);
+            }
     }
 
     /// True when `p` lies on a face of the tile. Unsigned wrap: false when 1 <= coordinate <=
@@ -366,29 +392,23 @@ private:
         return !(p.x - 1 < mSpan - 1 && p.y - 1 < mSpan - 1 && p.z - 1 < mSpan - 1);
     }
 
-    /// Files a freshly evaluated point on the tile's faces under every face/edge neighbour
-    /// sharing it.
+    /// Files a freshly evaluated point on the tile's faces under the face or edge it lies on.
     void recordBorder(glm::uvec3 p, float v) {
         const glm::ivec3 side(p.x == 0 ? -1 : (p.x == mSpan ? 1 : 0), p.y == 0 ? -1 : (p.y == mSpan ? 1 : 0),
                               p.z == 0 ? -1 : (p.z == mSpan ? 1 : 0));
-        const int onBorder = (side.x != 0) + (side.y != 0) + (side.z != 0);
-        if (onBorder == 0 || onBorder == 3) return;  // interior, or a tile corner (upper pass)
-        for (int m = 1; m < 8; ++m) {
-            const glm::ivec3 o((m & 1) ? side.x : 0, (m & 2) ? side.y : 0, (m & 4) ? side.z : 0);
-            if (o == glm::ivec3(0) || ((m & 1) && !side.x) || ((m & 2) && !side.y) || ((m & 4) && !side.z)) continue;
-            mRecorded.push_back({packLocal(p), v, neighbourIndex(o)});
-        }
+        const int list = neighbourIndex(side);  // -1: interior, or a tile corner (upper pass)
+        if (list >= 0) mRecorded.push_back({packLocal(p), v, list});
     }
 
-    /// Hands the recorded border samples out grouped by neighbour, in recording order.
+    /// Hands the recorded border samples out grouped by face and edge, in recording order.
     void groupBorder(BorderSamples& border) const {
         border.begin.fill(0);
-        for (const BorderRecord& r : mRecorded) ++border.begin[std::size_t(r.neighbour) + 1];
+        for (const BorderRecord& r : mRecorded) ++border.begin[std::size_t(r.list) + 1];
         for (int n = 0; n < kNeighbours; ++n) border.begin[n + 1] += border.begin[n];
         border.entries.resize(mRecorded.size());
         std::array<uint32_t, kNeighbours> at;
         std::copy(border.begin.begin(), border.begin.end() - 1, at.begin());
-        for (const BorderRecord& r : mRecorded) border.entries[at[r.neighbour]++] = {r.key, r.value};
+        for (const BorderRecord& r : mRecorded) border.entries[at[r.list]++] = {r.key, r.value};
     }
 
     /// Makes the half-grid points `gs` of the cell at `o` (half size `half`) valid, evaluating

@@ -38,12 +38,15 @@ public:
 
 private:
     /// True when `p` is a lattice point of the fine domain (to rounding), which it sets.
+    /// One axis at a time, scalar: it runs for every sample of the LOD.
     bool onLattice(const glm::dvec3& p, glm::uvec3& lattice) const {
-        const glm::dvec3 u = (p - mOrigin) * mLatticePerMetre + 0.5;  // rounds by truncation
-        if (!(u.x >= 0.0 && u.y >= 0.0 && u.z >= 0.0 && u.x < mTop && u.y < mTop && u.z < mTop)) return false;
-        lattice = glm::uvec3(u);
-        const glm::dvec3 miss = glm::abs(u - 0.5 - glm::dvec3(lattice));
-        return miss.x < 1e-6 && miss.y < 1e-6 && miss.z < 1e-6;
+        for (int a = 0; a < 3; ++a) {
+            const double u = (p[a] - mOrigin[a]) * mLatticePerMetre + 0.5;  // rounds by truncation
+            if (!(u >= 0.0 && u < mTop)) return false;
+            lattice[a] = uint32_t(u);
+            if (!(std::abs(u - 0.5 - double(lattice[a])) < 1e-6)) return false;
+        }
+        return true;
     }
 
     adf::AdfPtr mAdf;

@@ -49,11 +49,9 @@ void ThreadPool::workerLoop() {
         mWake.wait(lock, [&] { return mStop || mGeneration != seen; });
         if (mStop) return;
         seen = mGeneration;
-        ++mBusy;
         lock.unlock();
         runItems();
         lock.lock();
-        if (--mBusy == 0) mDone.notify_all();
     }
 }
 
@@ -70,8 +68,10 @@ void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t
     mWake.notify_all();
     runItems();
     std::unique_lock lock(mMutex);
-    // Wait for every item and for every worker to leave runItems (fn must outlive them).
-    mDone.wait(lock, [&] { return mFinished == mCount && mBusy == 0; });
+    // Every item done is enough: a worker touches fn only for an item it took, and one that
+    // wakes late finds none (or the next loop's). Waiting for it too would add its wake-up
+    // latency to every loop the caller could finish alone (a small LOD runs a dozen).
+    mDone.wait(lock, [&] { return mFinished == mCount; });
     mFn = nullptr;
     if (mError) std::rethrow_exception(std::exchange(mError, nullptr));
 }

@@ -45,7 +45,6 @@ private:
     std::condition_variable mWake, mDone;
     const std::function<void(std::size_t)>* mFn = nullptr;
     std::size_t mCount = 0, mNext = 0, mFinished = 0;
-    unsigned mBusy = 0;
     uint64_t mGeneration = 0;
     bool mStop = false;
     std::exception_ptr mError;
