@@ -345,18 +345,24 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
     EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 6 * 29 + 2 * 54);
 }
 
-TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
-    // Decode and re-encode (file loading, sub-tile copying): the same bits and the same form
-    // for every brick, lone leaves alongside.
-    std::vector<float> values;
-    std::vector<uint32_t> nodes{1};
-    for (int b = 0; b < 8; ++b) {
+/// `count` bricks under the root (node 0), appended, of all three forms: by b % 3, a sphere
+/// (narrow), a steep diagonal plane, the same with one value pushed 12 cells out (wide).
+void appendBricksOfAllForms(int count, std::vector<float>& values, std::vector<uint32_t>& nodes) {
+    for (int b = 0; b < count; ++b) {
         const glm::dvec3 o = glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 4.0;
         auto v = b % 3 == 0 ? sphereBrick(o, {0.4, 0.9, 1.1}, 0.7 + 0.05 * b) : diagonalBrick(o, 105.5 + 0.1 * b);
         if (b % 3 == 2) v[3] += float(12.0 * kCell);
         values.insert(values.end(), v.begin(), v.end());
         nodes.push_back(node::makeBrick(uint32_t(b)));
     }
+}
+
+TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
+    // Decode and re-encode (file loading, sub-tile copying): the same bits and the same form
+    // for every brick, lone leaves alongside.
+    std::vector<float> values;
+    std::vector<uint32_t> nodes{1};
+    appendBricksOfAllForms(8, values, nodes);
     const std::vector<float> corners = sphereLeaf(glm::dvec3(8.0), 2.0, {0.4, 0.9, 1.1}, 0.7);
     nodes[5] = node::makeLeaf(0, cellTypeOf(std::span<const float, 8>(corners.data(), 8)));
     values.erase(values.begin() + 4 * 27, values.begin() + 5 * 27);
@@ -391,13 +397,7 @@ TEST(Tile, CopiedItemsTakeTheirSourcesPackingWithTheSameBits) {
     // A source with bricks of all three forms and a narrow and a wide lone leaf.
     std::vector<float> values;
     std::vector<uint32_t> nodes{1};
-    for (int b = 0; b < 6; ++b) {
-        const glm::dvec3 o = glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 4.0;
-        auto v = b % 3 == 0 ? sphereBrick(o, {0.4, 0.9, 1.1}, 0.7 + 0.05 * b) : diagonalBrick(o, 105.5 + 0.1 * b);
-        if (b % 3 == 2) v[3] += float(12.0 * kCell);
-        values.insert(values.end(), v.begin(), v.end());
-        nodes.push_back(node::makeBrick(uint32_t(b)));
-    }
+    appendBricksOfAllForms(6, values, nodes);
     std::vector<float> corners = sphereLeaf(glm::dvec3(8.0), 2.0, {0.4, 0.9, 1.1}, 0.7);
     for (int k = 0; k < 8; ++k) corners.push_back(k % 2 ? -0.01f : 0.01f);  // no 8-bit step reaches: wide
     for (uint32_t l = 0; l < 2; ++l)

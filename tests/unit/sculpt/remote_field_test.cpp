@@ -133,17 +133,27 @@ TEST(RemoteField, CorrectedDistancesMatchBruteForceDistanceToTheMesh) {
     EXPECT_LE(worstMove, 0.1 * after->domain().finestCellSize());
 }
 
-TEST(RemoteField, PendingZonesAreUndoStateAndTheResultIsDeterministic) {
-    util::ThreadPool pool;
+/// A level-6 sphere, and a carve dab on its top: a zone left pending.
+Script sphereScript() {
     Script script;
     script.domain.maxLevel = 6;
     script.start.kind = Shape::Kind::Sphere;
     script.start.centre = glm::dvec3(0.5);
     script.start.radius = 0.3;
+    return script;
+}
+Stroke topCarve() {
     Stroke a;
     a.tool.radius = 0.08;
     a.samples = {{{0.5, 0.5, 0.8}, kIdentity}};
-    Stroke b = a;
+    return a;
+}
+
+TEST(RemoteField, PendingZonesAreUndoStateAndTheResultIsDeterministic) {
+    util::ThreadPool pool;
+    const Script script = sphereScript();
+    const Stroke a = topCarve();
+    Stroke b = topCarve();
     b.samples = {{{0.8, 0.5, 0.5}, kIdentity}};
     auto s1 = makeSculptor(script, 0, &pool);
     s1->apply(a);
@@ -185,14 +195,8 @@ TEST(RemoteField, PendingZonesAreUndoStateAndTheResultIsDeterministic) {
 // in other builds the pooled result must still equal a serial replay's, bit for bit.
 TEST(RemoteField, AFollowingStrokeCorrectsFirstAndReadsOnlyTheCorrectedSnapshot) {
     util::ThreadPool pool(2);
-    Script script;
-    script.domain.maxLevel = 6;
-    script.start.kind = Shape::Kind::Sphere;
-    script.start.centre = glm::dvec3(0.5);
-    script.start.radius = 0.3;
-    Stroke a;
-    a.tool.radius = 0.08;
-    a.samples = {{{0.5, 0.5, 0.8}, kIdentity}};
+    const Script script = sphereScript();
+    const Stroke a = topCarve();
     Stroke b;
     b.tool.radius = 0.03;
     b.samples = {{{0.4, 0.5, 0.8}, kIdentity}, {{0.6, 0.5, 0.8}, kIdentity}};
