@@ -38,8 +38,7 @@ constexpr std::array<uint8_t, 8> kSubsetsOf = [] {
 class AdfSource final : public DistanceSource {
 public:
     explicit AdfSource(AdfPtr adf)
-        : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld), mInvCell(1.0 / mAdf->domain().finestCellSize()),
-          mTop(mAdf->domain().latticeSize()), mSerial(gNextSerial.fetch_add(1, std::memory_order_relaxed)) {}
+        : mAdf(std::move(adf)), mRounding(mAdf->domain()), mTop(mAdf->domain().latticeSize()), mSerial(gNextSerial.fetch_add(1, std::memory_order_relaxed)) {}
     double distance(const glm::dvec3& p) const override { return value(p, threadCache()); }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         Cache& cache = threadCache();
@@ -129,14 +128,7 @@ private:
 
     double value(const glm::dvec3& p, Cache& cache) const {
         glm::uvec3 pt;
-        for (int k = 0; k < 3; ++k) {
-            // The nearest integer r = floor(u + 0.5) (ties only fail the test below), by
-            // truncation once u + 0.5 is known to lie in [0, top + 1), that is 0 <= r <= top.
-            const double u = (p[k] - mOrigin[k]) * mInvCell, t = u + 0.5;
-            if (!(t >= 0.0 && t < double(mTop) + 1.0)) return mAdf->sample(glm::vec3(p)).distance;
-            pt[k] = uint32_t(t);
-            if (!(std::abs(u - double(pt[k])) < 1e-4)) return mAdf->sample(glm::vec3(p)).distance;
-        }
+        if (!mRounding.nearest(p, 1e-4, pt)) return mAdf->sample(glm::vec3(p)).distance;
         // Octant 0 (the unit cube above p) when inside the domain; then only octants across
         // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
         // octant order wins (their values differ only by quantisation).
@@ -176,8 +168,7 @@ private:
 
     static inline std::atomic<uint64_t> gNextSerial{1};
     AdfPtr mAdf;
-    glm::dvec3 mOrigin;
-    double mInvCell;
+    LatticeRounding mRounding;
     uint32_t mTop;
     uint64_t mSerial;  ///< tags this source's entries in the per-thread leaf caches
 };

@@ -66,6 +66,32 @@ struct Domain {
     bool operator==(const Domain&) const = default;
 };
 
+/// World positions back to lattice points, for sources the generator asks at lattice points
+/// (Domain::latticeToWorld): the nearest one, where `p` lies in the domain within `tolerance`
+/// lattice units of it on every axis. Keeps the inverse cell size: a query divides nothing.
+class LatticeRounding {
+public:
+    explicit LatticeRounding(const Domain& d)
+        : mOrigin(d.originWorld), mInvCell(1.0 / d.finestCellSize()), mTop(double(d.latticeSize()) + 1.0) {}
+
+    bool nearest(const glm::dvec3& p, double tolerance, glm::uvec3& lattice) const {
+        for (int k = 0; k < 3; ++k) {  // one axis at a time, scalar: it runs for every sample
+            // The nearest integer r = floor(u + 0.5) (ties only fail the tolerance), by
+            // truncation once u + 0.5 is known to lie in [0, top + 1), that is 0 <= r <= top.
+            const double u = (p[k] - mOrigin[k]) * mInvCell, t = u + 0.5;
+            if (!(t >= 0.0 && t < mTop)) return false;
+            lattice[k] = uint32_t(t);
+            if (!(std::abs(u - double(lattice[k])) < tolerance)) return false;
+        }
+        return true;
+    }
+
+private:
+    glm::dvec3 mOrigin;
+    double mInvCell;
+    double mTop;  ///< bound of u + 0.5
+};
+
 /// Axis-aligned box in world space, m.
 struct BoxWorld {
     glm::dvec3 min{0.0}, max{0.0};

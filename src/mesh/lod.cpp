@@ -6,8 +6,6 @@
 #include "adf/generate.h"
 #include "mesh/mesh_colours.h"
 
-#include <glm/common.hpp>
-
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,34 +23,18 @@ namespace {
 /// rounding error off the corner).
 class AdfSampler final : public adf::DistanceSource {
 public:
-    explicit AdfSampler(adf::AdfPtr adf)
-        : mAdf(std::move(adf)), mOrigin(mAdf->domain().originWorld),
-          mLatticePerMetre(1.0 / mAdf->domain().finestCellSize()), mTop(double(mAdf->domain().latticeSize()) + 1.0) {}
+    explicit AdfSampler(adf::AdfPtr adf) : mAdf(std::move(adf)), mRounding(mAdf->domain()) {}
     double distance(const glm::dvec3& p) const override {
         glm::uvec3 lattice;
-        return onLattice(p, lattice) ? mAdf->latticeDistance(lattice) : mAdf->sample(glm::vec3(p)).distance;
+        return mRounding.nearest(p, 1e-6, lattice) ? mAdf->latticeDistance(lattice) : mAdf->sample(glm::vec3(p)).distance;
     }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = distance(p[i]);
     }
 
 private:
-    /// True when `p` is a lattice point of the fine domain (to rounding), which it sets.
-    /// One axis at a time, scalar: it runs for every sample of the LOD.
-    bool onLattice(const glm::dvec3& p, glm::uvec3& lattice) const {
-        for (int a = 0; a < 3; ++a) {
-            const double u = (p[a] - mOrigin[a]) * mLatticePerMetre + 0.5;  // rounds by truncation
-            if (!(u >= 0.0 && u < mTop)) return false;
-            lattice[a] = uint32_t(u);
-            if (!(std::abs(u - 0.5 - double(lattice[a])) < 1e-6)) return false;
-        }
-        return true;
-    }
-
     adf::AdfPtr mAdf;
-    glm::dvec3 mOrigin;
-    double mLatticePerMetre;
-    double mTop;  ///< bound of u + 0.5 for u on the lattice
+    adf::LatticeRounding mRounding;
 };
 
 }  // namespace

@@ -297,14 +297,9 @@ void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMes
     const std::size_t cells = s.cells.size();
     s.rank.resize(cells);
     for (uint32_t i = 0; i < cells; ++i) s.rank[s.cells[i].second] = i;
-    // Counts, then starts; placing an incidence advances its cell's start to the next cell's.
-    s.cellBegin.assign(cells + 1, 0);
-    for (uint32_t number : s.metCell) ++s.cellBegin[s.rank[number] + 1];
-    for (std::size_t i = 1; i <= cells; ++i) s.cellBegin[i] += s.cellBegin[i - 1];
     s.inc.resize(s.met.size());
-    for (std::size_t j = 0; j < s.met.size(); ++j) s.inc[s.cellBegin[s.rank[s.metCell[j]]]++] = s.met[j];
-    for (std::size_t i = cells; i > 0; --i) s.cellBegin[i] = s.cellBegin[i - 1];
-    s.cellBegin[0] = 0;
+    groupByRank(s.met.size(), s.rank, s.cellBegin, [&](std::size_t j) { return s.metCell[j]; },
+                [&](std::size_t j, uint32_t at) { s.inc[at] = s.met[j]; });
     for (std::size_t i = 0; i < cells; ++i) {
         Incidence* run = s.inc.data() + s.cellBegin[i];
         const uint32_t n = s.cellBegin[i + 1] - s.cellBegin[i];

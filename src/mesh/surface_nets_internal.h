@@ -239,6 +239,23 @@ void splitFaces(TileMesh& tm);
 /// `projected`, writes the vertex's `position` and `normal`).
 void relaxVertex(TileMesh& tm, Vertex& v);
 
+/// Counting sort into runs: item j (of n) belongs to group groupOf(j), groups numbered as first
+/// met, and group g's run is the rank[g]-th. Calls place(j, position) with every run in rank
+/// order and items in input order within a run, and leaves begin[r] (rank.size() + 1 entries)
+/// where run r starts. Complexity: O(n + groups), no comparisons.
+template <class GroupOf, class Place>
+void groupByRank(std::size_t n, const std::vector<uint32_t>& rank, std::vector<uint32_t>& begin, GroupOf groupOf,
+                 Place place) {
+    const std::size_t runs = rank.size();
+    begin.assign(runs + 1, 0);
+    for (std::size_t j = 0; j < n; ++j) ++begin[rank[groupOf(j)] + 1];
+    for (std::size_t r = 1; r <= runs; ++r) begin[r] += begin[r - 1];
+    // Placing an item advances its run's start to the next run's; shifted back after.
+    for (std::size_t j = 0; j < n; ++j) place(j, begin[rank[groupOf(j)]]++);
+    for (std::size_t r = runs; r > 0; --r) begin[r] = begin[r - 1];
+    begin[0] = 0;
+}
+
 /// Adds one tile's vertex-phase counters (the same in a build and an update) to `total`.
 inline void addVertexCounters(SurfaceNetsStats& total, const SurfaceNetsStats& tile) {
     total.multiSheetCells += tile.multiSheetCells;

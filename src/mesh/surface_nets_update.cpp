@@ -461,15 +461,11 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     }
     std::sort(tasks.begin(), tasks.end());
     // Added crossings by task (a counting sort): task i's are added[addedBegin[i]..addedBegin[i + 1]).
-    std::vector<uint32_t> rank(tasks.size()), addedBegin(tasks.size() + 1, 0);
+    std::vector<uint32_t> rank(tasks.size()), addedBegin;
     for (uint32_t i = 0; i < tasks.size(); ++i) rank[tasks[i].number] = i;
-    for (const auto& [number, x] : addedAt) ++addedBegin[rank[number] + 1];
-    for (std::size_t i = 1; i <= tasks.size(); ++i) addedBegin[i] += addedBegin[i - 1];
     std::vector<Crossing*> added(addedAt.size());
-    {
-        std::vector<uint32_t> at(addedBegin.begin(), addedBegin.end() - 1);
-        for (const auto& [number, x] : addedAt) added[at[rank[number]]++] = x;
-    }
+    groupByRank(addedAt.size(), rank, addedBegin, [&](std::size_t j) { return addedAt[j].first; },
+                [&](std::size_t j, uint32_t at) { added[at] = addedAt[j].second; });
 
     const auto tPhase1 = std::chrono::steady_clock::now();
     // 2. Cells around changed crossings, and changed cells: all their vertices, from scratch.
