@@ -102,6 +102,22 @@ struct CellRule {
         return src.featureSize(c, size * kHalfDiagonal) < size;
     }
 
+    /// Distance grading at the finest level: true when a cell one level above the finest has
+    /// all 27 half-grid samples at least one finest cell from the surface. Such a cell holds
+    /// no surface (every point of it is within sqrt(3)/2 finest cells of a sample) and fails
+    /// the error test only across a kink of the field (a medial sheet from a sharp edge) or
+    /// a focal point, where finest children miss the bound as well: splitting would halve an
+    /// error the accuracy contract already leaves out (within two finest cells of a crease,
+    /// ARCHITECTURE.md "Accuracy at creases"), at 8 times the cells. Not applied higher up:
+    /// a cell four finest cells wide across a kink is off by half a cell two cells from it
+    /// (|x - 1| on [0, 4], at x = 3), beyond that allowance, as the CSG accuracy test shows.
+    bool farFromSurface(const float* v, int level) const {
+        if (level + 1 != domain.maxLevel) return false;
+        float nearest = std::abs(v[0]);
+        for (int g = 1; g < 27; ++g) nearest = std::min(nearest, std::abs(v[g]));
+        return double(nearest) >= domain.finestCellSize();
+    }
+
     /// Largest |computed - reconstructed| over the 19 centre, face and edge points. The
     /// trilinear value at a half-grid point is the mean of the corners it lies between, built
     /// up edge -> face -> centre.
@@ -652,7 +668,8 @@ private:
         if (look.leaf) return makeLeaf(nodeIndex, corners);
 
         ensure(o, half, kFaceEdgePoints.data(), 18, v);
-        if (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, mBase + o, level))
+        if (CellRule::error(v) <= look.threshold ? !mRule.hidesFeature(mSource, mBase + o, level)
+                                                 : mRule.farFromSurface(v, level))
             return makeLeaf(nodeIndex, corners);
 
         Keep keep[8];
@@ -812,7 +829,8 @@ private:
         // depend on where the tile level sits.
         if (!look.leaf)
             for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
-        if (look.leaf || (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, o, level))) {
+        if (look.leaf || (CellRule::error(v) <= look.threshold ? !mRule.hidesFeature(mSource, o, level)
+                                                               : mRule.farFromSurface(v, level))) {
             ++mCoarseTiles;
             addTile(makeSingleCellTile(level, o, corners.data(), mVersion, mDomain.finestCellSize()));
             return;

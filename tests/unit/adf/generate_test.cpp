@@ -241,6 +241,52 @@ TEST(Generate, BricksAndLoneLeavesReconstructTheSameField) {
     EXPECT_GT(inBricks, leaves / 4);
 }
 
+TEST(Generate, FinestCellsStayWithinACellOfTheSurface) {
+    // A box with a notch: sharp convex and concave edges, whose medial sheets cross the band.
+    // A finest leaf exists only where its parent has a sample within one finest cell of the
+    // surface (CellRule::farFromSurface); parents farther out stay leaves even where the
+    // 19-point test fails them, and such leaves must exist.
+    const SourcePtr src = makeCsg(CsgOp::Difference, makeBox({0.3, 0.3, 0.2}),
+                                  makeTranslated(makeBox({0.1, 0.4, 0.1}), {0.05, 0.0, 0.2}));
+    const Domain d = unitDomain(8, 4);
+    const AdfPtr adf = generate(*src, d, GenerationSettings{});
+    const ErrorBound bound = adf->settings().errorBound(d);
+    const double h = d.finestCellSize();
+    auto at = [&](glm::uvec3 p) { return src->distance(d.latticeToWorld(p.x, p.y, p.z)); };
+    auto halfGrid = [](uint32_t g) { return glm::uvec3(g % 3, (g / 3) % 3, g / 9); };
+    std::size_t finest = 0, graded = 0;
+    adf->forEachTile([&](const Tile& t) {
+        forEachLeaf(t, d.maxLevel, [&](const LeafRef& leaf) {
+            if (leaf.latticeSize == 1) {
+                ++finest;
+                const glm::uvec3 parent = leaf.latticeOrigin & ~glm::uvec3(1);
+                double nearest = std::numeric_limits<double>::max();
+                for (uint32_t g = 0; g < 27; ++g) nearest = std::min(nearest, std::abs(at(parent + halfGrid(g))));
+                ASSERT_LT(nearest, h * (1 + 1e-6)) << "a finest leaf more than a cell from the surface";
+            }
+            if (leaf.latticeSize != 2) return;
+            // Would the 19-point test have split this leaf? Its largest error at the half grid.
+            double nearest = std::numeric_limits<double>::max(), err = 0.0;
+            for (uint32_t g = 0; g < 27; ++g) {
+                const glm::uvec3 o = halfGrid(g);
+                const double exact = at(leaf.latticeOrigin + o);
+                nearest = std::min(nearest, std::abs(exact));
+                double recon = 0.0;  // trilinear at the half-grid point: weights 1 or 1/2 per axis
+                for (int c = 0; c < 8; ++c) {
+                    const glm::uvec3 k(c & 1, (c >> 1) & 1, c >> 2);
+                    double w = 1.0;
+                    for (int a = 0; a < 3; ++a) w *= o[a] == 1 ? 0.5 : (o[a] == 2 * k[a] ? 1.0 : 0.0);
+                    recon += w * double(leaf.corners[c]);
+                }
+                err = std::max(err, std::abs(recon - exact));
+            }
+            graded += err > bound(nearest);
+        });
+    });
+    EXPECT_GT(finest, 1000u);
+    EXPECT_GT(graded, 10u) << "no leaf was kept from splitting: the rule was not exercised";
+}
+
 TEST(Generate, LatticeDistanceReadsTheStoredCornersAndInterpolatesBetweenThem) {
     const Domain d = testPartDomain(7);
     const AdfPtr adf = generate(*makeTestPart(d), d, testPartSettings());
