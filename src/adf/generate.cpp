@@ -117,6 +117,16 @@ struct CellRule {
         for (int g = 1; g < 27; ++g) nearest = std::min(nearest, std::abs(v[g]));
         return double(nearest) >= domain.finestCellSize();
     }
+    /// The same from the 8 corners and the centre, before the other 18 samples are taken:
+    /// all at least 3 finest cells from the surface puts every face and edge centre (one
+    /// cell from a corner or the centre) a cell or more from it, for any field no steeper
+    /// than 2. Most cells a dab's crease sheet leaves at that level are settled here.
+    bool farFromSurfaceAtFirstLook(const float* corners, float centre, int level) const {
+        if (level + 1 != domain.maxLevel) return false;
+        float nearest = std::abs(centre);
+        for (int c = 0; c < 8; ++c) nearest = std::min(nearest, std::abs(corners[c]));
+        return double(nearest) >= 3.0 * domain.finestCellSize();
+    }
 
     /// Largest |computed - reconstructed| over the 19 centre, face and edge points. The
     /// trilinear value at a half-grid point is the mean of the corners it lies between, built
@@ -454,7 +464,11 @@ private:
         n = 0;
         for (int c = 0; c < 8; ++c) {
             const glm::uvec3 co = o + childOffset(c) * childSize;
-            if (keep[c] != Keep::No || mRule.firstLook(mValues[index(co + gridOffset(kCentre) * q)], childLevel).leaf) continue;
+            const float centre = mValues[index(co + gridOffset(kCentre) * q)];
+            if (keep[c] != Keep::No || mRule.firstLook(centre, childLevel).leaf) continue;
+            float corners[8];
+            for (int k = 0; k < 8; ++k) corners[k] = mValues[index(co + childOffset(k) * childSize)];
+            if (mRule.farFromSurfaceAtFirstLook(corners, centre, childLevel)) continue;
             for (int g : kFaceEdgePoints) pts[n++] = co + gridOffset(g) * q;
         }
         evaluate(pts, n);
@@ -667,9 +681,10 @@ private:
         const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
         if (look.leaf) return makeLeaf(nodeIndex, corners);
 
+        if (mRule.farFromSurfaceAtFirstLook(corners, v[kCentre], level)) return makeLeaf(nodeIndex, corners);
         ensure(o, half, kFaceEdgePoints.data(), 18, v);
-        if (CellRule::error(v) <= look.threshold ? !mRule.hidesFeature(mSource, mBase + o, level)
-                                                 : mRule.farFromSurface(v, level))
+        if (mRule.farFromSurface(v, level) ||
+            (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, mBase + o, level)))
             return makeLeaf(nodeIndex, corners);
 
         Keep keep[8];
@@ -829,8 +844,8 @@ private:
         // depend on where the tile level sits.
         if (!look.leaf)
             for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
-        if (look.leaf || (CellRule::error(v) <= look.threshold ? !mRule.hidesFeature(mSource, o, level)
-                                                               : mRule.farFromSurface(v, level))) {
+        if (look.leaf || mRule.farFromSurface(v, level) ||
+            (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, o, level))) {
             ++mCoarseTiles;
             addTile(makeSingleCellTile(level, o, corners.data(), mVersion, mDomain.finestCellSize()));
             return;

@@ -245,7 +245,8 @@ TEST(Generate, FinestCellsStayWithinACellOfTheSurface) {
     // A box with a notch: sharp convex and concave edges, whose medial sheets cross the band.
     // A finest leaf exists only where its parent has a sample within one finest cell of the
     // surface (CellRule::farFromSurface); parents farther out stay leaves even where the
-    // 19-point test fails them, and such leaves must exist.
+    // 19-point test fails them, and such leaves must exist, but never nearer (the test on 9
+    // samples before the other 18, farFromSurfaceAtFirstLook, must not settle more).
     const SourcePtr src = makeCsg(CsgOp::Difference, makeBox({0.3, 0.3, 0.2}),
                                   makeTranslated(makeBox({0.1, 0.4, 0.1}), {0.05, 0.0, 0.2}));
     const Domain d = unitDomain(8, 4);
@@ -280,7 +281,10 @@ TEST(Generate, FinestCellsStayWithinACellOfTheSurface) {
                 }
                 err = std::max(err, std::abs(recon - exact));
             }
-            graded += err > bound(nearest);
+            if (err > bound(nearest)) {  // the 19-point test failed it: graded, so far from the surface
+                ++graded;
+                ASSERT_GE(nearest, h * (1 - 1e-6)) << "a failing leaf of 2 cells near the surface";
+            }
         });
     });
     EXPECT_GT(finest, 1000u);
