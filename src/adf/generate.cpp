@@ -120,7 +120,9 @@ struct CellRule {
     /// The same from the 8 corners and the centre, before the other 18 samples are taken:
     /// all at least 3 finest cells from the surface puts every face and edge centre (one
     /// cell from a corner or the centre) a cell or more from it, for any field no steeper
-    /// than 2. Most cells a dab's crease sheet leaves at that level are settled here.
+    /// than 2. Most cells a dab's crease sheet leaves at that level are settled here. Both
+    /// tests assume a 1-Lipschitz field (the DistanceSource contract); a steeper tool field
+    /// (build, heat gun) is covered by hidesFeature, which callers ask first.
     bool farFromSurfaceAtFirstLook(const float* corners, float centre, int level) const {
         if (level + 1 != domain.maxLevel) return false;
         float nearest = std::abs(centre);
@@ -468,7 +470,8 @@ private:
             if (keep[c] != Keep::No || mRule.firstLook(centre, childLevel).leaf) continue;
             float corners[8];
             for (int k = 0; k < 8; ++k) corners[k] = mValues[index(co + childOffset(k) * childSize)];
-            if (mRule.farFromSurfaceAtFirstLook(corners, centre, childLevel)) continue;
+            if (mRule.farFromSurfaceAtFirstLook(corners, centre, childLevel) && !mRule.hidesFeature(mSource, mBase + co, childLevel))
+                continue;
             for (int g : kFaceEdgePoints) pts[n++] = co + gridOffset(g) * q;
         }
         evaluate(pts, n);
@@ -681,10 +684,10 @@ private:
         const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
         if (look.leaf) return makeLeaf(nodeIndex, corners);
 
-        if (mRule.farFromSurfaceAtFirstLook(corners, v[kCentre], level)) return makeLeaf(nodeIndex, corners);
+        auto hides = [&] { return mRule.hidesFeature(mSource, mBase + o, level); };  // asked last: it may query the source
+        if (mRule.farFromSurfaceAtFirstLook(corners, v[kCentre], level) && !hides()) return makeLeaf(nodeIndex, corners);
         ensure(o, half, kFaceEdgePoints.data(), 18, v);
-        if (mRule.farFromSurface(v, level) ||
-            (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, mBase + o, level)))
+        if ((mRule.farFromSurface(v, level) || CellRule::error(v) <= look.threshold) && !hides())
             return makeLeaf(nodeIndex, corners);
 
         Keep keep[8];
@@ -844,8 +847,9 @@ private:
         // depend on where the tile level sits.
         if (!look.leaf)
             for (int g = 0; g < 27; ++g) v[g] = sample(o + gridOffset(g) * half);
-        if (look.leaf || mRule.farFromSurface(v, level) ||
-            (CellRule::error(v) <= look.threshold && !mRule.hidesFeature(mSource, o, level))) {
+        // (farFromSurface never holds here: the tile level is at least one above the finest.)
+        if (look.leaf ||
+            ((mRule.farFromSurface(v, level) || CellRule::error(v) <= look.threshold) && !mRule.hidesFeature(mSource, o, level))) {
             ++mCoarseTiles;
             addTile(makeSingleCellTile(level, o, corners.data(), mVersion, mDomain.finestCellSize()));
             return;

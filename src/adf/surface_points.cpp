@@ -67,17 +67,21 @@ std::vector<glm::dvec3> surfaceWalk(const DistanceSource& source, glm::dvec3 sta
 }
 
 bool nearCrease(const DistanceSource& source, const glm::dvec3& p, double radius) {
+    // Any two of the nine gradients, not just each against the centre's: across a kink of 40°
+    // each side is only 20° from the gradient on the sheet between them.
     const double step = radius * 0.25;
-    const glm::dvec3 g0 = sourceGradient(source, p, step);
-    const double l0 = glm::length(g0);
-    for (int c = 0; c < 8; ++c) {
-        const glm::dvec3 o((c & 1) ? radius : -radius, (c & 2) ? radius : -radius, (c & 4) ? radius : -radius);
-        const glm::dvec3 g = sourceGradient(source, p + o, step);
-        const double l = glm::length(g);
-        // A kink also shows as a finite-difference gradient shorter than 1.
-        if (l < 0.95 || l0 < 0.95) return true;
-        if (glm::dot(g, g0) < 0.866 * l * l0) return true;
+    glm::dvec3 g[9];
+    for (int c = 0; c < 9; ++c) {
+        const glm::dvec3 o = c == 8 ? glm::dvec3(0.0)
+                                    : glm::dvec3((c & 1) ? radius : -radius, (c & 2) ? radius : -radius, (c & 4) ? radius : -radius);
+        g[c] = sourceGradient(source, p + o, step);
+        const double l = glm::length(g[c]);
+        if (l < 0.95) return true;  // a kink also shows as a finite-difference gradient shorter than 1
+        g[c] /= l;
     }
+    for (int a = 0; a < 9; ++a)
+        for (int b = a + 1; b < 9; ++b)
+            if (glm::dot(g[a], g[b]) < 0.866) return true;
     return false;
 }
 

@@ -34,8 +34,9 @@ std::vector<glm::dvec3> randomSurfacePoints(const DistanceSource& source, const 
 std::vector<glm::dvec3> surfaceWalk(const DistanceSource& source, glm::dvec3 start, std::size_t count,
                                     double stepLength, uint64_t seed, double step);
 
-/// True when the source's gradient turns by more than ~30 degrees within `radius` of `p`
-/// (a box edge, a CSG seam, a medial sheet): trilinear cells there cannot be within ε̂.
+/// True when the source's gradient turns by more than ~30 degrees within `radius` of `p` (any
+/// two of the gradients at p and the 8 corners of the cube of half-width `radius` about it):
+/// a box edge, a CSG seam, a medial sheet, where trilinear cells cannot be within ε̂.
 bool nearCrease(const DistanceSource& source, const glm::dvec3& p, double radius);
 
 }  // namespace kizamu::adf
