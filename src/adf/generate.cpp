@@ -112,10 +112,7 @@ struct CellRule {
     /// a cell four finest cells wide across a kink is off by half a cell two cells from it
     /// (|x - 1| on [0, 4], at x = 3), beyond that allowance, as the CSG accuracy test shows.
     bool farFromSurface(const float* v, int level) const {
-        if (level + 1 != domain.maxLevel) return false;
-        float nearest = std::abs(v[0]);
-        for (int g = 1; g < 27; ++g) nearest = std::min(nearest, std::abs(v[g]));
-        return double(nearest) >= domain.finestCellSize();
+        return finestParent(level) && atLeastCells(nearestOf(v, 27), 1.0);
     }
     /// The same from the 8 corners and the centre, before the other 18 samples are taken:
     /// all at least 3 finest cells from the surface puts every face and edge centre (one
@@ -124,10 +121,15 @@ struct CellRule {
     /// tests assume a 1-Lipschitz field (the DistanceSource contract); a steeper tool field
     /// (build, heat gun) is covered by hidesFeature, which callers ask first.
     bool farFromSurfaceAtFirstLook(const float* corners, float centre, int level) const {
-        if (level + 1 != domain.maxLevel) return false;
-        float nearest = std::abs(centre);
-        for (int c = 0; c < 8; ++c) nearest = std::min(nearest, std::abs(corners[c]));
-        return double(nearest) >= 3.0 * domain.finestCellSize();
+        return finestParent(level) && atLeastCells(std::min(nearestOf(corners, 8), std::abs(centre)), 3.0);
+    }
+    bool finestParent(int level) const { return level + 1 == domain.maxLevel; }
+    bool atLeastCells(float distance, double cells) const { return double(distance) >= cells * domain.finestCellSize(); }
+    /// Smallest |v[i]|: the sample nearest the surface.
+    static float nearestOf(const float* v, int n) {
+        float nearest = std::abs(v[0]);
+        for (int i = 1; i < n; ++i) nearest = std::min(nearest, std::abs(v[i]));
+        return nearest;
     }
 
     /// Largest |computed - reconstructed| over the 19 centre, face and edge points. The

@@ -282,13 +282,7 @@ TEST(Generate, FinestCellsStayWithinACellOfTheSurface) {
                 const glm::uvec3 o = halfGrid(g);
                 const double exact = at(leaf.latticeOrigin + o);
                 nearest = std::min(nearest, std::abs(exact));
-                double recon = 0.0;  // trilinear at the half-grid point: weights 1 or 1/2 per axis
-                for (int c = 0; c < 8; ++c) {
-                    const glm::uvec3 k(c & 1, (c >> 1) & 1, c >> 2);
-                    double w = 1.0;
-                    for (int a = 0; a < 3; ++a) w *= o[a] == 1 ? 0.5 : (o[a] == 2 * k[a] ? 1.0 : 0.0);
-                    recon += w * double(leaf.corners[c]);
-                }
+                const double recon = trilinear(leaf.corners, glm::vec3(o) * 0.5f).distance;
                 err = std::max(err, std::abs(recon - exact));
             }
             if (err > bound(nearest)) {  // the 19-point test failed it: graded, so far from the surface
