@@ -200,15 +200,22 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B",
                 "16-bit corners, one scale per tile; narrow bricks and leaves 8-bit steps");
         const std::size_t loneLeaves = st.cells - 8 * st.bricks;
-        out.add("adf.narrow_leaf_fraction" + L, loneLeaves ? double(st.narrowLeaves) / double(loneLeaves) : 0.0, "",
-                "lone leaves stored narrow (9 bytes instead of 16)");
+        out.add("adf.narrow_leaf_fraction" + L,
+                loneLeaves ? double(st.narrowLeaves + st.narrowGroupedLeaves) / double(loneLeaves) : 0.0, "",
+                "lone leaves stored with 8-bit steps (on their own, 9 bytes instead of 16, or in a packed group)");
+        out.add("adf.grouped_leaf_fraction" + L, loneLeaves ? double(st.groupedLeaves) / double(loneLeaves) : 0.0, "",
+                "lone leaves stored in leaf groups (one half grid for a cell's lone-leaf children)");
         out.add("adf.coarse_brick_fraction" + L, st.bricks ? double(st.coarseBricks) / double(st.bricks) : 0.0, "",
                 "bricks stored coarse-narrow (29 bytes in leaf steps instead of 54)");
-        // float32 would add 2 bytes per value: 8 per wide lone leaf, 27 per wide brick; a narrow
-        // leaf (9 bytes) would take 32, a narrow or coarse-narrow brick (29 bytes) 108.
-        const std::size_t packedBricks = st.narrowBricks + st.coarseBricks;
-        const double floatBytes = double(st.bytes() + 16 * (loneLeaves - st.narrowLeaves) + 23 * st.narrowLeaves +
-                                         54 * (st.bricks - packedBricks) + 79 * packedBricks);
+        // float32 corners: 32 bytes per lone leaf, 108 per brick, in place of what is stored.
+        std::size_t valueBytes = 0;
+        adf->forEachTile([&](const Tile& t) {
+            const Tile::Counts n = t.counts();
+            valueBytes += Tile::kNarrowLeafBytes * n.narrowLeaves + Tile::kWideLeafBytes * n.wideLeaves +
+                          Tile::kPackedBrickBytes * (n.narrowBricks + n.coarseBricks + n.narrowGroups) +
+                          Tile::kWideBrickBytes * (n.wideBricks + n.wideGroups);
+        });
+        const double floatBytes = double(st.bytes() - valueBytes + 32 * loneLeaves + 108 * st.bricks);
         out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
         out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
         float maxStep = 0.0f;

@@ -8,6 +8,7 @@
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <cassert>
 #include <stdexcept>
 #include <unordered_set>
@@ -133,13 +134,18 @@ Adf::Stats Adf::computeStats() const {
         s.narrowBricks += t.narrowBrickCount();
         s.coarseBricks += t.coarseBrickCount();
         s.narrowLeaves += t.narrowLeafCount();
+        s.groupedLeaves += t.groupedLeafCount();
+        for (uint32_t i = 0; i < t.nodeCount(); ++i) {
+            const uint32_t w = t.node(i);
+            s.narrowGroupedLeaves += node::isLeaf(w) && node::leafIndex(w) < 8 * t.narrowGroupCount();
+        }
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();
     });
     s.tableBytes = mRoot.size() * (sizeof(uintptr_t) + sizeof(ChunkPtr) + sizeof(TilePtr));
     std::unordered_set<const void*> chunks;
     for (const auto& c : mChunkOwners)
-        if (c && chunks.insert(c.get()).second) s.tableBytes += sizeof(Chunk);
+        if (c && chunks.insert(c.get()).second) s.tableBytes += sizeof(Chunk) + c->owners.capacity() * sizeof(TilePtr);
     if (mColours) {
         s.paintedPoints = mColours->pointCount();
         s.colourBytes = mColours->bytes();
@@ -209,7 +215,7 @@ void AdfBuilder::setTile(TilePtr tile) {
         if (e & 1u) {
             const TilePtr& owner = a.mRootTileOwners[ri];
             fresh->tiles.fill(owner.get());
-            fresh->owners.fill(owner);
+            fresh->owners.assign(1, owner);
         } else if (e != 0) {
             *fresh = *reinterpret_cast<const Chunk*>(e);
         }
@@ -225,8 +231,8 @@ void AdfBuilder::setTile(TilePtr tile) {
             for (uint32_t x = c0.x; x < c0.x + slots; ++x) {
                 const std::size_t i = (std::size_t(z) * cd + y) * cd + x;
                 chunk->tiles[i] = tile.get();
-                chunk->owners[i] = tile;
             }
+    chunk->owners.push_back(std::move(tile));  // duplicates and replaced tiles go in build()
 }
 
 void AdfBuilder::setColours(std::shared_ptr<const ColourLayer> colours) {
@@ -251,6 +257,18 @@ AdfPtr AdfBuilder::build(uint64_t version) {
         const auto& tiles = reinterpret_cast<const Chunk*>(a.mRoot[i])->tiles;
         for (std::size_t j = 0; j < std::size_t(a.mChunkDim) * a.mChunkDim * a.mChunkDim; ++j)
             if (!tiles[j]) throw std::logic_error("ADF builder: a tile slot was never assigned");
+    }
+    // Chunks written to keep one owner per tile they still show.
+    for (const auto& chunk : mOwnChunks) {
+        if (!chunk) continue;
+        std::vector<const Tile*> shown(chunk->tiles.begin(), chunk->tiles.end());
+        std::sort(shown.begin(), shown.end());
+        shown.erase(std::unique(shown.begin(), shown.end()), shown.end());
+        auto& owners = chunk->owners;
+        std::sort(owners.begin(), owners.end(), [](const TilePtr& x, const TilePtr& y) { return x.get() < y.get(); });
+        owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
+        std::erase_if(owners, [&](const TilePtr& t) { return !std::binary_search(shown.begin(), shown.end(), t.get()); });
+        owners.shrink_to_fit();
     }
     a.mVersion = version;
     mOwnChunks.clear();

@@ -79,7 +79,9 @@ struct LeafRef {
 /// A block of up to 8^3 tile slots. Immutable once published.
 struct Chunk {
     std::array<const Tile*, 512> tiles{};  ///< what readers use
-    std::array<TilePtr, 512> owners{};     ///< keeps them alive (writer side only)
+    /// Keeps them alive (writer side only): each distinct tile once, in pointer order (a chunk
+    /// holds about 60 distinct tiles on a sculpted slab; one owner per slot cost 8 KB a chunk).
+    std::vector<TilePtr> owners;
 };
 using ChunkPtr = std::shared_ptr<const Chunk>;
 
@@ -139,7 +141,9 @@ public:
         std::size_t bricks = 0;       ///< bricks (each holds 8 of the leaf cells)
         std::size_t narrowBricks = 0; ///< of them stored narrow (8-bit brick steps, tile.h)
         std::size_t coarseBricks = 0; ///< of them stored coarse-narrow (8-bit leaf steps, tile.h)
-        std::size_t narrowLeaves = 0; ///< lone leaves stored narrow (8-bit steps, tile.h)
+        std::size_t narrowLeaves = 0; ///< lone leaves stored narrow on their own (8-bit steps, tile.h)
+        std::size_t groupedLeaves = 0;  ///< lone leaves stored in leaf groups (tile.h)
+        std::size_t narrowGroupedLeaves = 0;  ///< of them in packed groups (8-bit leaf steps)
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks
         std::size_t tableBytes = 0;   ///< root array and chunks

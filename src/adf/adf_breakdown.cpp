@@ -50,12 +50,19 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         const std::size_t total = t.bytes();
         const std::size_t nodeBytes = (t.nodeBytes() + 7) / 8 * 8;  // 8-aligned, as tile.cpp lays them out
         b.nodeBytes += nodeBytes;
-        const std::size_t leafBytes = std::size_t(t.narrowLeafCount()) * Tile::kNarrowLeafBytes +
-                                       std::size_t(t.leafCount() - t.narrowLeafCount()) * Tile::kWideLeafBytes;
+        const Tile::Counts n = t.counts();
+        const std::size_t ownNarrowBytes = std::size_t(n.narrowLeaves) * Tile::kNarrowLeafBytes;
+        const std::size_t groupBytes = std::size_t(n.narrowGroups) * Tile::kPackedBrickBytes +
+                                       std::size_t(n.wideGroups) * Tile::kWideBrickBytes;
+        const std::size_t leafBytes = ownNarrowBytes + std::size_t(n.wideLeaves) * Tile::kWideLeafBytes + groupBytes;
         b.cornerBytes += leafBytes;
-        b.narrowLeafBytes += std::size_t(t.narrowLeafCount()) * Tile::kNarrowLeafBytes;
-        b.narrowLeaves += t.narrowLeafCount();
-        b.wideLeaves += t.leafCount() - t.narrowLeafCount();
+        b.narrowLeafBytes += ownNarrowBytes;
+        b.groupBytes += groupBytes;
+        b.narrowLeaves += n.narrowLeaves;
+        b.wideLeaves += n.wideLeaves;
+        b.groups += n.narrowGroups + n.wideGroups;
+        b.narrowGroups += n.narrowGroups;
+        b.groupedLeaves += n.groupedLeaves;
         const std::size_t brickBytes = std::size_t(t.packedBrickCount()) * Tile::kPackedBrickBytes +
                                        std::size_t(t.brickCount() - t.packedBrickCount()) * Tile::kWideBrickBytes;
         b.brickBytes += brickBytes;
@@ -81,7 +88,8 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
             }
             if (node::isLeaf(w)) {
                 ++L.loneLeaves;
-                if (node::leafIndex(w) < t.narrowLeafCount()) ++L.narrowLoneLeaves;
+                if (t.packedLeaf(node::leafIndex(w))) ++L.narrowLoneLeaves;
+                if (node::leafIndex(w) < 8 * t.groupCount()) ++L.groupedLeaves;
                 float m = INFINITY;
                 for (int c = 0; c < 8; ++c) m = std::min(m, std::abs(t.corner(node::leafIndex(w), c)));
                 ++L.cellsByType[int(node::leafType(w))];
@@ -117,20 +125,21 @@ std::string formatBreakdown(const AdfBreakdown& b, int maxLevel) {
     auto mb = [](std::size_t n) { return double(n) / 1e6; };
     std::snprintf(line, sizeof line,
                   "  bytes       %.2f MB: headers %.2f (%zu tiles, %zu coarse), node words %.2f, lone-leaf corners %.2f "
-                  "(%zu narrow %.2f, %zu wide %.2f), brick values %.2f (%zu narrow %.2f, %zu coarse-narrow %.2f, %zu wide "
+                  "(%zu narrow %.2f, %zu wide %.2f, %zu groups of %zu leaves %.2f, %zu of them packed), brick values %.2f (%zu narrow %.2f, %zu coarse-narrow %.2f, %zu wide "
                   "%.2f), table %.2f\n",
                   mb(b.totalBytes()), mb(b.headerBytes), b.tiles, b.coarseTiles, mb(b.nodeBytes), mb(b.cornerBytes),
-                  b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes),
+                  b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes - b.groupBytes),
+                  b.groups, b.groupedLeaves, mb(b.groupBytes), b.narrowGroups,
                   mb(b.brickBytes), b.narrowBricks, mb(Tile::kPackedBrickBytes * b.narrowBricks), b.coarseBricks, mb(Tile::kPackedBrickBytes * b.coarseBricks),
                   b.wideBricks, mb(Tile::kWideBrickBytes * b.wideBricks), mb(b.tableBytes));
     out += line;
-    out += "  level  lone-leaves (narrow)  brick-cells  bricks narrow/coarse/wide  internal   ext/int/boundary cells          "
+    out += "  level  lone-leaves (packed) [grouped]  brick-cells  bricks narrow/coarse/wide  internal   ext/int/boundary cells          "
            "cells by min|corner| (finest cells) <1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
     for (int l = 0; l <= maxLevel; ++l) {
         const AdfBreakdown::Level& L = b.levels[std::size_t(l)];
         if (L.loneLeaves + L.brickCells + L.internalNodes == 0) continue;
-        std::snprintf(line, sizeof line, "  %5d %12zu %9zu %12zu %9zu %7zu %7zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves,
-                      L.narrowLoneLeaves, L.brickCells, L.narrowBricks, L.coarseBricks,
+        std::snprintf(line, sizeof line, "  %5d %12zu %9zu [%7zu] %12zu %9zu %7zu %7zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves,
+                      L.narrowLoneLeaves, L.groupedLeaves, L.brickCells, L.narrowBricks, L.coarseBricks,
                       L.brickCells / 8 - L.narrowBricks - L.coarseBricks, L.internalNodes, L.cellsByType[0],
                       L.cellsByType[1], L.cellsByType[2]);
         out += line;

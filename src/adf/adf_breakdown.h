@@ -23,7 +23,8 @@ struct AdfBreakdown {
     static constexpr std::array<const char*, kDistanceBins> kBinNames{"<1", "1-2", "2-4", "4-8", "8-16", ">=16"};
     struct Level {
         std::size_t loneLeaves = 0;     ///< leaves with their own 8 corners
-        std::size_t narrowLoneLeaves = 0;  ///< of them stored narrow (tile.h)
+        std::size_t narrowLoneLeaves = 0;  ///< of them stored packed: narrow or in a packed group (tile.h)
+        std::size_t groupedLeaves = 0;     ///< of them stored in leaf groups
         std::size_t brickCells = 0;     ///< leaves stored as brick children (8 per brick)
         std::size_t narrowBricks = 0;   ///< bricks whose children are at this level, stored narrow
         std::size_t coarseBricks = 0;   ///< of them, coarse-narrow (the rest, brickCells / 8 less both, wide)
@@ -37,8 +38,10 @@ struct AdfBreakdown {
     std::size_t headerBytes = 0;      ///< Tile headers
     std::size_t nodeBytes = 0;        ///< node words (with alignment)
     std::size_t cornerBytes = 0;      ///< lone leaves' corner values (narrow and wide)
-    std::size_t narrowLeafBytes = 0;  ///< of them, narrow leaves' (9 each: corner 0, 7 steps)
-    std::size_t narrowLeaves = 0, wideLeaves = 0;
+    std::size_t narrowLeafBytes = 0;  ///< of them, narrow own leaves' (9 each: corner 0, 7 steps)
+    std::size_t groupBytes = 0;       ///< of them, leaf groups' (29 packed, 54 wide)
+    std::size_t narrowLeaves = 0, wideLeaves = 0;  ///< own lone leaves (not in groups)
+    std::size_t groups = 0, narrowGroups = 0, groupedLeaves = 0;  ///< leaf groups, packed ones, the leaves in them
     std::size_t brickBytes = 0;       ///< brick values (and packed bricks' centres, header padding aside)
     std::size_t narrowBricks = 0, coarseBricks = 0, wideBricks = 0;  ///< 29, 29 and 54 bytes each
     std::size_t tableBytes = 0;       ///< root array and chunks

@@ -87,8 +87,9 @@ bool validTree(const Tile& t, int maxDepth, std::string& why) {
         for (uint32_t c = 0; c < 8; ++c) stack.push_back({w + c, it.depth + 1});
     }
     if (visited != t.nodeCount()) return why = "unreachable nodes", false;
-    for (uint8_t used : seenLeaf)
-        if (!used) return why = "unused leaf values", false;
+    // Slots of a leaf group whose child is not a lone leaf hold no values of their own.
+    for (std::size_t l = 8 * std::size_t(t.groupCount()); l < seenLeaf.size(); ++l)
+        if (!seenLeaf[l]) return why = "unused leaf values", false;
     for (uint8_t used : seenBrick)
         if (!used) return why = "unused brick values", false;
     return true;
@@ -197,15 +198,27 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.put(t.latticeOrigin().y);
         w.put(t.latticeOrigin().z);
         w.put(t.scale());
+        // Node words as 32 bits, leaves and bricks as 16-bit values (packed ones decoded), each
+        // lone leaf with its own 8 corners: the format predates the packed forms and leaf
+        // groups, and loading packs and groups them again to the same bits. Leaves are
+        // numbered densely in the tile's order (a group's unused slots are skipped).
+        std::vector<uint32_t> words = t.nodeWords();
+        constexpr uint32_t kUnused = ~0u;
+        std::vector<uint32_t> dense(t.leafCount(), kUnused);
+        for (uint32_t word : words)
+            if (node::isLeaf(word)) dense[node::leafIndex(word)] = 0;
+        uint32_t leaves = 0;
+        for (uint32_t& number : dense)
+            if (number != kUnused) number = leaves++;
+        for (uint32_t& word : words)
+            if (node::isLeaf(word)) word = node::makeLeaf(dense[node::leafIndex(word)], node::leafType(word));
         w.put(t.nodeCount());
-        w.put(t.leafCount());
+        w.put(leaves);
         w.put(t.brickCount());
-        // Node words as 32 bits, leaves and bricks as 16-bit values (narrow ones decoded): the
-        // format predates the narrow forms, and loading packs them again to the same bits.
-        const std::vector<uint32_t> words = t.nodeWords();
         w.putRaw(words.data(), words.size() * 4);
-        std::vector<int16_t> corners(std::size_t(t.leafCount()) * 8);
-        for (uint32_t l = 0; l < t.leafCount(); ++l) t.leafValues(l, corners.data() + 8 * std::size_t(l));
+        std::vector<int16_t> corners(std::size_t(leaves) * 8);
+        for (uint32_t l = 0; l < t.leafCount(); ++l)
+            if (dense[l] != kUnused) t.leafValues(l, corners.data() + 8 * std::size_t(dense[l]));
         w.putRaw(corners.data(), corners.size() * 2);
         std::vector<int16_t> bricks(std::size_t(t.brickCount()) * 27);
         for (uint32_t b = 0; b < t.brickCount(); ++b)

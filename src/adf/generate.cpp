@@ -577,8 +577,8 @@ private:
         const glm::dvec3 centre = mDomain.originWorld + (glm::dvec3(mBase + o) + 0.5 * double(s)) * mDomain.finestCellSize();
         DistanceSource::Range range = mSource.unchangedRange(centre, size * kHalfDiagonal);
         // The old tile's values are rounded (16-bit steps, narrow-brick steps, and leaf steps for
-        // narrow leaves and coarse-narrow bricks): stay clear of the range's ends by that much
-        // (a leaf step is the largest).
+        // narrow leaves, leaf groups and coarse-narrow bricks): stay clear of the range's ends
+        // by that much (a leaf step is the largest).
         const double rounding = double(mOld->scale()) * double(std::max(1, mOld->leafStep()) + 1);
         range.lo += rounding;
         range.hi -= rounding;
@@ -599,7 +599,12 @@ private:
             }
             return true;
         };
-        auto leafValues = [&](uint32_t leaf) { return [this, leaf](int c) { return mOld->leafValue(leaf, c); }; };
+        // A leaf's 8 corners decoded at once (one branch on its form: own or grouped, packed or not).
+        auto leafValues = [&](uint32_t leaf) {
+            std::array<int16_t, 8> q;
+            mOld->leafValues(leaf, q.data());
+            return [q](int c) { return q[std::size_t(c)]; };
+        };
         const OldCell cell = findOld(o, level);
         if (cell.brickChild >= 0) {
             const uint32_t brick = node::brickIndex(cell.word);

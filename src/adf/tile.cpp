@@ -44,50 +44,75 @@ uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
 }  // namespace
 
 namespace {
-/// 16-bit arrays first (wide leaves' corners, narrow leaves' corner 0, narrow bricks' centres),
-/// then the signed bytes (7 per narrow leaf, 27 per narrow or coarse-narrow brick), then wide
-/// bricks, 2-aligned. `packedCount`: narrow and coarse-narrow bricks (one layout).
+/// Node words (8-aligned), then the 16-bit arrays (wide own leaves' corners, narrow own
+/// leaves' corner 0, packed bricks' and narrow groups' centres), then the signed bytes (7 per
+/// narrow own leaf, 27 per packed brick or narrow group), then wide bricks and wide groups,
+/// 2-aligned.
 struct Layout {
-    std::size_t wideLeaves, leafBases, brickBases, leafDeltas, brickDeltas, wide, total;
+    std::size_t nodes, wideLeaves, leafBases, brickBases, groupBases, leafDeltas, brickDeltas, groupDeltas, wideBricks,
+        wideGroups, total;
 };
-Layout layoutOf(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount,
-                uint32_t packedCount, uint32_t wideCount) {
+Layout layoutOf(const Tile::Counts& n) {
     Layout l;
-    l.wideLeaves = kHeaderBytes + alignUp(std::size_t(nodeCount) * (narrowNodes ? 2 : 4), 8);
-    l.leafBases = l.wideLeaves + std::size_t(wideLeafCount) * Tile::kWideLeafBytes;
-    l.brickBases = l.leafBases + std::size_t(narrowLeafCount) * 2;
-    l.leafDeltas = l.brickBases + std::size_t(packedCount) * 2;
-    l.brickDeltas = l.leafDeltas + std::size_t(narrowLeafCount) * 7;
-    l.wide = alignUp(l.brickDeltas + std::size_t(packedCount) * 27, 2);
-    l.total = l.wide + std::size_t(wideCount) * Tile::kWideBrickBytes;
+    l.nodes = kHeaderBytes;
+    l.wideLeaves = l.nodes + alignUp(std::size_t(n.nodes) * (n.narrowNodes ? 2 : 4), 8);
+    l.leafBases = l.wideLeaves + std::size_t(n.wideLeaves) * Tile::kWideLeafBytes;
+    l.brickBases = l.leafBases + std::size_t(n.narrowLeaves) * 2;
+    const std::size_t packedBricks = std::size_t(n.narrowBricks) + n.coarseBricks;
+    const std::size_t packedGroups = n.narrowGroups;
+    l.groupBases = l.brickBases + packedBricks * 2;
+    l.leafDeltas = l.groupBases + packedGroups * 2;
+    l.brickDeltas = l.leafDeltas + std::size_t(n.narrowLeaves) * 7;
+    l.groupDeltas = l.brickDeltas + packedBricks * 27;
+    l.wideBricks = alignUp(l.groupDeltas + packedGroups * 27, 2);
+    l.wideGroups = l.wideBricks + std::size_t(n.wideBricks) * Tile::kWideBrickBytes;
+    l.total = l.wideGroups + std::size_t(n.wideGroups) * Tile::kWideBrickBytes;
     return l;
 }
 }  // namespace
 
-Tile* Tile::allocate(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount,
-                     uint32_t narrowCount, uint32_t coarseCount, uint32_t wideCount) {
-    const Layout l = layoutOf(nodeCount, narrowNodes, narrowLeafCount, wideLeafCount, narrowCount + coarseCount, wideCount);
+Tile* Tile::allocate(const Counts& n) {
+    const Layout l = layoutOf(n);
+    if (l.total > UINT32_MAX) throw std::bad_alloc();  // offsets are 32-bit
     void* mem = ::operator new(l.total);
+    std::memset(static_cast<unsigned char*>(mem) + kHeaderBytes, 0, l.total - kHeaderBytes);  // padding too: checksummed
     Tile* t = new (mem) Tile();
-    auto* base = static_cast<unsigned char*>(mem);
-    t->mNarrowNodes = narrowNodes;
-    if (narrowNodes)
-        t->mNarrowNodeWords = reinterpret_cast<const uint16_t*>(base + kHeaderBytes);
-    else
-        t->mNodes = reinterpret_cast<const uint32_t*>(base + kHeaderBytes);
-    t->mWideLeaves = reinterpret_cast<const int16_t*>(base + l.wideLeaves);
-    t->mLeafBases = reinterpret_cast<const int16_t*>(base + l.leafBases);
-    t->mLeafDeltas = reinterpret_cast<const int8_t*>(base + l.leafDeltas);
-    t->mBrickBases = reinterpret_cast<const int16_t*>(base + l.brickBases);
-    t->mBrickDeltas = reinterpret_cast<const int8_t*>(base + l.brickDeltas);
-    t->mWideBricks = reinterpret_cast<const int16_t*>(base + l.wide);
-    t->mNodeCount = nodeCount;
-    t->mLeafCount = narrowLeafCount + wideLeafCount;
-    t->mNarrowLeafCount = narrowLeafCount;
-    t->mBrickCount = narrowCount + coarseCount + wideCount;
-    t->mNarrowCount = narrowCount;
-    t->mPackedCount = narrowCount + coarseCount;
+    t->mNarrowNodes = n.narrowNodes;
+    t->mNodesAt = uint32_t(l.nodes);
+    t->mWideLeavesAt = uint32_t(l.wideLeaves);
+    t->mLeafBasesAt = uint32_t(l.leafBases);
+    t->mLeafDeltasAt = uint32_t(l.leafDeltas);
+    t->mBrickBasesAt = uint32_t(l.brickBases);
+    t->mBrickDeltasAt = uint32_t(l.brickDeltas);
+    t->mWideBricksAt = uint32_t(l.wideBricks);
+    t->mGroupBasesAt = uint32_t(l.groupBases);
+    t->mGroupDeltasAt = uint32_t(l.groupDeltas);
+    t->mWideGroupsAt = uint32_t(l.wideGroups);
+    t->mNodeCount = n.nodes;
+    t->mGroupCount = n.narrowGroups + n.wideGroups;
+    t->mNarrowGroupCount = n.narrowGroups;
+    t->mGroupedLeafCount = n.groupedLeaves;
+    t->mLeafCount = 8 * t->mGroupCount + n.narrowLeaves + n.wideLeaves;
+    t->mNarrowLeafCount = n.narrowLeaves;
+    t->mBrickCount = n.narrowBricks + n.coarseBricks + n.wideBricks;
+    t->mNarrowCount = n.narrowBricks;
+    t->mPackedCount = n.narrowBricks + n.coarseBricks;
     return t;
+}
+
+Tile::Counts Tile::counts() const {
+    Counts n;
+    n.nodes = mNodeCount;
+    n.narrowNodes = mNarrowNodes;
+    n.narrowLeaves = mNarrowLeafCount;
+    n.wideLeaves = ownLeafCount() - mNarrowLeafCount;
+    n.narrowBricks = mNarrowCount;
+    n.coarseBricks = mPackedCount - mNarrowCount;
+    n.wideBricks = mBrickCount - mPackedCount;
+    n.narrowGroups = mNarrowGroupCount;
+    n.wideGroups = mGroupCount - mNarrowGroupCount;
+    n.groupedLeaves = mGroupedLeafCount;
+    return n;
 }
 
 void Tile::Deleter::operator()(const Tile* t) const {
@@ -97,11 +122,7 @@ void Tile::Deleter::operator()(const Tile* t) const {
 
 Tile::~Tile() { mMagic = 0xdeadbeefdeadbeefull; }
 
-std::size_t Tile::bytes() const {
-    return layoutOf(mNodeCount, mNarrowNodes, mNarrowLeafCount, mLeafCount - mNarrowLeafCount, mPackedCount,
-                    mBrickCount - mPackedCount)
-        .total;
-}
+std::size_t Tile::bytes() const { return layoutOf(counts()).total; }
 
 std::vector<uint32_t> Tile::nodeWords() const {
     std::vector<uint32_t> out(mNodeCount);
@@ -110,23 +131,21 @@ std::vector<uint32_t> Tile::nodeWords() const {
 }
 
 uint64_t Tile::computeChecksum() const {
+    const Counts n = counts();
+    const Layout l = layoutOf(n);
     uint64_t h = 0xcbf29ce484222325ull;
     h = fnv1a(h, &mLevel, sizeof mLevel);
     h = fnv1a(h, &mOrigin, sizeof mOrigin);
     h = fnv1a(h, &mScale, sizeof mScale);
-    h = fnv1a(h, &mNarrowNodes, sizeof mNarrowNodes);
-    h = fnv1a(h, mNarrowNodes ? static_cast<const void*>(mNarrowNodeWords) : mNodes, nodeBytes());
     h = fnv1a(h, &mStep, sizeof mStep);
-    h = fnv1a(h, &mNarrowLeafCount, sizeof mNarrowLeafCount);
-    h = fnv1a(h, mLeafBases, std::size_t(mNarrowLeafCount) * 2);
-    h = fnv1a(h, mLeafDeltas, std::size_t(mNarrowLeafCount) * 7);
-    h = fnv1a(h, mWideLeaves, std::size_t(mLeafCount - mNarrowLeafCount) * 16);
-    h = fnv1a(h, &mNarrowCount, sizeof mNarrowCount);
-    h = fnv1a(h, &mPackedCount, sizeof mPackedCount);
-    h = fnv1a(h, mBrickBases, std::size_t(mPackedCount) * 2);
-    h = fnv1a(h, mBrickDeltas, std::size_t(mPackedCount) * 27);
-    h = fnv1a(h, mWideBricks, std::size_t(mBrickCount - mPackedCount) * 54);
-    return h;
+    h = fnv1a(h, &n.nodes, sizeof n.nodes);
+    h = fnv1a(h, &n.narrowNodes, sizeof n.narrowNodes);
+    const uint32_t items[] = {n.narrowLeaves, n.wideLeaves,   n.narrowBricks, n.coarseBricks,
+                              n.wideBricks,   n.narrowGroups, n.wideGroups,   n.groupedLeaves};
+    h = fnv1a(h, items, sizeof items);
+    // Every array, padding between them included (allocate leaves none uninitialised: build
+    // writes each byte; alignment gaps are zeroed there).
+    return fnv1a(h, at<unsigned char>(uint32_t(l.nodes)), l.total - l.nodes);
 }
 
 namespace {
@@ -167,7 +186,8 @@ inline bool narrowDelta(int32_t q, int32_t base, int32_t step, int8_t& out) {
 }
 
 /// Packs `n` values as signed-byte steps from `base` (narrowDelta each); false if one misses.
-bool packs(const int16_t* q, int n, int32_t base, int32_t step, int8_t* out) {
+/// (Inlined: every brick, group and leaf of every tile built asks.)
+[[gnu::always_inline]] inline bool packs(const int16_t* q, int n, int32_t base, int32_t step, int8_t* out) {
     for (int i = 0; i < n; ++i)
         if (!narrowDelta(q[i], base, step, out[i])) return false;
     return true;
@@ -184,6 +204,99 @@ std::vector<uint32_t> numberByForm(const std::vector<uint8_t>& form, std::array<
     std::vector<uint32_t> number(form.size());
     for (std::size_t i = 0; i < form.size(); ++i) number[i] = next[form[i]]++;
     return number;
+}
+}  // namespace
+
+namespace {
+/// The forms a half grid (brick or leaf group) can take, in their numbering order.
+enum GridForm : uint8_t { kNarrow, kCoarse, kWide };
+
+/// Packs the 27 values `q` of a half grid as steps from its centre: the brick step (bricks
+/// only: a group's children are two finest cells or more across), else the leaf step; says
+/// which form fits (kWide: neither).
+uint8_t packGrid(const int16_t* q, int32_t brickStep, bool brick, int8_t* out) {
+    if (brick && packs(q, 27, q[13], brickStep, out)) return kNarrow;
+    return packs(q, 27, q[13], 2 * brickStep, out) ? kCoarse : kWide;
+}
+
+/// The leaf groups of a tile being built (Tile::build): for every cell with at least
+/// Tile::kMinGroupLeaves lone-leaf children whose shared corners agree, one half grid holding
+/// all their corners. Points no member covers take the centre's value (every child has the
+/// centre as a corner), so decoding and building again gives the same grid.
+/// Lone-leaf children of one cell: their leaves and which child each is.
+struct Siblings {
+    std::array<uint32_t, 8> leaf;
+    std::array<uint8_t, 8> child;
+    int count = 0;
+};
+
+/// Whether the siblings' corners (`corners(m)`: member m's 8 quantised values) agree wherever
+/// two of them share a point; fills `grid` with them (half-grid order; other points untouched).
+template <class Corners>
+bool cornersAgree(const Siblings& s, const Corners& corners, std::array<int16_t, 27>& grid, std::array<bool, 27>& covered) {
+    for (int m = 0; m < s.count; ++m) {
+        const int16_t* v = corners(m);
+        for (int c = 0; c < 8; ++c) {
+            const auto p = std::size_t(brickPoint(s.child[std::size_t(m)], c));
+            if (covered[p] && grid[p] != v[c]) return false;
+            grid[p] = v[c];
+            covered[p] = true;
+        }
+    }
+    return true;
+}
+
+struct LeafGroups {
+    static constexpr uint32_t kNone = ~0u;
+    std::vector<uint32_t> of;        ///< per leaf: its group, or kNone
+    std::vector<uint8_t> child;      ///< per grouped leaf: which child of the group's cell it is
+    std::vector<Siblings> apart;     ///< cells with enough lone leaves whose shared corners disagree
+    std::vector<uint8_t> form;       ///< per group: kCoarse (leaf steps) or kWide (packGrid)
+    std::vector<int16_t> values;     ///< 27 per group, half-grid order
+    std::vector<int8_t> deltas;      ///< 27 per group, leaf steps from the centre (packed ones)
+};
+
+LeafGroups findLeafGroups(std::span<const uint32_t> nodes, std::span<const int16_t> leafCorners, int32_t brickStep) {
+    const std::size_t leafCount = leafCorners.size() / 8;
+    LeafGroups g;
+    g.of.assign(leafCount, LeafGroups::kNone);
+    g.child.assign(leafCount, 0);
+    // Leaves referenced by exactly one word (a damaged file may share one; the file check
+    // rejects it, and grouping must not hide it).
+    std::vector<uint8_t> refs(leafCount, 0);
+    for (uint32_t w : nodes)
+        if (node::isLeaf(w) && node::leafIndex(w) < leafCount) refs[node::leafIndex(w)] = uint8_t(std::min(2, refs[node::leafIndex(w)] + 1));
+    for (std::size_t i = 0; i < nodes.size(); ++i) {
+        const uint32_t first = nodes[i];
+        if (!node::isInternal(first) || first <= i || std::size_t(first) + 8 > nodes.size()) continue;
+        Siblings sib;
+        for (int c = 0; c < 8; ++c) {
+            const uint32_t w = nodes[first + uint32_t(c)];
+            if (!node::isLeaf(w)) continue;
+            const uint32_t l = node::leafIndex(w);
+            if (l >= leafCount || refs[l] != 1 || g.of[l] != LeafGroups::kNone) continue;
+            sib.leaf[std::size_t(sib.count)] = l;
+            sib.child[std::size_t(sib.count++)] = uint8_t(c);
+        }
+        if (sib.count < Tile::kMinGroupLeaves) continue;
+        std::array<int16_t, 27> grid{};
+        std::array<bool, 27> covered{};
+        if (!cornersAgree(sib, [&](int m) { return leafCorners.data() + 8 * std::size_t(sib.leaf[std::size_t(m)]); }, grid, covered)) {
+            g.apart.push_back(sib);
+            continue;
+        }
+        for (std::size_t p = 0; p < 27; ++p)
+            if (!covered[p]) grid[p] = grid[13];
+        const auto id = uint32_t(g.form.size());
+        for (int m = 0; m < sib.count; ++m) {
+            g.of[sib.leaf[std::size_t(m)]] = id;
+            g.child[sib.leaf[std::size_t(m)]] = sib.child[std::size_t(m)];
+        }
+        g.values.insert(g.values.end(), grid.begin(), grid.end());
+        g.deltas.resize(g.deltas.size() + 27);
+        g.form.push_back(packGrid(grid.data(), brickStep, false, g.deltas.data() + 27 * std::size_t(id)));
+    }
+    return g;
 }
 }  // namespace
 
@@ -248,7 +361,6 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     // and so is the one taken unless centre + 128 has the other sign (q < 0 <= centre + 128);
     // but then centre + 127 brick steps lies in [q - step, q) with q's sign, and the brick step
     // would have taken it. Below likewise. (tile_test checks this over every 16-bit value.)
-    enum : uint8_t { kNarrow, kCoarse, kWide };
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
     std::vector<uint8_t> form(brickCount);
     // A copied item's form and steps are its source's: packing its decoded values again would
@@ -259,34 +371,74 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
         int8_t* d = deltas.data() + 27 * std::size_t(b);
         if (from && copies.bricks[b] != TileCopies::kNotCopied) {
             const uint32_t i = copies.bricks[b];
-            if (i < from->mPackedCount) std::memcpy(d, from->mBrickDeltas + 27 * std::size_t(i), 27);
+            if (i < from->mPackedCount) std::memcpy(d, from->at<int8_t>(from->mBrickDeltasAt) + 27 * std::size_t(i), 27);
             form[b] = i < from->mNarrowCount ? kNarrow : i < from->mPackedCount ? kCoarse : kWide;
             continue;
         }
-        form[b] = packs(q, 27, q[13], step, d) ? kNarrow : packs(q, 27, q[13], leafStep, d) ? kCoarse : kWide;
+        form[b] = packGrid(q, step, true, d);
     }
     std::array<uint32_t, 3> brickForms;
     const std::vector<uint32_t> renumber = numberByForm(form, brickForms);
     const uint32_t narrowCount = brickForms[kNarrow], coarseCount = brickForms[kCoarse];
     const uint32_t packedCount = narrowCount + coarseCount;
 
-    // Lone leaves likewise: corner 0 exact, the others in leaf steps from it.
+    // Leaf groups: the lone-leaf children of one cell share corners, so when a cell has at
+    // least kMinGroupLeaves of them they are stored as its half grid, one centre and 27 leaf
+    // steps (or 27 x 16 bits), like a coarse-narrow (or wide) brick.
     const auto leafCount = uint32_t(leafCorners.size() / 8);
+    const LeafGroups groups = findLeafGroups(nodes, leafCorners, step);
+    std::array<uint32_t, 3> groupForms;
+    const std::vector<uint32_t> renumberGroup = numberByForm(groups.form, groupForms);
+    const auto groupCount = uint32_t(groups.form.size());
+    const uint32_t packedGroups = groupForms[kCoarse];
+
+    // Own lone leaves: corner 0 exact, the others in leaf steps from it.
     std::vector<int8_t> leafDeltas(std::size_t(leafCount) * 7);
     std::vector<uint8_t> leafForm(leafCount);
+    enum : uint8_t { kLeafNarrow, kLeafWide, kGrouped };  // own leaves numbered narrow, then wide
     for (uint32_t l = 0; l < leafCount; ++l) {
         const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
-        if (from && copies.leaves[l] != TileCopies::kNotCopied) {
-            const uint32_t i = copies.leaves[l];
-            if (i < from->mNarrowLeafCount) std::memcpy(leafDeltas.data() + 7 * std::size_t(l), from->mLeafDeltas + 7 * std::size_t(i), 7);
-            leafForm[l] = i < from->mNarrowLeafCount ? kNarrow : kWide;
+        if (groups.of[l] != LeafGroups::kNone) {
+            leafForm[l] = kGrouped;
             continue;
         }
-        leafForm[l] = packs(q + 1, 7, q[0], leafStep, leafDeltas.data() + 7 * std::size_t(l)) ? kNarrow : kWide;
+        if (from && copies.leaves[l] != TileCopies::kNotCopied && copies.leaves[l] >= 8 * from->mGroupCount) {
+            const uint32_t i = copies.leaves[l] - 8 * from->mGroupCount;
+            if (i < from->mNarrowLeafCount)
+                std::memcpy(leafDeltas.data() + 7 * std::size_t(l), from->at<int8_t>(from->mLeafDeltasAt) + 7 * std::size_t(i), 7);
+            leafForm[l] = i < from->mNarrowLeafCount ? kLeafNarrow : kLeafWide;
+            continue;
+        }
+        leafForm[l] = packs(q + 1, 7, q[0], leafStep, leafDeltas.data() + 7 * std::size_t(l)) ? kLeafNarrow : kLeafWide;
+    }
+    // Siblings left apart (their shared corners differ) must still differ once decoded, or
+    // building the tile again would group them: where their packed corners would agree (rare:
+    // each rounds from its own corner 0), they stay wide, whose values are exact.
+    for (const Siblings& sib : groups.apart) {
+        std::array<std::array<int16_t, 8>, 8> decoded;
+        for (int m = 0; m < sib.count; ++m) {
+            const uint32_t l = sib.leaf[std::size_t(m)];
+            const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
+            auto& v = decoded[std::size_t(m)];
+            v[0] = q[0];
+            for (int c = 1; c < 8; ++c)
+                v[std::size_t(c)] = leafForm[l] == kLeafNarrow
+                                        ? int16_t(q[0] + int32_t(leafDeltas[7 * std::size_t(l) + std::size_t(c - 1)]) * leafStep)
+                                        : q[c];
+        }
+        std::array<int16_t, 27> grid{};
+        std::array<bool, 27> covered{};
+        if (cornersAgree(sib, [&](int m) { return decoded[std::size_t(m)].data(); }, grid, covered))
+            for (int m = 0; m < sib.count; ++m) leafForm[sib.leaf[std::size_t(m)]] = kLeafWide;
     }
     std::array<uint32_t, 3> leafForms;
     const std::vector<uint32_t> renumberLeaf = numberByForm(leafForm, leafForms);
-    const uint32_t narrowLeafCount = leafForms[kNarrow];
+    const uint32_t narrowLeafCount = leafForms[kLeafNarrow], ownLeafCount = leafForms[kLeafNarrow] + leafForms[kLeafWide];
+    // Leaf indices: 8 per group (slot 8g + child), then the own leaves.
+    auto leafSlot = [&](uint32_t l) {
+        return groups.of[l] != LeafGroups::kNone ? 8 * renumberGroup[groups.of[l]] + groups.child[l]
+                                                : 8 * groupCount + renumberLeaf[l];
+    };
 
     // Node words with the new numbers; 16 bits each when every one fits (node::narrow).
     std::vector<uint32_t> words(nodes.size());
@@ -296,45 +448,69 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
         if (node::isBrick(w) && node::brickIndex(w) < brickCount)
             words[i] = node::makeBrick(renumber[node::brickIndex(w)]);
         else if (node::isLeaf(w) && node::leafIndex(w) < leafCount)
-            words[i] = node::makeLeaf(renumberLeaf[node::leafIndex(w)], node::leafType(w));
+            words[i] = node::makeLeaf(leafSlot(node::leafIndex(w)), node::leafType(w));
         else
             words[i] = w;
         narrowNodes = narrowNodes && node::fitsNarrow(words[i]);
     }
 
-    Tile* t = allocate(uint32_t(nodes.size()), narrowNodes, narrowLeafCount, leafCount - narrowLeafCount, narrowCount,
-                       coarseCount, brickCount - packedCount);
+    Counts n;
+    n.nodes = uint32_t(nodes.size());
+    n.narrowNodes = narrowNodes;
+    n.narrowLeaves = narrowLeafCount;
+    n.wideLeaves = ownLeafCount - narrowLeafCount;
+    n.narrowBricks = narrowCount;
+    n.coarseBricks = coarseCount;
+    n.wideBricks = brickCount - packedCount;
+    n.narrowGroups = packedGroups;
+    n.wideGroups = groupCount - packedGroups;
+    n.groupedLeaves = leafCount - ownLeafCount;
+    Tile* t = allocate(n);
     t->mStep = step;
     if (narrowNodes) {
-        auto* out = const_cast<uint16_t*>(t->mNarrowNodeWords);
+        auto* out = const_cast<uint16_t*>(t->at<uint16_t>(t->mNodesAt));
         for (std::size_t i = 0; i < words.size(); ++i) out[i] = node::narrow(words[i]);
     } else {
-        std::copy(words.begin(), words.end(), const_cast<uint32_t*>(t->mNodes));
+        std::copy(words.begin(), words.end(), const_cast<uint32_t*>(t->at<uint32_t>(t->mNodesAt)));
     }
-    auto* leafBases = const_cast<int16_t*>(t->mLeafBases);
-    auto* leafPacked = const_cast<int8_t*>(t->mLeafDeltas);
-    auto* wideLeaves = const_cast<int16_t*>(t->mWideLeaves);
+    auto* leafBases = const_cast<int16_t*>(t->at<int16_t>(t->mLeafBasesAt));
+    auto* leafPacked = const_cast<int8_t*>(t->at<int8_t>(t->mLeafDeltasAt));
+    auto* wideLeaves = const_cast<int16_t*>(t->at<int16_t>(t->mWideLeavesAt));
     for (uint32_t l = 0; l < leafCount; ++l) {
+        if (leafForm[l] == kGrouped) continue;
         const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
-        const uint32_t n = renumberLeaf[l];
-        if (leafForm[l] == kNarrow) {
-            leafBases[n] = q[0];
-            std::memcpy(leafPacked + 7 * std::size_t(n), leafDeltas.data() + 7 * std::size_t(l), 7);
+        const uint32_t i = renumberLeaf[l];
+        if (leafForm[l] == kLeafNarrow) {
+            leafBases[i] = q[0];
+            std::memcpy(leafPacked + 7 * std::size_t(i), leafDeltas.data() + 7 * std::size_t(l), 7);
         } else {
-            std::memcpy(wideLeaves + 8 * std::size_t(n - narrowLeafCount), q, 16);
+            std::memcpy(wideLeaves + 8 * std::size_t(i - narrowLeafCount), q, 16);
         }
     }
-    auto* bases = const_cast<int16_t*>(t->mBrickBases);
-    auto* packed = const_cast<int8_t*>(t->mBrickDeltas);
-    auto* wide = const_cast<int16_t*>(t->mWideBricks);
+    auto* bases = const_cast<int16_t*>(t->at<int16_t>(t->mBrickBasesAt));
+    auto* packed = const_cast<int8_t*>(t->at<int8_t>(t->mBrickDeltasAt));
+    auto* wide = const_cast<int16_t*>(t->at<int16_t>(t->mWideBricksAt));
     for (uint32_t b = 0; b < brickCount; ++b) {
         const int16_t* q = brickValues.data() + 27 * std::size_t(b);
-        const uint32_t n = renumber[b];
+        const uint32_t i = renumber[b];
         if (form[b] != kWide) {
-            bases[n] = q[13];
-            std::memcpy(packed + 27 * std::size_t(n), deltas.data() + 27 * std::size_t(b), 27);
+            bases[i] = q[13];
+            std::memcpy(packed + 27 * std::size_t(i), deltas.data() + 27 * std::size_t(b), 27);
         } else {
-            std::memcpy(wide + 27 * std::size_t(n - packedCount), q, 54);
+            std::memcpy(wide + 27 * std::size_t(i - packedCount), q, 54);
+        }
+    }
+    auto* groupBases = const_cast<int16_t*>(t->at<int16_t>(t->mGroupBasesAt));
+    auto* groupPacked = const_cast<int8_t*>(t->at<int8_t>(t->mGroupDeltasAt));
+    auto* wideGroups = const_cast<int16_t*>(t->at<int16_t>(t->mWideGroupsAt));
+    for (uint32_t g = 0; g < groupCount; ++g) {
+        const int16_t* q = groups.values.data() + 27 * std::size_t(g);
+        const uint32_t i = renumberGroup[g];
+        if (groups.form[g] != kWide) {
+            groupBases[i] = q[13];
+            std::memcpy(groupPacked + 27 * std::size_t(i), groups.deltas.data() + 27 * std::size_t(g), 27);
+        } else {
+            std::memcpy(wideGroups + 27 * std::size_t(i - packedGroups), q, 54);
         }
     }
     return finish(t, level, latticeOrigin, scale, version);

@@ -26,6 +26,15 @@
 /// bits, the other 7 as signed bytes counting leaf steps from it (9 bytes instead of 16). Other
 /// leaves stay wide (8 x 16 bits); narrow leaves come first in the leaf numbering. Both packings
 /// keep the sign of every value (inside stays inside, outside outside) and are idempotent.
+/// A cell with at least kMinGroupLeaves lone-leaf children whose shared corners agree (the
+/// same samples: what generation gives) stores them as one *leaf group*: its 27-value half
+/// grid, packed in leaf steps like a coarse-narrow brick or wide, which all its lone-leaf
+/// children read (29 bytes for up to 8 leaves instead of 9 or 16 each). Grouped leaves take
+/// indices 8g + child; a group's unused slots are never referenced. Where a cell's lone leaves
+/// disagree at a shared corner they stay on their own, and wide where their packed corners
+/// would agree (so that decoding and building again never groups them): grouping is
+/// idempotent like the packing. Files keep 8 corners per leaf (the writer decodes them).
+/// The header keeps byte offsets of the arrays, not pointers, and so stays at 128 bytes.
 /// A tile never changes after `create`; any number of threads may read it. Edits build new
 /// tiles; old ones are freed through epochs once no reader can see them (snapshot_store.h).
 #pragma once
@@ -152,41 +161,88 @@ public:
     bool narrowNodes() const { return mNarrowNodes; }
     /// Bytes of the node words as stored.
     std::size_t nodeBytes() const { return std::size_t(mNodeCount) * (mNarrowNodes ? 2 : 4); }
-    uint32_t leafCount() const { return mLeafCount; }    ///< lone leaves (not in bricks), narrow and wide
-    uint32_t narrowLeafCount() const { return mNarrowLeafCount; }  ///< leaves 0 .. this - 1 are narrow
+    /// Leaf indices: 8 per leaf group (slot 8g + child; a slot whose child is not a lone leaf is
+    /// never referenced), then narrow lone leaves, then wide ones. Every index below this decodes.
+    uint32_t leafCount() const { return mLeafCount; }
+    uint32_t groupCount() const { return mGroupCount; }              ///< leaf groups, narrow and wide
+    uint32_t narrowGroupCount() const { return mNarrowGroupCount; }  ///< groups 0 .. this - 1 are packed (leaf steps)
+    uint32_t groupedLeafCount() const { return mGroupedLeafCount; }  ///< lone leaves stored in groups
+    /// Lone leaves stored on their own (not in a group), narrow and wide.
+    uint32_t ownLeafCount() const { return mLeafCount - 8 * mGroupCount; }
+    /// Of them narrow: indices 8 groupCount() .. that + this - 1.
+    uint32_t narrowLeafCount() const { return mNarrowLeafCount; }
+    /// True when leaf `leaf`'s corners are packed (rounded to the leaf step; corner 0 or the
+    /// group's centre exact): packed groups and narrow own leaves.
+    bool packedLeaf(uint32_t leaf) const {
+        const uint32_t grouped = 8 * mGroupCount;
+        return leaf < grouped ? leaf < 8 * mNarrowGroupCount : leaf - grouped < mNarrowLeafCount;
+    }
     int32_t leafStep() const { return 2 * mStep; }       ///< quantisation steps per narrow-leaf step
     uint32_t brickCount() const { return mBrickCount; }   ///< narrow, coarse-narrow and wide
     uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow (brick step)
     /// Bricks narrowBrickCount() .. packedBrickCount() - 1 are coarse-narrow (leaf step).
     uint32_t coarseBrickCount() const { return mPackedCount - mNarrowCount; }
     uint32_t packedBrickCount() const { return mPackedCount; }  ///< narrow and coarse-narrow: 29 bytes each
-    /// Bytes of one stored item of each form (the layout in tile.cpp), for accounting.
+    /// Bytes of one stored item of each form (the layout in tile.cpp), for accounting. Groups
+    /// take a packed or a wide brick's bytes.
     static constexpr std::size_t kNarrowLeafBytes = 2 + 7, kWideLeafBytes = 8 * 2;
     static constexpr std::size_t kPackedBrickBytes = 2 + 27, kWideBrickBytes = 27 * 2;
+    /// Lone-leaf children a cell needs for them to be stored as a group (fewer cost less alone).
+    static constexpr int kMinGroupLeaves = 4;
     int32_t brickStep() const { return mStep; }           ///< quantisation steps per narrow-brick step
-    /// Leaf cells: lone leaves plus 8 per brick.
-    std::size_t cellCount() const { return mLeafCount + 8 * std::size_t(mBrickCount); }
+    /// Leaf cells: lone leaves (own and grouped) plus 8 per brick.
+    std::size_t cellCount() const {
+        return std::size_t(ownLeafCount()) + mGroupedLeafCount + 8 * std::size_t(mBrickCount);
+    }
     /// Node word `i` in the 32-bit encoding of node::, whichever width the tile stores.
-    uint32_t node(uint32_t i) const { return mNarrowNodes ? node::widen(mNarrowNodeWords[i]) : mNodes[i]; }
+    uint32_t node(uint32_t i) const {
+        return mNarrowNodes ? node::widen(at<uint16_t>(mNodesAt)[i]) : at<uint32_t>(mNodesAt)[i];
+    }
     /// Every node word in the 32-bit encoding (files, copies, tests).
     std::vector<uint32_t> nodeWords() const;
     /// Quantised corner `c` of lone leaf `leaf`.
     int16_t leafValue(uint32_t leaf, int c) const {
-        if (leaf < mNarrowLeafCount) {
-            const int32_t base = mLeafBases[leaf];
-            return c == 0 ? int16_t(base) : int16_t(base + int32_t(mLeafDeltas[7 * leaf + uint32_t(c - 1)]) * 2 * mStep);
+        const uint32_t grouped = 8 * mGroupCount;
+        if (leaf < grouped) {
+            const uint32_t g = leaf >> 3;
+            const auto p = std::size_t(brickPoint(int(leaf & 7u), c));
+            if (g < mNarrowGroupCount)
+                return int16_t(at<int16_t>(mGroupBasesAt)[g] + int32_t(at<int8_t>(mGroupDeltasAt)[27 * std::size_t(g) + p]) * 2 * mStep);
+            return at<int16_t>(mWideGroupsAt)[27 * std::size_t(g - mNarrowGroupCount) + p];
         }
-        return mWideLeaves[8 * (leaf - mNarrowLeafCount) + uint32_t(c)];
-    }
-    /// The 8 quantised corners of lone leaf `leaf` (one branch for all of them: the haptic path).
-    void leafValues(uint32_t leaf, int16_t out[8]) const {
+        leaf -= grouped;
         if (leaf < mNarrowLeafCount) {
-            const int32_t base = mLeafBases[leaf], step = 2 * mStep;
-            const int8_t* d = mLeafDeltas + 7 * std::size_t(leaf);
+            const int32_t base = at<int16_t>(mLeafBasesAt)[leaf];
+            return c == 0 ? int16_t(base)
+                          : int16_t(base + int32_t(at<int8_t>(mLeafDeltasAt)[7 * leaf + uint32_t(c - 1)]) * 2 * mStep);
+        }
+        return at<int16_t>(mWideLeavesAt)[8 * (leaf - mNarrowLeafCount) + uint32_t(c)];
+    }
+    /// The 8 quantised corners of lone leaf `leaf` (one branch on its form for all of them: the
+    /// haptic path).
+    void leafValues(uint32_t leaf, int16_t out[8]) const {
+        const uint32_t grouped = 8 * mGroupCount;
+        if (leaf < grouped) {
+            const uint32_t g = leaf >> 3;
+            const auto first = std::size_t(brickPoint(int(leaf & 7u), 0));
+            if (g < mNarrowGroupCount) {
+                const int32_t base = at<int16_t>(mGroupBasesAt)[g], step = 2 * mStep;
+                const int8_t* d = at<int8_t>(mGroupDeltasAt) + 27 * std::size_t(g) + first;
+                for (int c = 0; c < 8; ++c) out[c] = int16_t(base + int32_t(d[kChildCornerPoints[std::size_t(c)]]) * step);
+            } else {
+                const int16_t* q = at<int16_t>(mWideGroupsAt) + 27 * std::size_t(g - mNarrowGroupCount) + first;
+                for (int c = 0; c < 8; ++c) out[c] = q[kChildCornerPoints[std::size_t(c)]];
+            }
+            return;
+        }
+        leaf -= grouped;
+        if (leaf < mNarrowLeafCount) {
+            const int32_t base = at<int16_t>(mLeafBasesAt)[leaf], step = 2 * mStep;
+            const int8_t* d = at<int8_t>(mLeafDeltasAt) + 7 * std::size_t(leaf);
             out[0] = int16_t(base);
             for (int c = 1; c < 8; ++c) out[c] = int16_t(base + int32_t(d[c - 1]) * step);
         } else {
-            const int16_t* q = mWideLeaves + 8 * std::size_t(leaf - mNarrowLeafCount);
+            const int16_t* q = at<int16_t>(mWideLeavesAt) + 8 * std::size_t(leaf - mNarrowLeafCount);
             for (int c = 0; c < 8; ++c) out[c] = q[c];
         }
     }
@@ -232,6 +288,17 @@ public:
         return float(brickValue(brick, brickPoint(child, c))) * mScale;
     }
 
+    /// How many items of each stored form the tile holds (own leaves, bricks and leaf groups,
+    /// narrow and wide), which fix its layout and bytes (tile.cpp).
+    struct Counts {
+        uint32_t nodes = 0;
+        bool narrowNodes = false;
+        uint32_t narrowLeaves = 0, wideLeaves = 0;
+        uint32_t narrowBricks = 0, coarseBricks = 0, wideBricks = 0;
+        uint32_t narrowGroups = 0, wideGroups = 0, groupedLeaves = 0;  ///< narrow: packed in leaf steps
+    };
+    Counts counts() const;
+
     ~Tile();
     Tile(const Tile&) = delete;
     Tile& operator=(const Tile&) = delete;
@@ -250,16 +317,20 @@ private:
     template <std::size_t N>
     void decodeBrick(uint32_t brick, int first, const std::array<int, N>& points, int16_t* out) const {
         if (brick < mPackedCount) {
-            const int32_t base = mBrickBases[brick], step = brick < mNarrowCount ? mStep : 2 * mStep;
-            const int8_t* d = mBrickDeltas + 27 * std::size_t(brick) + first;
+            const int32_t base = at<int16_t>(mBrickBasesAt)[brick], step = brick < mNarrowCount ? mStep : 2 * mStep;
+            const int8_t* d = at<int8_t>(mBrickDeltasAt) + 27 * std::size_t(brick) + first;
             for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + int32_t(d[points[k]]) * step);
         } else {
-            const int16_t* q = mWideBricks + 27 * std::size_t(brick - mPackedCount) + first;
+            const int16_t* q = at<int16_t>(mWideBricksAt) + 27 * std::size_t(brick - mPackedCount) + first;
             for (std::size_t k = 0; k < N; ++k) out[k] = q[points[k]];
         }
     }
-    static Tile* allocate(uint32_t nodeCount, bool narrowNodes, uint32_t narrowLeafCount, uint32_t wideLeafCount, uint32_t narrowCount,
-                          uint32_t coarseCount, uint32_t wideCount);
+    /// The array at byte offset `offset` from the start of the block (arrays follow the header).
+    template <class T>
+    const T* at(uint32_t offset) const {
+        return reinterpret_cast<const T*>(reinterpret_cast<const unsigned char*>(this) + offset);
+    }
+    static Tile* allocate(const Counts& n);
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed
     /// (`copies`, whose source must share the scale: take its packing).
     static std::shared_ptr<const Tile> build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
@@ -275,16 +346,17 @@ private:
     uint64_t mMagic = 0;  ///< kAlive while valid; poisoned by the destructor
     uint64_t mVersion = 0;
     uint64_t mChecksum = 0;
-    union {
-        const uint32_t* mNodes = nullptr;    ///< 32-bit node words, unless mNarrowNodes
-        const uint16_t* mNarrowNodeWords;    ///< 16-bit node words (node::narrow), if mNarrowNodes
-    };
-    const int16_t* mWideLeaves = nullptr;   ///< 8 per wide lone leaf
-    const int16_t* mLeafBases = nullptr;    ///< corner 0 of each narrow lone leaf
-    const int8_t* mLeafDeltas = nullptr;    ///< corners 1-7 of each narrow lone leaf, leaf steps from corner 0
-    const int16_t* mBrickBases = nullptr;   ///< one per narrow and coarse-narrow brick
-    const int8_t* mBrickDeltas = nullptr;   ///< 27 per narrow and coarse-narrow brick
-    const int16_t* mWideBricks = nullptr;   ///< 27 per wide brick
+    // Byte offsets of the arrays from the start of the block (half a pointer's bytes each).
+    uint32_t mNodesAt = 0;        ///< node words, 32 or (mNarrowNodes) 16 bits
+    uint32_t mWideLeavesAt = 0;   ///< 8 x int16 per wide own leaf
+    uint32_t mLeafBasesAt = 0;    ///< int16 corner 0 of each narrow own leaf
+    uint32_t mLeafDeltasAt = 0;   ///< 7 x int8 per narrow own leaf, leaf steps from corner 0
+    uint32_t mBrickBasesAt = 0;   ///< int16 centre of each narrow and coarse-narrow brick
+    uint32_t mBrickDeltasAt = 0;  ///< 27 x int8 per narrow and coarse-narrow brick
+    uint32_t mWideBricksAt = 0;   ///< 27 x int16 per wide brick
+    uint32_t mGroupBasesAt = 0;   ///< int16 centre of each narrow leaf group
+    uint32_t mGroupDeltasAt = 0;  ///< 27 x int8 per narrow leaf group, leaf steps from the centre
+    uint32_t mWideGroupsAt = 0;   ///< 27 x int16 per wide leaf group
     glm::uvec3 mOrigin{0};
     uint32_t mNodeCount = 0;
     uint32_t mLeafCount = 0;
@@ -292,9 +364,12 @@ private:
     uint32_t mBrickCount = 0;
     uint32_t mNarrowCount = 0;
     uint32_t mPackedCount = 0;  ///< narrow and coarse-narrow bricks
+    uint32_t mGroupCount = 0;
+    uint32_t mNarrowGroupCount = 0;  ///< packed groups (leaf steps)
+    uint32_t mGroupedLeafCount = 0;
     int32_t mStep = 1;
     float mScale = 0.0f;
-    int16_t mLevel = 0;  // with the flag below, keeps the header at 128 bytes
+    int16_t mLevel = 0;  // with the flag below, keeps the header at 128 bytes (tile_test)
     bool mNarrowNodes = false;
 
 public:

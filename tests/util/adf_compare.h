@@ -49,7 +49,7 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
                                                : 1.0);
     };
     auto leafTolerance = [](const adf::Tile& t, uint32_t leaf) {
-        return 0.5 * double(t.scale()) * (leaf < t.narrowLeafCount() ? double(t.leafStep()) + 1.0 : 1.0);
+        return 0.5 * double(t.scale()) * (t.packedLeaf(leaf) ? double(t.leafStep()) + 1.0 : 1.0);
     };
     std::vector<std::pair<uint32_t, uint32_t>> stack{{a.node(0), b.node(0)}};
     while (!stack.empty()) {
@@ -110,7 +110,9 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, 
                 if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->coarseBrickCount() != tb->coarseBrickCount() ||
                     ta->brickStep() != tb->brickStep())
                     return fail("brick encoding");
-                if (ta->narrowLeafCount() != tb->narrowLeafCount()) return fail("leaf encoding");
+                if (ta->narrowLeafCount() != tb->narrowLeafCount() || ta->groupCount() != tb->groupCount() ||
+                    ta->narrowGroupCount() != tb->narrowGroupCount() || ta->groupedLeafCount() != tb->groupedLeafCount())
+                    return fail("leaf encoding");
                 for (uint32_t k = 0; k < ta->leafCount(); ++k)
                     for (int c = 0; c < 8; ++c)
                         if (ta->leafValue(k, c) != tb->leafValue(k, c)) return fail("corner distances");

@@ -41,11 +41,14 @@ TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
     EXPECT_EQ(coarseBricks, b.coarseBricks);
     EXPECT_GT(b.coarseBricks, 0u) << "a typical field has bricks of 2-cell children";
     EXPECT_EQ(b.brickBytes, 29 * (b.narrowBricks + b.coarseBricks) + 54 * b.wideBricks);
-    EXPECT_EQ(b.narrowLeaves + b.wideLeaves, leaves);
+    EXPECT_EQ(b.narrowLeaves + b.wideLeaves + b.groupedLeaves, leaves);
+    EXPECT_EQ(b.groupedLeaves, stats.groupedLeaves);
     EXPECT_EQ(b.narrowLeaves, stats.narrowLeaves);
-    EXPECT_EQ(narrowLeaves, b.narrowLeaves);
+    EXPECT_EQ(narrowLeaves, stats.narrowLeaves + stats.narrowGroupedLeaves) << "packed: narrow own leaves and packed groups";
     EXPECT_GT(b.narrowLeaves, 0u) << "a typical field has narrow lone leaves";
-    EXPECT_EQ(b.cornerBytes, 9 * b.narrowLeaves + 16 * b.wideLeaves);
+    EXPECT_GT(b.groups, 0u) << "and cells with several lone-leaf children";
+    EXPECT_EQ(b.groupBytes, 29 * b.narrowGroups + 54 * (b.groups - b.narrowGroups));
+    EXPECT_EQ(b.cornerBytes, 9 * b.narrowLeaves + 16 * b.wideLeaves + b.groupBytes);
     EXPECT_EQ(b.narrowLeafBytes, 9 * b.narrowLeaves);
     EXPECT_EQ(b.tiles, stats.tiles);
     EXPECT_EQ(b.tableBytes, stats.tableBytes);

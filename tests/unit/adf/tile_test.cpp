@@ -4,6 +4,7 @@
 /// leaf steps), narrow lone leaves (8-bit steps from corner 0) and the wide fallback.
 #include "adf/tile.h"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -62,8 +63,31 @@ std::size_t headerBytes() {
     return t->bytes() - 8 - 16;
 }
 
-TilePtr tileOfLeaves(const std::vector<float>& corners) {
-    return Tile::create(9, glm::uvec3(0), nodesOfLeaves(corners), corners, {}, 1, kCell);
+/// 8 lone leaves that share no cell (so none is grouped: Tile::kMinGroupLeaves): the root's
+/// 8 children are internal, child l holding leaf l (corners 8l .. 8l + 7) and 7 bricks of a
+/// far sphere (narrow). Leaf l's word is node ownLeafWord(l).
+struct OwnLeaves {
+    std::vector<uint32_t> nodes;
+    std::vector<float> bricks;
+};
+constexpr uint32_t ownLeafWord(uint32_t l) { return 9 + 8 * l; }
+OwnLeaves ownLeaves(const std::vector<float>& corners) {
+    OwnLeaves t;
+    t.nodes = {1};
+    for (uint32_t l = 0; l < 8; ++l) t.nodes.push_back(ownLeafWord(l));
+    for (uint32_t l = 0; l < 8; ++l) {
+        t.nodes.push_back(node::makeLeaf(l, cellTypeOf(std::span<const float, 8>(corners.data() + 8 * l, 8))));
+        for (uint32_t b = 0; b < 7; ++b) {
+            t.nodes.push_back(node::makeBrick(7 * l + b));
+            const auto v = sphereBrick(glm::dvec3(b, l, 0.0), {0.5, 0.5, 9.0}, 6.0);
+            t.bricks.insert(t.bricks.end(), v.begin(), v.end());
+        }
+    }
+    return t;
+}
+TilePtr tileOfOwnLeaves(const std::vector<float>& corners) {
+    const OwnLeaves o = ownLeaves(corners);
+    return Tile::create(9, glm::uvec3(0), o.nodes, corners, o.bricks, 1, kCell);
 }
 
 }  // namespace
@@ -137,15 +161,16 @@ TEST(Tile, LeavesOfTwoFinestCellsAreNarrowAndWithinALeafStep) {
         const auto v = sphereLeaf(glm::dvec3(l & 1, (l >> 1) & 1, l >> 2) * 2.0, 2.0, {1.3, 2.1, 9.0}, 3.7 + 0.4 * l);
         corners.insert(corners.end(), v.begin(), v.end());
     }
-    const TilePtr t = tileOfLeaves(corners);
+    const TilePtr t = tileOfOwnLeaves(corners);
     EXPECT_EQ(t->leafCount(), 8u);
+    EXPECT_EQ(t->groupCount(), 0u);
     EXPECT_EQ(t->narrowLeafCount(), 8u);
     EXPECT_EQ(t->leafStep(), 2 * t->brickStep());
     const double step = double(t->leafStep()) * double(t->scale());
     EXPECT_LT(step, 0.04 * kCell) << "a leaf step must stay far under epsilon (0.25 cells)";
     EXPECT_GE(127.0 * step, 2.0 * std::sqrt(3.0) * kCell) << "127 steps must span a 2-cell leaf's diagonal";
     for (uint32_t l = 0; l < 8; ++l) {
-        const uint32_t w = t->node(1 + l);
+        const uint32_t w = t->node(ownLeafWord(l));
         ASSERT_TRUE(node::isLeaf(w));
         float decoded[8];
         t->leafCorners(node::leafIndex(w), decoded);
@@ -163,7 +188,7 @@ TEST(Tile, LeavesOfTwoFinestCellsAreNarrowAndWithinALeafStep) {
     // 9 bytes per narrow leaf (16 wide): the same tile with every leaf too steep is wide.
     std::vector<float> steep(corners);
     for (uint32_t l = 0; l < 8; ++l) steep[8 * l + 7] += float(30.0 * kCell);
-    const TilePtr wide = tileOfLeaves(steep);
+    const TilePtr wide = tileOfOwnLeaves(steep);
     EXPECT_EQ(wide->narrowLeafCount(), 0u);
     EXPECT_EQ(wide->bytes() - t->bytes(), 8u * (16 - 9));
 }
@@ -176,12 +201,9 @@ TEST(Tile, NarrowLeafEncodingIsIdempotent) {
         if (l % 3 == 1) v[5] -= float(12.0 * kCell);  // some wide ones among them
         corners.insert(corners.end(), v.begin(), v.end());
     }
-    std::vector<uint32_t> nodes = nodesOfLeaves(corners);
-    // and one brick child in place of leaf 7, so both numberings are exercised
-    const std::vector<float> bricks = sphereBrick(glm::dvec3(2.0), {0.4, 0.9, 1.1}, 0.7);
-    nodes[8] = node::makeBrick(0);
-    corners.resize(7 * 8);
-    const TilePtr t = Tile::create(9, glm::uvec3(0), nodes, corners, bricks, 1, kCell);
+    // (the bricks beside them exercise both numberings)
+    const OwnLeaves o = ownLeaves(corners);
+    const TilePtr t = Tile::create(9, glm::uvec3(0), o.nodes, corners, o.bricks, 1, kCell);
     EXPECT_GT(t->narrowLeafCount(), 0u);
     EXPECT_LT(t->narrowLeafCount(), t->leafCount());
     std::vector<int16_t> leafValues(std::size_t(t->leafCount()) * 8), brickValues;
@@ -212,10 +234,10 @@ TEST(Tile, LeavesOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
         if (l % 3 == 0) v[6] += float(20.0 * kCell);  // not 1-Lipschitz: no 8-bit leaf step reaches it
         corners.insert(corners.end(), v.begin(), v.end());
     }
-    const TilePtr t = tileOfLeaves(corners);
+    const TilePtr t = tileOfOwnLeaves(corners);
     EXPECT_EQ(t->narrowLeafCount(), 5u);
     for (uint32_t l = 0; l < 8; ++l) {
-        const uint32_t w = t->node(1 + l);
+        const uint32_t w = t->node(ownLeafWord(l));
         const uint32_t stored = node::leafIndex(w);
         EXPECT_EQ(stored >= t->narrowLeafCount(), l % 3 == 0) << "wide leaves come after the narrow ones";
         EXPECT_EQ(node::leafType(w), cellTypeOf(std::span<const float, 8>(corners.data() + 8 * l, 8)));
@@ -226,8 +248,10 @@ TEST(Tile, LeavesOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
         }
     }
     // Memory by counter: 9 bytes a narrow leaf (2 for corner 0, 7 steps), 16 a wide one.
-    const std::size_t header = headerBytes();
-    EXPECT_EQ(t->bytes(), header + 24 /* 9 16-bit node words, 8-aligned */ + 3 * 16 + 5 * 9 + 1 /* 2-alignment */);
+    std::vector<float> gentle(corners);
+    for (uint32_t l = 0; l < 8; l += 3) gentle[8 * l + 6] -= float(20.0 * kCell);
+    const auto saved = double(t->bytes() - tileOfOwnLeaves(gentle)->bytes());
+    EXPECT_NEAR(saved, 3.0 * (16 - 9), 1.0) << "up to a byte of 2-alignment before the wide bricks";
 }
 
 TEST(Tile, NarrowLeavesKeepTheSignOfEveryCorner) {
@@ -554,4 +578,199 @@ TEST(Tile, NodeWordsAreSixteenBitsWhenEveryOneFitsAndReadTheSameEitherWay) {
         const TilePtr again = Tile::create(t->level(), t->latticeOrigin(), t->nodeWords(), corners, {}, 1, kCell);
         EXPECT_EQ(again->checksum(), t->checksum());
     }
+}
+
+namespace {
+/// The corners of the 8 children (each `size` finest cells, at `origin` + child offset) of one
+/// cell, from one field: shared corners are the same float, as generation samples them.
+template <class Field>
+std::vector<float> siblingLeaves(glm::dvec3 origin, double size, const Field& field) {
+    std::vector<float> v;
+    for (int child = 0; child < 8; ++child)
+        for (int k = 0; k < 8; ++k) {
+            const glm::dvec3 p = origin + (glm::dvec3(child & 1, (child >> 1) & 1, child >> 2) +
+                                           glm::dvec3(k & 1, (k >> 1) & 1, k >> 2)) * size;
+            v.push_back(float(field(p) * kCell));
+        }
+    return v;
+}
+double sphereCells(glm::dvec3 p, glm::dvec3 c, double r) { return glm::length(p - c) - r; }
+
+/// What the .kza writer does: leaves numbered densely in the tile's order, a group's unused
+/// slots skipped, then built again from the 16-bit values.
+TilePtr rebuiltDense(const Tile& t) {
+    std::vector<uint32_t> words = t.nodeWords(), dense(t.leafCount(), ~0u);
+    for (uint32_t w : words)
+        if (node::isLeaf(w)) dense[node::leafIndex(w)] = 0;
+    uint32_t n = 0;
+    for (uint32_t& d : dense)
+        if (d != ~0u) d = n++;
+    std::vector<int16_t> leaves(std::size_t(n) * 8), bricks;
+    for (uint32_t l = 0; l < t.leafCount(); ++l)
+        if (dense[l] != ~0u) t.leafValues(l, leaves.data() + 8 * std::size_t(dense[l]));
+    for (uint32_t& w : words)
+        if (node::isLeaf(w)) w = node::makeLeaf(dense[node::leafIndex(w)], node::leafType(w));
+    for (uint32_t b = 0; b < t.brickCount(); ++b)
+        for (int g = 0; g < 27; ++g) bricks.push_back(t.brickValue(b, g));
+    return Tile::createQuantised(t.level(), t.latticeOrigin(), words, leaves, bricks, t.scale(), 1, kCell);
+}
+}  // namespace
+
+TEST(Tile, SiblingLeavesAreStoredAsOneGroupWithinALeafStep) {
+    // The 8 lone-leaf children of one cell (two finest cells each), 1-Lipschitz.
+    const auto field = [](glm::dvec3 p) { return sphereCells(p, {1.3, 2.1, 9.0}, 4.1); };
+    const std::vector<float> corners = siblingLeaves(glm::dvec3(0.0), 2.0, field);
+    const TilePtr t = Tile::create(9, glm::uvec3(0), nodesOfLeaves(corners), corners, {}, 1, kCell);
+    EXPECT_EQ(t->groupCount(), 1u);
+    EXPECT_EQ(t->narrowGroupCount(), 1u);
+    EXPECT_EQ(t->groupedLeafCount(), 8u);
+    EXPECT_EQ(t->ownLeafCount(), 0u);
+    EXPECT_EQ(t->cellCount(), 8u);
+    const double step = double(t->leafStep()) * double(t->scale());
+    for (uint32_t l = 0; l < 8; ++l) {
+        const uint32_t w = t->node(1 + l);
+        ASSERT_TRUE(node::isLeaf(w));
+        EXPECT_EQ(node::leafIndex(w), l) << "slot 8g + child";
+        EXPECT_TRUE(t->packedLeaf(node::leafIndex(w)));
+        float decoded[8];
+        t->leafCorners(node::leafIndex(w), decoded);
+        for (int c = 0; c < 8; ++c) {
+            const float exact = corners[8 * l + uint32_t(c)];
+            EXPECT_EQ(t->leafValue(node::leafIndex(w), c), int16_t(std::lround(decoded[c] / t->scale())));
+            EXPECT_LE(std::abs(double(decoded[c] - exact)), step + double(t->scale())) << "leaf " << l << " corner " << c;
+            EXPECT_EQ(decoded[c] < 0.0f, exact < 0.0f) << "inside must stay inside";
+        }
+        EXPECT_EQ(node::leafType(w), cellTypeOf(std::span<const float, 8>(decoded, 8)));
+        // A corner shared with a sibling decodes the same from both.
+        EXPECT_EQ(t->leafValue(node::leafIndex(w), 7 - int(l)), t->leafValue(0, 7)) << "the cell's centre";
+    }
+    // 29 bytes for all 8 (9 16-bit node words, 8-aligned; the centre; 27 steps; 2-alignment),
+    // where 8 narrow leaves on their own would take 72.
+    EXPECT_EQ(t->bytes(), headerBytes() + 24 + 2 + 27 + 1);
+    EXPECT_EQ(headerBytes(), 128u) << "array offsets, not pointers: the header keeps its size with groups";
+}
+
+TEST(Tile, CellsWithFewLoneLeavesKeepThemOnTheirOwn) {
+    const auto field = [](glm::dvec3 p) { return sphereCells(p, {1.3, 2.1, 9.0}, 4.1); };
+    std::vector<float> corners = siblingLeaves(glm::dvec3(0.0), 2.0, field);
+    std::vector<uint32_t> nodes = nodesOfLeaves(corners);
+    // Children 3 .. 7 become bricks: 3 lone leaves are fewer than Tile::kMinGroupLeaves.
+    std::vector<float> bricks;
+    for (uint32_t child = 3; child < 8; ++child) {
+        nodes[1 + child] = node::makeBrick(child - 3);
+        const auto v = sphereBrick(glm::dvec3(2.0 * child, 0.0, 0.0), {1.3, 2.1, 9.0}, 4.1);
+        bricks.insert(bricks.end(), v.begin(), v.end());
+    }
+    corners.resize(3 * 8);
+    static_assert(Tile::kMinGroupLeaves == 4);
+    const TilePtr t = Tile::create(9, glm::uvec3(0), nodes, corners, bricks, 1, kCell);
+    EXPECT_EQ(t->groupCount(), 0u);
+    EXPECT_EQ(t->ownLeafCount(), 3u);
+    EXPECT_EQ(t->narrowLeafCount(), 3u);
+    EXPECT_EQ(t->cellCount(), 3u + 5u * 8u);
+}
+
+TEST(Tile, LeafGroupsOfEveryFormAndSiblingsThatDisagreeAreIdempotent) {
+    // Root children: 0 a packed group, 1 a wide group (leaves 4 cells across: their cell's half
+    // grid spans more than 127 leaf steps), 2 a wide group (a field steeper than 1, the same at
+    // shared corners), 3 five lone leaves whose shared corners disagree and 3 bricks, 4-7 bricks.
+    std::vector<uint32_t> nodes{1};
+    for (uint32_t c = 0; c < 4; ++c) nodes.push_back(9 + 8 * c);
+    std::vector<float> corners, bricks;
+    auto addBrick = [&](glm::dvec3 origin) {
+        const auto v = sphereBrick(origin, {0.5, 0.5, 40.0}, 6.0);
+        bricks.insert(bricks.end(), v.begin(), v.end());
+        return node::makeBrick(uint32_t(bricks.size() / 27 - 1));
+    };
+    for (uint32_t c = 4; c < 8; ++c) nodes.push_back(addBrick(glm::dvec3(c, 0.0, 0.0)));
+    auto addLeaves = [&](const std::vector<float>& v, int count) {
+        for (int child = 0; child < 8; ++child) {
+            if (child >= count) {
+                nodes.push_back(addBrick(glm::dvec3(child, 5.0, 0.0)));
+                continue;
+            }
+            const auto l = uint32_t(corners.size() / 8);
+            corners.insert(corners.end(), v.begin() + 8 * child, v.begin() + 8 * child + 8);
+            nodes.push_back(node::makeLeaf(l, cellTypeOf(std::span<const float, 8>(corners.data() + 8 * l, 8))));
+        }
+    };
+    addLeaves(siblingLeaves(glm::dvec3(0.0), 2.0, [](glm::dvec3 p) { return sphereCells(p, {1.3, 2.1, 9.0}, 4.1); }), 8);
+    addLeaves(siblingLeaves(glm::dvec3(0.0), 4.0, [](glm::dvec3 p) { return sphereCells(p, {2.0, 3.0, 40.0}, 5.0); }), 8);
+    addLeaves(siblingLeaves(glm::dvec3(0.0), 2.0, [](glm::dvec3 p) { return 9.0 * sphereCells(p, {1.0, 2.0, 3.0}, 2.5); }), 8);
+    std::vector<float> disagree = siblingLeaves(glm::dvec3(0.0), 2.0, [](glm::dvec3 p) { return sphereCells(p, {1.3, 2.1, 9.0}, 4.1); });
+    disagree[8 * 1 + 0] += float(0.3 * kCell);  // child 1's corner 0 is child 0's corner 1
+    addLeaves(disagree, 5);
+    const TilePtr t = Tile::create(6, glm::uvec3(0), nodes, corners, bricks, 1, kCell);
+    ASSERT_EQ(t->groupCount(), 3u);
+    EXPECT_EQ(t->narrowGroupCount(), 1u) << "a packed and two wide groups";
+    EXPECT_EQ(t->groupedLeafCount(), 24u);
+    EXPECT_EQ(t->ownLeafCount(), 5u);
+    EXPECT_EQ(t->narrowLeafCount(), 5u) << "siblings that disagree, still apart once decoded, stay narrow on their own";
+    for (uint32_t l = 24; l < 29; ++l) {
+        const uint32_t slot = node::leafIndex(t->node(9 + 8 * 3 + (l - 24)));
+        EXPECT_TRUE(t->packedLeaf(slot));
+        for (int c = 0; c < 8; ++c)
+            EXPECT_NEAR(t->corner(slot, c), corners[8 * l + uint32_t(c)], float(t->leafStep() + 1) * t->scale());
+    }
+    // The wide groups: exact but for the 16-bit rounding.
+    for (uint32_t l = 8; l < 24; ++l) {
+        const uint32_t slot = node::leafIndex(t->node(9 + l));
+        EXPECT_FALSE(t->packedLeaf(slot));
+        for (int c = 0; c < 8; ++c) EXPECT_NEAR(t->corner(slot, c), corners[8 * l + uint32_t(c)], 0.5f * t->scale());
+    }
+    // Decoded, renumbered densely (the file) and built again: the same bits.
+    const TilePtr again = rebuiltDense(*t);
+    EXPECT_EQ(again->nodeWords(), t->nodeWords());
+    EXPECT_EQ(again->checksum(), t->checksum());
+    EXPECT_EQ(again->bytes(), t->bytes());
+    // Through floats at the kept scale (regeneration's copy: Tile::create): the same bits too.
+    std::vector<float> leafFloats, brickFloats;
+    std::vector<uint32_t> words = t->nodeWords(), slots;
+    for (uint32_t& w : words)
+        if (node::isLeaf(w)) {
+            slots.push_back(node::leafIndex(w));
+            w = node::makeLeaf(uint32_t(slots.size() - 1), node::leafType(w));
+        }
+    leafFloats.resize(slots.size() * 8);
+    for (std::size_t l = 0; l < slots.size(); ++l) t->leafCorners(slots[l], leafFloats.data() + 8 * l);
+    for (uint32_t b = 0; b < t->brickCount(); ++b)
+        for (int g = 0; g < 27; ++g) brickFloats.push_back(float(t->brickValue(b, g)) * t->scale());
+    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), words, leafFloats, brickFloats, 1, kCell, t->scale());
+    EXPECT_EQ(copied->nodeWords(), t->nodeWords());
+    EXPECT_EQ(copied->checksum(), t->checksum());
+}
+
+TEST(Tile, SiblingsThatWouldAgreeOnceDecodedStayWideAndApart) {
+    // Four lone-leaf children of one cell (four bricks beside them) on a grid of whole leaf
+    // steps, so each packs exactly, but for the shared centre, one quantisation step higher
+    // in child 0 alone. Packed, child 0's centre would round back and the four would agree:
+    // built again they would form a group. So they stay wide, exact and apart.
+    const float scale = float(kCell / 1000.0);  // brick step 16, leaf step 32
+    auto grid = [](int p) { return int16_t(1000 + 32 * (p % 3 + 2 * ((p / 3) % 3) + 3 * (p / 9))); };
+    std::vector<uint32_t> nodes{1};
+    std::vector<int16_t> leaves, bricks;
+    for (int child = 0; child < 8; ++child) {
+        if (child >= 4) {
+            nodes.push_back(node::makeBrick(uint32_t(child - 4)));
+            for (int g = 0; g < 27; ++g) bricks.push_back(int16_t(2000 + g));
+            continue;
+        }
+        nodes.push_back(node::makeLeaf(uint32_t(child), CellType::Exterior));
+        for (int c = 0; c < 8; ++c) leaves.push_back(int16_t(grid(brickPoint(child, c)) + (child == 0 && c == 7)));
+    }
+    const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), nodes, leaves, bricks, scale, 1, kCell);
+    ASSERT_EQ(t->leafStep(), 32);
+    EXPECT_EQ(t->groupCount(), 0u);
+    EXPECT_EQ(t->ownLeafCount(), 4u);
+    EXPECT_EQ(t->narrowLeafCount(), 0u);
+    for (uint32_t l = 0; l < 4; ++l)
+        for (int c = 0; c < 8; ++c) EXPECT_EQ(t->leafValue(node::leafIndex(t->node(1 + l)), c), leaves[8 * l + uint32_t(c)]);
+    const TilePtr again = rebuiltDense(*t);
+    EXPECT_EQ(again->groupCount(), 0u);
+    EXPECT_EQ(again->checksum(), t->checksum());
+    // Without the disagreement they are one packed group.
+    leaves[7] = grid(brickPoint(0, 7));
+    const TilePtr grouped = Tile::createQuantised(12, glm::uvec3(0), nodes, leaves, bricks, scale, 1, kCell);
+    EXPECT_EQ(grouped->groupCount(), 1u);
+    EXPECT_EQ(grouped->narrowGroupCount(), 1u);
 }
