@@ -222,7 +222,7 @@ int runAdfBench(const AdfBenchOptions& opt) {
         double maxLeafStep = 0.0;
         adf->forEachTile([&](const Tile& t) {
             if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
-            if (t.narrowLeafCount() > 0 || t.coarseBrickCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
+            if (t.narrowLeafCount() > 0 || t.narrowGroupCount() > 0 || t.coarseBrickCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
         });
         out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
                 "largest 16-bit step in any stored tile");

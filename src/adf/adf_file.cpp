@@ -50,8 +50,9 @@ private:
 };
 
 /// Checks that the node words form a tree rooted at 0 whose children always follow their
-/// parent (so walking it terminates), no deeper than `maxDepth`, with every leaf and brick
-/// used exactly once and each lone leaf's type matching the signs of its corners.
+/// parent (so walking it terminates), no deeper than `maxDepth`, with every leaf (a leaf group's
+/// slots but those of children that are no lone leaves) and brick used exactly once and each
+/// lone leaf's type matching the signs of its corners.
 bool validTree(const Tile& t, int maxDepth, std::string& why) {
     struct Item {
         uint32_t node;
@@ -298,6 +299,10 @@ AdfPtr decodeAdf(const std::string& bytes, const std::string& name) {
         r.getBytes(corners.data(), corners.size() * 2, what);
         r.getBytes(bricks.data(), bricks.size() * 2, what);
         if (!crcOk) continue;  // reported below, once the structure has been read
+        // Checked here, not after building: the built tile numbers leaves differently (leaf
+        // groups), so a file's out-of-range index could land on a group's unused slot there.
+        for (uint32_t w : nodes)
+            if (node::isLeaf(w) && node::leafIndex(w) >= leafCount) r.fail(what + ": leaf index out of range");
         TilePtr tile = Tile::createQuantised(level, origin, nodes, corners, bricks, scale, snapshotVersion, d.finestCellSize());
         std::string why;
         if (!validTree(*tile, d.maxLevel - level, why)) r.fail(what + ": " + why);

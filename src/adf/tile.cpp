@@ -219,10 +219,6 @@ uint8_t packGrid(const int16_t* q, int32_t brickStep, bool brick, int8_t* out) {
     return packs(q, 27, q[13], 2 * brickStep, out) ? kCoarse : kWide;
 }
 
-/// The leaf groups of a tile being built (Tile::build): for every cell with at least
-/// Tile::kMinGroupLeaves lone-leaf children whose shared corners agree, one half grid holding
-/// all their corners. Points no member covers take the centre's value (every child has the
-/// centre as a corner), so decoding and building again gives the same grid.
 /// Lone-leaf children of one cell: their leaves and which child each is.
 struct Siblings {
     std::array<uint32_t, 8> leaf;
@@ -246,6 +242,10 @@ bool cornersAgree(const Siblings& s, const Corners& corners, std::array<int16_t,
     return true;
 }
 
+/// The leaf groups of a tile being built (Tile::build): for every cell with at least
+/// Tile::kMinGroupLeaves lone-leaf children whose shared corners agree, one half grid holding
+/// all their corners. Points no member covers take the centre's value (every child has the
+/// centre as a corner), so decoding and building again gives the same grid.
 struct LeafGroups {
     static constexpr uint32_t kNone = ~0u;
     std::vector<uint32_t> of;        ///< per leaf: its group, or kNone
@@ -402,11 +402,13 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             leafForm[l] = kGrouped;
             continue;
         }
-        if (from && copies.leaves[l] != TileCopies::kNotCopied && copies.leaves[l] >= 8 * from->mGroupCount) {
+        // A copied narrow own leaf keeps its packing (the values alone decide it); a wide one
+        // is packed again, since it may have been wide only for siblings it no longer has.
+        if (from && copies.leaves[l] != TileCopies::kNotCopied && copies.leaves[l] >= 8 * from->mGroupCount &&
+            copies.leaves[l] - 8 * from->mGroupCount < from->mNarrowLeafCount) {
             const uint32_t i = copies.leaves[l] - 8 * from->mGroupCount;
-            if (i < from->mNarrowLeafCount)
-                std::memcpy(leafDeltas.data() + 7 * std::size_t(l), from->at<int8_t>(from->mLeafDeltasAt) + 7 * std::size_t(i), 7);
-            leafForm[l] = i < from->mNarrowLeafCount ? kLeafNarrow : kLeafWide;
+            std::memcpy(leafDeltas.data() + 7 * std::size_t(l), from->at<int8_t>(from->mLeafDeltasAt) + 7 * std::size_t(i), 7);
+            leafForm[l] = kLeafNarrow;
             continue;
         }
         leafForm[l] = packs(q + 1, 7, q[0], leafStep, leafDeltas.data() + 7 * std::size_t(l)) ? kLeafNarrow : kLeafWide;
@@ -429,7 +431,8 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
         std::array<int16_t, 27> grid{};
         std::array<bool, 27> covered{};
         if (cornersAgree(sib, [&](int m) { return decoded[std::size_t(m)].data(); }, grid, covered))
-            for (int m = 0; m < sib.count; ++m) leafForm[sib.leaf[std::size_t(m)]] = kLeafWide;
+            for (int m = 0; m < sib.count; ++m)
+                if (leafForm[sib.leaf[std::size_t(m)]] != kGrouped) leafForm[sib.leaf[std::size_t(m)]] = kLeafWide;  // (a damaged tree can group it elsewhere)
     }
     std::array<uint32_t, 3> leafForms;
     const std::vector<uint32_t> renumberLeaf = numberByForm(leafForm, leafForms);

@@ -146,8 +146,8 @@ public:
                                               std::span<const float> brickValues, uint64_t version,
                                               double finestCell, float keepScale = 0.0f, const TileCopies& copies = {});
     /// Builds a tile from already quantised data (file loading). Checksum is recomputed. Brick
-    /// and leaf words with an index out of range are left as they are (the file validation
-    /// rejects them).
+    /// and leaf words with an index out of range are left as they are (the file loader rejects
+    /// such leaf indices before building, the tree validation such bricks after).
     static std::shared_ptr<const Tile> createQuantised(int level, glm::uvec3 latticeOrigin,
                                                        std::span<const uint32_t> nodes,
                                                        std::span<const int16_t> leafCorners,

@@ -268,3 +268,38 @@ TEST(AdfFile, DamagedColourSectionsAreFileErrors) {
 }
 
 }  // namespace
+
+TEST(AdfFile, LeafIndicesPastTheFilesLeavesAreRejectedThoughGroupsHaveMoreSlots) {
+    // A built tile numbers 8 slots per leaf group, more than the file's leaves: an index past
+    // the file's leaves must not land on a group's unused slot.
+    const std::string full = encoded();
+    std::vector<const Tile*> tiles;
+    smallPart()->forEachTile([&](const Tile& t) { tiles.push_back(&t); });  // the writer's order
+    std::size_t at = kHeaderBytes, tested = 0;
+    for (const Tile* t : tiles) {
+        uint32_t nodeCount, leafCount, brickCount;
+        std::memcpy(&nodeCount, full.data() + at + 20, 4);
+        std::memcpy(&leafCount, full.data() + at + 24, 4);
+        std::memcpy(&brickCount, full.data() + at + 28, 4);
+        const std::size_t words = at + 32;
+        if (t->groupCount() > 0 && tested < 3) {
+            ASSERT_LT(leafCount, t->leafCount()) << "a group's unused slots";
+            for (uint32_t i = 0; i < nodeCount; ++i) {
+                uint32_t w;
+                std::memcpy(&w, full.data() + words + 4 * i, 4);
+                if (!node::isLeaf(w)) continue;
+                for (uint32_t index = leafCount; index < t->leafCount(); ++index) {
+                    std::string bad = full;
+                    const uint32_t moved = node::makeLeaf(index, node::leafType(w));
+                    std::memcpy(bad.data() + words + 4 * i, &moved, 4);
+                    fixChecksum(bad);
+                    EXPECT_NE(errorOf(bad).find("leaf index out of range"), std::string::npos) << index;
+                }
+                ++tested;
+                break;
+            }
+        }
+        at = words + 4 * std::size_t(nodeCount) + 16 * std::size_t(leafCount) + 54 * std::size_t(brickCount);
+    }
+    EXPECT_EQ(tested, 3u);
+}

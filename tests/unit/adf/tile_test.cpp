@@ -774,3 +774,50 @@ TEST(Tile, SiblingsThatWouldAgreeOnceDecodedStayWideAndApart) {
     EXPECT_EQ(grouped->groupCount(), 1u);
     EXPECT_EQ(grouped->narrowGroupCount(), 1u);
 }
+
+TEST(Tile, CopiedLeavesThatWereWideOnlyForTheirSiblingsArePackedAgain) {
+    // The source holds four siblings kept wide and apart (as in the test above); the new tile
+    // copies three of them into a cell where the fourth is now a brick. Left wide, the copies
+    // would differ from the same tile built fresh (or decoded and built again), which packs them.
+    const float scale = float(kCell / 1000.0);
+    auto grid = [](int p) { return int16_t(1000 + 32 * (p % 3 + 2 * ((p / 3) % 3) + 3 * (p / 9))); };
+    std::vector<uint32_t> nodes{1};
+    std::vector<int16_t> leaves, bricks;
+    for (int child = 0; child < 8; ++child) {
+        if (child >= 4) {
+            nodes.push_back(node::makeBrick(uint32_t(child - 4)));
+            for (int g = 0; g < 27; ++g) bricks.push_back(int16_t(2000 + g));
+            continue;
+        }
+        nodes.push_back(node::makeLeaf(uint32_t(child), CellType::Exterior));
+        for (int c = 0; c < 8; ++c) leaves.push_back(int16_t(grid(brickPoint(child, c)) + (child == 0 && c == 7)));
+    }
+    const TilePtr from = Tile::createQuantised(12, glm::uvec3(0), nodes, leaves, bricks, scale, 1, kCell);
+    ASSERT_EQ(from->narrowLeafCount(), 0u);
+    // New tile: children 0-2 copied leaves, 3-7 bricks.
+    std::vector<uint32_t> next{1};
+    std::vector<float> leafFloats, brickFloats;
+    std::vector<uint32_t> copiedLeaves, copiedBricks;
+    for (uint32_t child = 0; child < 8; ++child) {
+        if (child < 3) {
+            const uint32_t slot = node::leafIndex(from->node(1 + child));
+            next.push_back(node::makeLeaf(child, CellType::Exterior));
+            float c8[8];
+            from->leafCorners(slot, c8);
+            leafFloats.insert(leafFloats.end(), c8, c8 + 8);
+            copiedLeaves.push_back(slot);
+            continue;
+        }
+        next.push_back(node::makeBrick(child - 3));
+        for (int g = 0; g < 27; ++g) brickFloats.push_back(float(g == 0 ? 20000 : 3000 + 7 * g) * scale);  // (the scale fits)
+        copiedBricks.push_back(TileCopies::kNotCopied);
+    }
+    const TileCopies copies{from.get(), copiedLeaves, copiedBricks};
+    const TilePtr copied = Tile::create(12, glm::uvec3(0), next, leafFloats, brickFloats, 1, kCell, scale, copies);
+    const TilePtr fresh = Tile::create(12, glm::uvec3(0), next, leafFloats, brickFloats, 1, kCell, scale);
+    ASSERT_EQ(copied->scale(), from->scale()) << "the copies are taken as they are only at the source's scale";
+    EXPECT_EQ(fresh->narrowLeafCount(), 3u);
+    EXPECT_EQ(copied->narrowLeafCount(), 3u);
+    EXPECT_EQ(copied->checksum(), fresh->checksum());
+    EXPECT_EQ(rebuiltDense(*copied)->checksum(), copied->checksum());
+}
