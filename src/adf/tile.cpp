@@ -490,32 +490,27 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             std::memcpy(wideLeaves + 8 * std::size_t(i - narrowLeafCount), q, 16);
         }
     }
-    auto* bases = const_cast<int16_t*>(t->at<int16_t>(t->mBrickBasesAt));
-    auto* packed = const_cast<int8_t*>(t->at<int8_t>(t->mBrickDeltasAt));
-    auto* wide = const_cast<int16_t*>(t->at<int16_t>(t->mWideBricksAt));
-    for (uint32_t b = 0; b < brickCount; ++b) {
-        const int16_t* q = brickValues.data() + 27 * std::size_t(b);
-        const uint32_t i = renumber[b];
-        if (form[b] != kWide) {
-            bases[i] = q[13];
-            std::memcpy(packed + 27 * std::size_t(i), deltas.data() + 27 * std::size_t(b), 27);
-        } else {
-            std::memcpy(wide + 27 * std::size_t(i - packedCount), q, 54);
+    // Bricks and groups alike: packed ones as centre and steps, wide ones as they are.
+    auto writeGrids = [t](std::span<const int16_t> values, const std::vector<uint8_t>& forms, std::span<const int8_t> steps,
+                          const std::vector<uint32_t>& number, uint32_t packed, uint32_t basesAt, uint32_t stepsAt,
+                          uint32_t wideAt) {
+        auto* bases = const_cast<int16_t*>(t->at<int16_t>(basesAt));
+        auto* packedSteps = const_cast<int8_t*>(t->at<int8_t>(stepsAt));
+        auto* wide = const_cast<int16_t*>(t->at<int16_t>(wideAt));
+        for (std::size_t k = 0; k < forms.size(); ++k) {
+            const int16_t* q = values.data() + 27 * k;
+            const uint32_t i = number[k];
+            if (forms[k] != kWide) {
+                bases[i] = q[13];
+                std::memcpy(packedSteps + 27 * std::size_t(i), steps.data() + 27 * k, 27);
+            } else {
+                std::memcpy(wide + 27 * std::size_t(i - packed), q, 54);
+            }
         }
-    }
-    auto* groupBases = const_cast<int16_t*>(t->at<int16_t>(t->mGroupBasesAt));
-    auto* groupPacked = const_cast<int8_t*>(t->at<int8_t>(t->mGroupDeltasAt));
-    auto* wideGroups = const_cast<int16_t*>(t->at<int16_t>(t->mWideGroupsAt));
-    for (uint32_t g = 0; g < groupCount; ++g) {
-        const int16_t* q = groups.values.data() + 27 * std::size_t(g);
-        const uint32_t i = renumberGroup[g];
-        if (groups.form[g] != kWide) {
-            groupBases[i] = q[13];
-            std::memcpy(groupPacked + 27 * std::size_t(i), groups.deltas.data() + 27 * std::size_t(g), 27);
-        } else {
-            std::memcpy(wideGroups + 27 * std::size_t(i - packedGroups), q, 54);
-        }
-    }
+    };
+    writeGrids(brickValues, form, deltas, renumber, packedCount, t->mBrickBasesAt, t->mBrickDeltasAt, t->mWideBricksAt);
+    writeGrids(groups.values, groups.form, groups.deltas, renumberGroup, packedGroups, t->mGroupBasesAt,
+               t->mGroupDeltasAt, t->mWideGroupsAt);
     return finish(t, level, latticeOrigin, scale, version);
 }
 

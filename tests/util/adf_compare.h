@@ -80,6 +80,20 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
     return true;
 }
 
+/// The first slot where `differs(tile of a, tile of b)` names a difference, as a failure ("X
+/// differs at slot x,y,z"); success when there is none. Domains must match.
+template <class Differs>
+::testing::AssertionResult firstSlotWhere(const adf::Adf& a, const adf::Adf& b, const Differs& differs) {
+    if (!(a.domain() == b.domain())) return ::testing::AssertionFailure() << "domains differ";
+    const uint32_t n = a.domain().slotsPerAxis();
+    for (uint32_t z = 0; z < n; ++z)
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x)
+                if (const char* what = differs(*a.tileAtSlot({x, y, z}), *b.tileAtSlot({x, y, z})))
+                    return ::testing::AssertionFailure() << what << " differs at slot " << x << "," << y << "," << z;
+    return ::testing::AssertionSuccess();
+}
+
 /// Every slot maps to tiles with identical level, origin, scale, nodes and corners, and the
 /// paint is the same. `scaleMayDiffer`: tiles may be quantised at different scales (a rebuilt
 /// tile keeps its old one when its values fit), and then their values agree within half a
@@ -87,41 +101,42 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
 inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, bool scaleMayDiffer = false) {
     if (!(a.domain() == b.domain())) return ::testing::AssertionFailure() << "domains differ";
     if (auto paint = sameColours(a, b); !paint) return paint;
-    const uint32_t n = a.domain().slotsPerAxis();
-    for (uint32_t z = 0; z < n; ++z)
-        for (uint32_t y = 0; y < n; ++y)
-            for (uint32_t x = 0; x < n; ++x) {
-                const adf::Tile* ta = a.tileAtSlot({x, y, z});
-                const adf::Tile* tb = b.tileAtSlot({x, y, z});
-                auto fail = [&](const char* what) {
-                    return ::testing::AssertionFailure() << what << " differs at slot " << x << "," << y << "," << z;
-                };
-                if (ta->level() != tb->level()) return fail("tile level");
-                if (ta->latticeOrigin() != tb->latticeOrigin()) return fail("tile origin");
-                if (ta->nodeCount() != tb->nodeCount() || ta->leafCount() != tb->leafCount() ||
-                    ta->brickCount() != tb->brickCount())
-                    return fail("cell count");
-                if (ta->scale() != tb->scale()) {
-                    if (!scaleMayDiffer) return fail("quantisation scale");
-                    if (!sameUpToQuantisation(*ta, *tb)) return fail("tree or distances (beyond quantisation)");
-                    continue;
-                }
-                if (ta->nodeWords() != tb->nodeWords()) return fail("node words");
-                if (ta->narrowBrickCount() != tb->narrowBrickCount() || ta->coarseBrickCount() != tb->coarseBrickCount() ||
-                    ta->brickStep() != tb->brickStep())
-                    return fail("brick encoding");
-                if (ta->narrowLeafCount() != tb->narrowLeafCount() || ta->groupCount() != tb->groupCount() ||
-                    ta->narrowGroupCount() != tb->narrowGroupCount() || ta->groupedLeafCount() != tb->groupedLeafCount())
-                    return fail("leaf encoding");
-                for (uint32_t k = 0; k < ta->leafCount(); ++k)
-                    for (int c = 0; c < 8; ++c)
-                        if (ta->leafValue(k, c) != tb->leafValue(k, c)) return fail("corner distances");
-                for (uint32_t k = 0; k < ta->brickCount(); ++k)
-                    for (int g = 0; g < 27; ++g)
-                        if (ta->brickValue(k, g) != tb->brickValue(k, g)) return fail("brick distances");
-                if (ta->checksum() != tb->checksum()) return fail("tile checksum");
-            }
-    return ::testing::AssertionSuccess();
+    return firstSlotWhere(a, b, [scaleMayDiffer](const adf::Tile& ta, const adf::Tile& tb) -> const char* {
+        if (ta.level() != tb.level()) return "tile level";
+        if (ta.latticeOrigin() != tb.latticeOrigin()) return "tile origin";
+        if (ta.nodeCount() != tb.nodeCount() || ta.leafCount() != tb.leafCount() || ta.brickCount() != tb.brickCount())
+            return "cell count";
+        if (ta.scale() != tb.scale()) {
+            if (!scaleMayDiffer) return "quantisation scale";
+            return sameUpToQuantisation(ta, tb) ? nullptr : "tree or distances (beyond quantisation)";
+        }
+        if (ta.nodeWords() != tb.nodeWords()) return "node words";
+        if (ta.narrowBrickCount() != tb.narrowBrickCount() || ta.coarseBrickCount() != tb.coarseBrickCount() ||
+            ta.brickStep() != tb.brickStep())
+            return "brick encoding";
+        if (ta.narrowLeafCount() != tb.narrowLeafCount() || ta.groupCount() != tb.groupCount() ||
+            ta.narrowGroupCount() != tb.narrowGroupCount() || ta.groupedLeafCount() != tb.groupedLeafCount())
+            return "leaf encoding";
+        for (uint32_t k = 0; k < ta.leafCount(); ++k)
+            for (int c = 0; c < 8; ++c)
+                if (ta.leafValue(k, c) != tb.leafValue(k, c)) return "corner distances";
+        for (uint32_t k = 0; k < ta.brickCount(); ++k)
+            for (int g = 0; g < 27; ++g)
+                if (ta.brickValue(k, g) != tb.brickValue(k, g)) return "brick distances";
+        if (ta.checksum() != tb.checksum()) return "tile checksum";
+        return nullptr;
+    });
+}
+
+/// The same tiles, trees and cells, and values within both tiles' rounding, whatever the storage
+/// (packing, leaf groups, scale): what an edit must give against a fresh generation.
+inline ::testing::AssertionResult sameFieldUpToQuantisation(const adf::Adf& a, const adf::Adf& b) {
+    return firstSlotWhere(a, b, [](const adf::Tile& ta, const adf::Tile& tb) -> const char* {
+        if (ta.level() != tb.level() || ta.latticeOrigin() != tb.latticeOrigin() || ta.nodeCount() != tb.nodeCount() ||
+            ta.cellCount() != tb.cellCount() || !sameUpToQuantisation(ta, tb))
+            return "the field";
+        return nullptr;
+    });
 }
 
 /// Wraps a source and records every point it is asked for (thread-safe, slow: tests only).

@@ -740,24 +740,39 @@ TEST(Tile, LeafGroupsOfEveryFormAndSiblingsThatDisagreeAreIdempotent) {
     EXPECT_EQ(copied->checksum(), t->checksum());
 }
 
+namespace {
+/// Four lone-leaf children of one cell (four bricks beside them) on a grid of whole leaf steps
+/// (scale kFourSiblingsScale: brick step 16, leaf step 32), so each packs exactly, but for the
+/// shared centre, one quantisation step higher in child 0 alone.
+constexpr float kFourSiblingsScale = float(kCell / 1000.0);
+int16_t fourSiblingsGrid(int p) { return int16_t(1000 + 32 * (p % 3 + 2 * ((p / 3) % 3) + 3 * (p / 9))); }
+struct FourSiblings {
+    std::vector<uint32_t> nodes{1};
+    std::vector<int16_t> leaves, bricks;
+    FourSiblings() {
+        for (int child = 0; child < 8; ++child) {
+            if (child >= 4) {
+                nodes.push_back(node::makeBrick(uint32_t(child - 4)));
+                for (int g = 0; g < 27; ++g) bricks.push_back(int16_t(2000 + g));
+                continue;
+            }
+            nodes.push_back(node::makeLeaf(uint32_t(child), CellType::Exterior));
+            for (int c = 0; c < 8; ++c)
+                leaves.push_back(int16_t(fourSiblingsGrid(brickPoint(child, c)) + (child == 0 && c == 7)));
+        }
+    }
+};
+}  // namespace
+
 TEST(Tile, SiblingsThatWouldAgreeOnceDecodedStayWideAndApart) {
     // Four lone-leaf children of one cell (four bricks beside them) on a grid of whole leaf
     // steps, so each packs exactly, but for the shared centre, one quantisation step higher
     // in child 0 alone. Packed, child 0's centre would round back and the four would agree:
     // built again they would form a group. So they stay wide, exact and apart.
-    const float scale = float(kCell / 1000.0);  // brick step 16, leaf step 32
-    auto grid = [](int p) { return int16_t(1000 + 32 * (p % 3 + 2 * ((p / 3) % 3) + 3 * (p / 9))); };
-    std::vector<uint32_t> nodes{1};
-    std::vector<int16_t> leaves, bricks;
-    for (int child = 0; child < 8; ++child) {
-        if (child >= 4) {
-            nodes.push_back(node::makeBrick(uint32_t(child - 4)));
-            for (int g = 0; g < 27; ++g) bricks.push_back(int16_t(2000 + g));
-            continue;
-        }
-        nodes.push_back(node::makeLeaf(uint32_t(child), CellType::Exterior));
-        for (int c = 0; c < 8; ++c) leaves.push_back(int16_t(grid(brickPoint(child, c)) + (child == 0 && c == 7)));
-    }
+    const float scale = kFourSiblingsScale;
+    FourSiblings f;
+    auto& [nodes, leaves, bricks] = f;
+    auto grid = fourSiblingsGrid;
     const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), nodes, leaves, bricks, scale, 1, kCell);
     ASSERT_EQ(t->leafStep(), 32);
     EXPECT_EQ(t->groupCount(), 0u);
@@ -779,19 +794,9 @@ TEST(Tile, CopiedLeavesThatWereWideOnlyForTheirSiblingsArePackedAgain) {
     // The source holds four siblings kept wide and apart (as in the test above); the new tile
     // copies three of them into a cell where the fourth is now a brick. Left wide, the copies
     // would differ from the same tile built fresh (or decoded and built again), which packs them.
-    const float scale = float(kCell / 1000.0);
-    auto grid = [](int p) { return int16_t(1000 + 32 * (p % 3 + 2 * ((p / 3) % 3) + 3 * (p / 9))); };
-    std::vector<uint32_t> nodes{1};
-    std::vector<int16_t> leaves, bricks;
-    for (int child = 0; child < 8; ++child) {
-        if (child >= 4) {
-            nodes.push_back(node::makeBrick(uint32_t(child - 4)));
-            for (int g = 0; g < 27; ++g) bricks.push_back(int16_t(2000 + g));
-            continue;
-        }
-        nodes.push_back(node::makeLeaf(uint32_t(child), CellType::Exterior));
-        for (int c = 0; c < 8; ++c) leaves.push_back(int16_t(grid(brickPoint(child, c)) + (child == 0 && c == 7)));
-    }
+    const float scale = kFourSiblingsScale;
+    const FourSiblings f;
+    const auto& [nodes, leaves, bricks] = f;
     const TilePtr from = Tile::createQuantised(12, glm::uvec3(0), nodes, leaves, bricks, scale, 1, kCell);
     ASSERT_EQ(from->narrowLeafCount(), 0u);
     // New tile: children 0-2 copied leaves, 3-7 bricks.
