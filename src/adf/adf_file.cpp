@@ -50,9 +50,10 @@ private:
 };
 
 /// Checks that the node words form a tree rooted at 0 whose children always follow their
-/// parent (so walking it terminates), no deeper than `maxDepth`, with every leaf (a leaf group's
-/// slots but those of children that are no lone leaves) and brick used exactly once and each
-/// lone leaf's type matching the signs of its corners.
+/// parent (so walking it terminates), no deeper than `maxDepth`, with every own leaf and brick
+/// used exactly once, a leaf group's slots at most once (the loader has checked the file's leaf
+/// indices; the build puts each member in its slot), and each lone leaf's type matching the
+/// signs of its corners.
 bool validTree(const Tile& t, int maxDepth, std::string& why) {
     struct Item {
         uint32_t node;

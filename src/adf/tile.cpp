@@ -317,7 +317,7 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
                         : maxAbs > 0.0f                                                            ? own
                                                                                                    : 1.0f;
     // Copied items keep their quantised values (quantising a decoded value at its own scale
-    // gives it back) and, in build, their packing.
+    // gives it back) and, in build, bricks and narrow own leaves their packing.
     const Tile* from = copies.from && scale == copies.from->mScale && narrowStep(scale, finestCell) == copies.from->mStep
                            ? copies.from
                            : nullptr;
@@ -363,8 +363,9 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     // would have taken it. Below likewise. (tile_test checks this over every 16-bit value.)
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
     std::vector<uint8_t> form(brickCount);
-    // A copied item's form and steps are its source's: packing its decoded values again would
-    // find the same (the encoding is idempotent), at the price of every value.
+    // A copied brick's form and steps are its source's: packing its decoded values again would
+    // find the same (the encoding is idempotent), at the price of every value. (Narrow own
+    // leaves likewise below; wide own leaves and grouped ones are packed again.)
     const Tile* from = copies.from;
     for (uint32_t b = 0; b < brickCount; ++b) {
         const int16_t* q = brickValues.data() + 27 * std::size_t(b);
