@@ -202,30 +202,14 @@ std::vector<std::byte> encodeAdf(const Adf& adf) {
         w.put(t.scale());
         // Node words as 32 bits, leaves and bricks as 16-bit values (packed ones decoded), each
         // lone leaf with its own 8 corners: the format predates the packed forms and leaf
-        // groups, and loading packs and groups them again to the same bits. Leaves are
-        // numbered densely in the tile's order (a group's unused slots are skipped).
-        std::vector<uint32_t> words = t.nodeWords();
-        constexpr uint32_t kUnused = ~0u;
-        std::vector<uint32_t> dense(t.leafCount(), kUnused);
-        for (uint32_t word : words)
-            if (node::isLeaf(word)) dense[node::leafIndex(word)] = 0;
-        uint32_t leaves = 0;
-        for (uint32_t& number : dense)
-            if (number != kUnused) number = leaves++;
-        for (uint32_t& word : words)
-            if (node::isLeaf(word)) word = node::makeLeaf(dense[node::leafIndex(word)], node::leafType(word));
+        // groups, and loading packs and groups them again to the same bits.
+        const Tile::Quantised q = t.quantised();
         w.put(t.nodeCount());
-        w.put(leaves);
+        w.put(uint32_t(q.leafCorners.size() / 8));
         w.put(t.brickCount());
-        w.putRaw(words.data(), words.size() * 4);
-        std::vector<int16_t> corners(std::size_t(leaves) * 8);
-        for (uint32_t l = 0; l < t.leafCount(); ++l)
-            if (dense[l] != kUnused) t.leafValues(l, corners.data() + 8 * std::size_t(dense[l]));
-        w.putRaw(corners.data(), corners.size() * 2);
-        std::vector<int16_t> bricks(std::size_t(t.brickCount()) * 27);
-        for (uint32_t b = 0; b < t.brickCount(); ++b)
-            for (int g = 0; g < 27; ++g) bricks[27 * std::size_t(b) + std::size_t(g)] = t.brickValue(b, g);
-        w.putRaw(bricks.data(), bricks.size() * 2);
+        w.putRaw(q.nodes.data(), q.nodes.size() * 4);
+        w.putRaw(q.leafCorners.data(), q.leafCorners.size() * 2);
+        w.putRaw(q.brickValues.data(), q.brickValues.size() * 2);
     });
     std::memcpy(w.bytes().data() + countAt, &tiles, sizeof tiles);
     if (adf.colours()) encodeColours(*adf.colours(), w);

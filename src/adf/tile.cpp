@@ -130,6 +130,26 @@ std::vector<uint32_t> Tile::nodeWords() const {
     return out;
 }
 
+Tile::Quantised Tile::quantised() const {
+    Quantised q;
+    q.nodes = nodeWords();
+    constexpr uint32_t kUnused = ~0u;
+    std::vector<uint32_t> dense(mLeafCount, kUnused);
+    for (uint32_t w : q.nodes)
+        if (node::isLeaf(w)) dense[node::leafIndex(w)] = 0;
+    uint32_t leaves = 0;
+    for (uint32_t& number : dense)
+        if (number != kUnused) number = leaves++;
+    for (uint32_t& w : q.nodes)
+        if (node::isLeaf(w)) w = node::makeLeaf(dense[node::leafIndex(w)], node::leafType(w));
+    q.leafCorners.resize(std::size_t(leaves) * 8);
+    for (uint32_t l = 0; l < mLeafCount; ++l)
+        if (dense[l] != kUnused) leafValues(l, q.leafCorners.data() + 8 * std::size_t(dense[l]));
+    q.brickValues.resize(std::size_t(mBrickCount) * 27);
+    for (uint32_t b = 0; b < mBrickCount; ++b) brickValues(b, q.brickValues.data() + 27 * std::size_t(b));
+    return q;
+}
+
 uint64_t Tile::computeChecksum() const {
     const Counts n = counts();
     const Layout l = layoutOf(n);
@@ -423,11 +443,10 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             const uint32_t l = sib.leaf[std::size_t(m)];
             const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
             auto& v = decoded[std::size_t(m)];
-            v[0] = q[0];
-            for (int c = 1; c < 8; ++c)
-                v[std::size_t(c)] = leafForm[l] == kLeafNarrow
-                                        ? int16_t(q[0] + int32_t(leafDeltas[7 * std::size_t(l) + std::size_t(c - 1)]) * leafStep)
-                                        : q[c];
+            if (leafForm[l] == kLeafNarrow)
+                unpackLeaf(q[0], leafDeltas.data() + 7 * std::size_t(l), leafStep, v.data());
+            else
+                std::copy(q, q + 8, v.begin());
         }
         std::array<int16_t, 27> grid{};
         std::array<bool, 27> covered{};

@@ -200,15 +200,22 @@ public:
     }
     /// Every node word in the 32-bit encoding (files, copies, tests).
     std::vector<uint32_t> nodeWords() const;
+    /// The tile as createQuantised takes it: 32-bit node words with the lone leaves numbered
+    /// densely in index order (a group's unused slots skipped), 8 quantised corners per leaf
+    /// and 27 values per brick, packed ones decoded. Files store this; building it again at
+    /// the tile's scale gives the same tile. Complexity: O(nodes + values).
+    struct Quantised {
+        std::vector<uint32_t> nodes;
+        std::vector<int16_t> leafCorners, brickValues;
+    };
+    Quantised quantised() const;
     /// Quantised corner `c` of lone leaf `leaf`.
     int16_t leafValue(uint32_t leaf, int c) const {
         const uint32_t grouped = 8 * mGroupCount;
         if (leaf < grouped) {
-            const uint32_t g = leaf >> 3;
-            const auto p = std::size_t(brickPoint(int(leaf & 7u), c));
-            if (g < mNarrowGroupCount)
-                return int16_t(at<int16_t>(mGroupBasesAt)[g] + int32_t(at<int8_t>(mGroupDeltasAt)[27 * std::size_t(g) + p]) * 2 * mStep);
-            return at<int16_t>(mWideGroupsAt)[27 * std::size_t(g - mNarrowGroupCount) + p];
+            int16_t q;
+            decodeGroup(leaf, brickPoint(int(leaf & 7u), c), kOnePoint, &q);
+            return q;
         }
         leaf -= grouped;
         if (leaf < mNarrowLeafCount) {
@@ -223,24 +230,12 @@ public:
     void leafValues(uint32_t leaf, int16_t out[8]) const {
         const uint32_t grouped = 8 * mGroupCount;
         if (leaf < grouped) {
-            const uint32_t g = leaf >> 3;
-            const auto first = std::size_t(brickPoint(int(leaf & 7u), 0));
-            if (g < mNarrowGroupCount) {
-                const int32_t base = at<int16_t>(mGroupBasesAt)[g], step = 2 * mStep;
-                const int8_t* d = at<int8_t>(mGroupDeltasAt) + 27 * std::size_t(g) + first;
-                for (int c = 0; c < 8; ++c) out[c] = int16_t(base + int32_t(d[kChildCornerPoints[std::size_t(c)]]) * step);
-            } else {
-                const int16_t* q = at<int16_t>(mWideGroupsAt) + 27 * std::size_t(g - mNarrowGroupCount) + first;
-                for (int c = 0; c < 8; ++c) out[c] = q[kChildCornerPoints[std::size_t(c)]];
-            }
+            decodeGroup(leaf, brickPoint(int(leaf & 7u), 0), kChildCornerPoints, out);
             return;
         }
         leaf -= grouped;
         if (leaf < mNarrowLeafCount) {
-            const int32_t base = at<int16_t>(mLeafBasesAt)[leaf], step = 2 * mStep;
-            const int8_t* d = at<int8_t>(mLeafDeltasAt) + 7 * std::size_t(leaf);
-            out[0] = int16_t(base);
-            for (int c = 1; c < 8; ++c) out[c] = int16_t(base + int32_t(d[c - 1]) * step);
+            unpackLeaf(at<int16_t>(mLeafBasesAt)[leaf], at<int8_t>(mLeafDeltasAt) + 7 * std::size_t(leaf), leafStep(), out);
         } else {
             const int16_t* q = at<int16_t>(mWideLeavesAt) + 8 * std::size_t(leaf - mNarrowLeafCount);
             for (int c = 0; c < 8; ++c) out[c] = q[c];
@@ -311,19 +306,37 @@ private:
     static constexpr std::array<int, 8> kChildCornerPoints{brickPoint(0, 0), brickPoint(0, 1), brickPoint(0, 2),
                                                            brickPoint(0, 3), brickPoint(0, 4), brickPoint(0, 5),
                                                            brickPoint(0, 6), brickPoint(0, 7)};
-    /// The quantised values of half-grid points first + points[k] of brick `brick`, with one
-    /// branch on the brick's form for all of them: the decoder behind brickValues and
-    /// brickCorners (brickValue is its one-point case).
+    /// The quantised values of half-grid points first + points[k] of half grid `index` stored
+    /// at `basesAt`/`stepsAt` (packed: a centre and 27 steps, brick steps below `narrowEnd`,
+    /// leaf steps to `packedEnd`) or `wideAt` (27 x 16 bits), with one branch on the form for
+    /// all of them: bricks and leaf groups share it.
     template <std::size_t N>
-    void decodeBrick(uint32_t brick, int first, const std::array<int, N>& points, int16_t* out) const {
-        if (brick < mPackedCount) {
-            const int32_t base = at<int16_t>(mBrickBasesAt)[brick], step = brick < mNarrowCount ? mStep : 2 * mStep;
-            const int8_t* d = at<int8_t>(mBrickDeltasAt) + 27 * std::size_t(brick) + first;
+    void decodeGrid(uint32_t basesAt, uint32_t stepsAt, uint32_t wideAt, uint32_t narrowEnd, uint32_t packedEnd,
+                    uint32_t index, int first, const std::array<int, N>& points, int16_t* out) const {
+        if (index < packedEnd) {
+            const int32_t base = at<int16_t>(basesAt)[index], step = index < narrowEnd ? mStep : 2 * mStep;
+            const int8_t* d = at<int8_t>(stepsAt) + 27 * std::size_t(index) + first;
             for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + int32_t(d[points[k]]) * step);
         } else {
-            const int16_t* q = at<int16_t>(mWideBricksAt) + 27 * std::size_t(brick - mPackedCount) + first;
+            const int16_t* q = at<int16_t>(wideAt) + 27 * std::size_t(index - packedEnd) + first;
             for (std::size_t k = 0; k < N; ++k) out[k] = q[points[k]];
         }
+    }
+    /// Brick `brick`'s values (brickValues, brickCorners; brickValue is the one-point case).
+    template <std::size_t N>
+    void decodeBrick(uint32_t brick, int first, const std::array<int, N>& points, int16_t* out) const {
+        decodeGrid(mBrickBasesAt, mBrickDeltasAt, mWideBricksAt, mNarrowCount, mPackedCount, brick, first, points, out);
+    }
+    /// Grouped leaf `leaf`'s values: its group's half grid (all leaf steps when packed).
+    template <std::size_t N>
+    void decodeGroup(uint32_t leaf, int first, const std::array<int, N>& points, int16_t* out) const {
+        decodeGrid(mGroupBasesAt, mGroupDeltasAt, mWideGroupsAt, 0, mNarrowGroupCount, leaf >> 3, first, points, out);
+    }
+    /// A narrow own leaf's 8 corners from its corner 0 and 7 steps of `step` (Tile::leafValues,
+    /// and Tile::build, which asks what a packed leaf would decode to).
+    static void unpackLeaf(int32_t base, const int8_t* steps, int32_t step, int16_t out[8]) {
+        out[0] = int16_t(base);
+        for (int c = 1; c < 8; ++c) out[c] = int16_t(base + int32_t(steps[c - 1]) * step);
     }
     /// The array at byte offset `offset` from the start of the block (arrays follow the header).
     template <class T>

@@ -596,23 +596,10 @@ std::vector<float> siblingLeaves(glm::dvec3 origin, double size, const Field& fi
 }
 double sphereCells(glm::dvec3 p, glm::dvec3 c, double r) { return glm::length(p - c) - r; }
 
-/// What the .kza writer does: leaves numbered densely in the tile's order, a group's unused
-/// slots skipped, then built again from the 16-bit values.
+/// What a .kza file stores (Tile::quantised), built again.
 TilePtr rebuiltDense(const Tile& t) {
-    std::vector<uint32_t> words = t.nodeWords(), dense(t.leafCount(), ~0u);
-    for (uint32_t w : words)
-        if (node::isLeaf(w)) dense[node::leafIndex(w)] = 0;
-    uint32_t n = 0;
-    for (uint32_t& d : dense)
-        if (d != ~0u) d = n++;
-    std::vector<int16_t> leaves(std::size_t(n) * 8), bricks;
-    for (uint32_t l = 0; l < t.leafCount(); ++l)
-        if (dense[l] != ~0u) t.leafValues(l, leaves.data() + 8 * std::size_t(dense[l]));
-    for (uint32_t& w : words)
-        if (node::isLeaf(w)) w = node::makeLeaf(dense[node::leafIndex(w)], node::leafType(w));
-    for (uint32_t b = 0; b < t.brickCount(); ++b)
-        for (int g = 0; g < 27; ++g) bricks.push_back(t.brickValue(b, g));
-    return Tile::createQuantised(t.level(), t.latticeOrigin(), words, leaves, bricks, t.scale(), 1, kCell);
+    const Tile::Quantised q = t.quantised();
+    return Tile::createQuantised(t.level(), t.latticeOrigin(), q.nodes, q.leafCorners, q.brickValues, t.scale(), 1, kCell);
 }
 }  // namespace
 
@@ -724,18 +711,11 @@ TEST(Tile, LeafGroupsOfEveryFormAndSiblingsThatDisagreeAreIdempotent) {
     EXPECT_EQ(again->checksum(), t->checksum());
     EXPECT_EQ(again->bytes(), t->bytes());
     // Through floats at the kept scale (regeneration's copy: Tile::create): the same bits too.
+    const Tile::Quantised q = t->quantised();
     std::vector<float> leafFloats, brickFloats;
-    std::vector<uint32_t> words = t->nodeWords(), slots;
-    for (uint32_t& w : words)
-        if (node::isLeaf(w)) {
-            slots.push_back(node::leafIndex(w));
-            w = node::makeLeaf(uint32_t(slots.size() - 1), node::leafType(w));
-        }
-    leafFloats.resize(slots.size() * 8);
-    for (std::size_t l = 0; l < slots.size(); ++l) t->leafCorners(slots[l], leafFloats.data() + 8 * l);
-    for (uint32_t b = 0; b < t->brickCount(); ++b)
-        for (int g = 0; g < 27; ++g) brickFloats.push_back(float(t->brickValue(b, g)) * t->scale());
-    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), words, leafFloats, brickFloats, 1, kCell, t->scale());
+    for (int16_t v : q.leafCorners) leafFloats.push_back(float(v) * t->scale());
+    for (int16_t v : q.brickValues) brickFloats.push_back(float(v) * t->scale());
+    const TilePtr copied = Tile::create(t->level(), t->latticeOrigin(), q.nodes, leafFloats, brickFloats, 1, kCell, t->scale());
     EXPECT_EQ(copied->nodeWords(), t->nodeWords());
     EXPECT_EQ(copied->checksum(), t->checksum());
 }
