@@ -198,7 +198,7 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.add("adf.samples" + L, double(gen.samples), "samples", "distance evaluations");
         out.add("adf.bytes" + L, double(st.bytes()), "B", fmt("%.1f MB", double(st.bytes()) / 1e6));
         out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B",
-                "16-bit corners, one scale per tile; narrow bricks and leaves 8-bit steps");
+                "16-bit corners, one scale per tile; packed bricks and leaves 7- or 8-bit steps");
         const std::size_t loneLeaves = st.cells - 8 * st.bricks;
         out.add("adf.narrow_leaf_fraction" + L,
                 loneLeaves ? double(st.narrowLeaves + st.narrowGroupedLeaves) / double(loneLeaves) : 0.0, "",
@@ -206,14 +206,11 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.add("adf.grouped_leaf_fraction" + L, loneLeaves ? double(st.groupedLeaves) / double(loneLeaves) : 0.0, "",
                 "lone leaves stored in leaf groups (one half grid for a cell's lone-leaf children)");
         out.add("adf.coarse_brick_fraction" + L, st.bricks ? double(st.coarseBricks) / double(st.bricks) : 0.0, "",
-                "bricks stored coarse-narrow (29 bytes in leaf steps instead of 54)");
+                "bricks stored coarse-narrow (28 bytes, 8-bit leaf steps, instead of 54)");
         // float32 corners: 32 bytes per lone leaf, 108 per brick, in place of what is stored.
         std::size_t valueBytes = 0;
         adf->forEachTile([&](const Tile& t) {
-            const Tile::Counts n = t.counts();
-            valueBytes += Tile::kNarrowLeafBytes * n.narrowLeaves + Tile::kWideLeafBytes * n.wideLeaves +
-                          Tile::kPackedBrickBytes * (n.narrowBricks + n.coarseBricks + n.narrowGroups) +
-                          Tile::kWideBrickBytes * (n.wideBricks + n.wideGroups);
+            valueBytes += Tile::valueBytes(t.counts());
         });
         const double floatBytes = double(st.bytes() - valueBytes + 32 * loneLeaves + 108 * st.bricks);
         out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
@@ -222,12 +219,12 @@ int runAdfBench(const AdfBenchOptions& opt) {
         double maxLeafStep = 0.0;
         adf->forEachTile([&](const Tile& t) {
             if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
-            if (t.narrowLeafCount() > 0 || t.narrowGroupCount() > 0 || t.coarseBrickCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
+            if (t.narrowLeafCount() > 0 || t.packedGroupCount() > 0 || t.packedBrickCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
         });
         out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
                 "largest 16-bit step in any stored tile");
         out.add("adf.leaf_step_max_cells" + L, maxLeafStep / d.finestCellSize(), "cells",
-                "largest leaf step in any tile with narrow leaves or coarse-narrow bricks (their values are within one)");
+                "largest leaf step in any tile with packed leaves, groups or bricks (their values are within one)");
 
         out.progress("level " + std::to_string(level) + ": query points");
         const double h = d.finestCellSize();

@@ -133,11 +133,12 @@ Adf::Stats Adf::computeStats() const {
         s.bricks += t.brickCount();
         s.narrowBricks += t.narrowBrickCount();
         s.coarseBricks += t.coarseBrickCount();
+        s.farBricks += t.farBrickCount();
         s.narrowLeaves += t.narrowLeafCount();
         s.groupedLeaves += t.groupedLeafCount();
         for (uint32_t i = 0; i < t.nodeCount(); ++i) {
             const uint32_t w = t.node(i);
-            s.narrowGroupedLeaves += node::isLeaf(w) && node::leafIndex(w) < 8 * t.narrowGroupCount();
+            s.narrowGroupedLeaves += node::isLeaf(w) && node::leafIndex(w) < 8 * t.packedGroupCount();
         }
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();

@@ -139,11 +139,12 @@ public:
         std::size_t coarseTiles = 0;  ///< tiles above the tile level
         std::size_t cells = 0;        ///< leaf cells (lone leaves and 8 per brick)
         std::size_t bricks = 0;       ///< bricks (each holds 8 of the leaf cells)
-        std::size_t narrowBricks = 0; ///< of them stored narrow (8-bit brick steps, tile.h)
+        std::size_t narrowBricks = 0; ///< of them stored narrow (7-bit leaf steps, tile.h)
         std::size_t coarseBricks = 0; ///< of them stored coarse-narrow (8-bit leaf steps, tile.h)
+        std::size_t farBricks = 0;    ///< of them stored far (8-bit far steps, tile.h)
         std::size_t narrowLeaves = 0; ///< lone leaves stored narrow on their own (8-bit steps, tile.h)
         std::size_t groupedLeaves = 0;  ///< lone leaves stored in leaf groups (tile.h)
-        std::size_t narrowGroupedLeaves = 0;  ///< of them in packed groups (8-bit leaf steps)
+        std::size_t narrowGroupedLeaves = 0;  ///< of them in packed groups (7- or 8-bit leaf steps, or far steps)
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks
         std::size_t tableBytes = 0;   ///< root array and chunks

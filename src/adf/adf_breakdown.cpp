@@ -52,22 +52,27 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         b.nodeBytes += nodeBytes;
         const Tile::Counts n = t.counts();
         const std::size_t ownNarrowBytes = std::size_t(n.narrowLeaves) * Tile::kNarrowLeafBytes;
-        const std::size_t groupBytes = std::size_t(n.narrowGroups) * Tile::kPackedBrickBytes +
-                                       std::size_t(n.wideGroups) * Tile::kWideBrickBytes;
+        const std::size_t groupBytes = std::size_t(n.narrowGroups) * Tile::kNarrowGridBytes +
+                                       std::size_t(n.coarseGroups + n.farGroups) * Tile::kCoarseGridBytes +
+                                       std::size_t(n.wideGroups) * Tile::kWideGridBytes;
         const std::size_t leafBytes = ownNarrowBytes + std::size_t(n.wideLeaves) * Tile::kWideLeafBytes + groupBytes;
         b.cornerBytes += leafBytes;
         b.narrowLeafBytes += ownNarrowBytes;
         b.groupBytes += groupBytes;
         b.narrowLeaves += n.narrowLeaves;
         b.wideLeaves += n.wideLeaves;
-        b.groups += n.narrowGroups + n.wideGroups;
+        b.groups += n.narrowGroups + n.coarseGroups + n.farGroups + n.wideGroups;
+        b.packedGroups += n.narrowGroups + n.coarseGroups + n.farGroups;
+        b.farGroups += n.farGroups;
         b.narrowGroups += n.narrowGroups;
         b.groupedLeaves += n.groupedLeaves;
-        const std::size_t brickBytes = std::size_t(t.packedBrickCount()) * Tile::kPackedBrickBytes +
-                                       std::size_t(t.brickCount() - t.packedBrickCount()) * Tile::kWideBrickBytes;
+        const std::size_t brickBytes = std::size_t(n.narrowBricks) * Tile::kNarrowGridBytes +
+                                       std::size_t(n.coarseBricks + n.farBricks) * Tile::kCoarseGridBytes +
+                                       std::size_t(n.wideBricks) * Tile::kWideGridBytes;
         b.brickBytes += brickBytes;
         b.narrowBricks += t.narrowBrickCount();
         b.coarseBricks += t.coarseBrickCount();
+        b.farBricks += t.farBrickCount();
         b.wideBricks += t.brickCount() - t.packedBrickCount();
         b.headerBytes += total - nodeBytes - leafBytes - brickBytes;
         struct Item {
@@ -99,7 +104,8 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
             AdfBreakdown::Level& C = b.levels[std::size_t(it.level + 1)];
             const uint32_t brick = node::brickIndex(w);
             if (brick < t.narrowBrickCount()) ++C.narrowBricks;
-            else if (brick < t.packedBrickCount()) ++C.coarseBricks;
+            else if (brick < t.narrowBrickCount() + t.coarseBrickCount()) ++C.coarseBricks;
+            else if (brick < t.packedBrickCount()) ++C.farBricks;
             float v[27];
             for (int g = 0; g < 27; ++g) v[g] = float(t.brickValue(node::brickIndex(w), g)) * t.scale();
             const float spacing = float(double(d.cellLattice(it.level + 1)) * h);
@@ -125,22 +131,23 @@ std::string formatBreakdown(const AdfBreakdown& b, int maxLevel) {
     auto mb = [](std::size_t n) { return double(n) / 1e6; };
     std::snprintf(line, sizeof line,
                   "  bytes       %.2f MB: headers %.2f (%zu tiles, %zu coarse), node words %.2f, lone-leaf corners %.2f "
-                  "(%zu narrow %.2f, %zu wide %.2f, %zu groups of %zu leaves %.2f, %zu of them packed), brick values %.2f (%zu narrow %.2f, %zu coarse-narrow %.2f, %zu wide "
-                  "%.2f), table %.2f\n",
+                  "(%zu narrow %.2f, %zu wide %.2f, %zu groups of %zu leaves %.2f, %zu of them packed, %zu narrow, %zu far), brick values %.2f (%zu narrow %.2f, %zu coarse-narrow %.2f, "
+                  "%zu far %.2f, %zu wide %.2f), table %.2f\n",
                   mb(b.totalBytes()), mb(b.headerBytes), b.tiles, b.coarseTiles, mb(b.nodeBytes), mb(b.cornerBytes),
                   b.narrowLeaves, mb(b.narrowLeafBytes), b.wideLeaves, mb(b.cornerBytes - b.narrowLeafBytes - b.groupBytes),
-                  b.groups, b.groupedLeaves, mb(b.groupBytes), b.narrowGroups,
-                  mb(b.brickBytes), b.narrowBricks, mb(Tile::kPackedBrickBytes * b.narrowBricks), b.coarseBricks, mb(Tile::kPackedBrickBytes * b.coarseBricks),
-                  b.wideBricks, mb(Tile::kWideBrickBytes * b.wideBricks), mb(b.tableBytes));
+                  b.groups, b.groupedLeaves, mb(b.groupBytes), b.packedGroups, b.narrowGroups, b.farGroups,
+                  mb(b.brickBytes), b.narrowBricks, mb(Tile::kNarrowGridBytes * b.narrowBricks), b.coarseBricks,
+                  mb(Tile::kCoarseGridBytes * b.coarseBricks), b.farBricks, mb(Tile::kCoarseGridBytes * b.farBricks), b.wideBricks, mb(Tile::kWideGridBytes * b.wideBricks),
+                  mb(b.tableBytes));
     out += line;
-    out += "  level  lone-leaves (packed) [grouped]  brick-cells  bricks narrow/coarse/wide  internal   ext/int/boundary cells          "
+    out += "  level  lone-leaves (packed) [grouped]  brick-cells  bricks narrow/coarse/far/wide  internal   ext/int/boundary cells          "
            "cells by min|corner| (finest cells) <1 1-2 2-4 4-8 8-16 >=16   [of them in creased bricks]\n";
     for (int l = 0; l <= maxLevel; ++l) {
         const AdfBreakdown::Level& L = b.levels[std::size_t(l)];
         if (L.loneLeaves + L.brickCells + L.internalNodes == 0) continue;
-        std::snprintf(line, sizeof line, "  %5d %12zu %9zu [%7zu] %12zu %9zu %7zu %7zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves,
+        std::snprintf(line, sizeof line, "  %5d %12zu %9zu [%7zu] %12zu %9zu %7zu %7zu %7zu %9zu   %9zu %9zu %9zu  ", l, L.loneLeaves,
                       L.narrowLoneLeaves, L.groupedLeaves, L.brickCells, L.narrowBricks, L.coarseBricks,
-                      L.brickCells / 8 - L.narrowBricks - L.coarseBricks, L.internalNodes, L.cellsByType[0],
+                      L.farBricks, L.brickCells / 8 - L.narrowBricks - L.coarseBricks - L.farBricks, L.internalNodes, L.cellsByType[0],
                       L.cellsByType[1], L.cellsByType[2]);
         out += line;
         for (int i = 0; i < AdfBreakdown::kDistanceBins; ++i) {

@@ -27,7 +27,8 @@ struct AdfBreakdown {
         std::size_t groupedLeaves = 0;     ///< of them stored in leaf groups
         std::size_t brickCells = 0;     ///< leaves stored as brick children (8 per brick)
         std::size_t narrowBricks = 0;   ///< bricks whose children are at this level, stored narrow
-        std::size_t coarseBricks = 0;   ///< of them, coarse-narrow (the rest, brickCells / 8 less both, wide)
+        std::size_t coarseBricks = 0;   ///< of them, coarse-narrow
+        std::size_t farBricks = 0;      ///< of them, far (the rest, brickCells / 8 less the three, wide)
         std::size_t internalNodes = 0;  ///< node words that point at children
         std::array<std::size_t, 3> cellsByType{};           ///< Exterior, Interior, Boundary
         std::array<std::size_t, kDistanceBins> cellsByDistance{};
@@ -39,11 +40,12 @@ struct AdfBreakdown {
     std::size_t nodeBytes = 0;        ///< node words (with alignment)
     std::size_t cornerBytes = 0;      ///< lone leaves' corner values (narrow and wide)
     std::size_t narrowLeafBytes = 0;  ///< of them, narrow own leaves' (9 each: corner 0, 7 steps)
-    std::size_t groupBytes = 0;       ///< of them, leaf groups' (29 packed, 54 wide)
+    std::size_t groupBytes = 0;       ///< of them, leaf groups' (25 narrow, 28 coarse-narrow or far, 54 wide)
     std::size_t narrowLeaves = 0, wideLeaves = 0;  ///< own lone leaves (not in groups)
-    std::size_t groups = 0, narrowGroups = 0, groupedLeaves = 0;  ///< leaf groups, packed ones, the leaves in them
+    std::size_t groups = 0, packedGroups = 0, narrowGroups = 0, farGroups = 0;  ///< leaf groups, packed ones, of them narrow, far
+    std::size_t groupedLeaves = 0;    ///< the leaves in groups
     std::size_t brickBytes = 0;       ///< brick values (and packed bricks' centres, header padding aside)
-    std::size_t narrowBricks = 0, coarseBricks = 0, wideBricks = 0;  ///< 29, 29 and 54 bytes each
+    std::size_t narrowBricks = 0, coarseBricks = 0, farBricks = 0, wideBricks = 0;  ///< 25, 28, 28 and 54 bytes each
     std::size_t tableBytes = 0;       ///< root array and chunks
     std::size_t totalBytes() const { return headerBytes + nodeBytes + cornerBytes + brickBytes + tableBytes; }
 };

@@ -576,9 +576,8 @@ private:
         const double size = double(s) * mDomain.finestCellSize();
         const glm::dvec3 centre = mDomain.originWorld + (glm::dvec3(mBase + o) + 0.5 * double(s)) * mDomain.finestCellSize();
         DistanceSource::Range range = mSource.unchangedRange(centre, size * kHalfDiagonal);
-        // The old tile's values are rounded (16-bit steps, narrow-brick steps, and leaf steps for
-        // narrow leaves, leaf groups and coarse-narrow bricks): stay clear of the range's ends
-        // by that much (a leaf step is the largest).
+        // The old tile's values are rounded (16-bit steps, and within a leaf step for packed
+        // leaves, groups and bricks, far ones too): stay clear of the range's ends by that much.
         const double rounding = double(mOld->scale()) * double(std::max(1, mOld->leafStep()) + 1);
         range.lo += rounding;
         range.hi -= rounding;

@@ -45,9 +45,9 @@ uint64_t fnv1a(uint64_t h, const void* data, std::size_t n) {
 
 namespace {
 /// Node words (8-aligned), then the 16-bit arrays (wide own leaves' corners, narrow own
-/// leaves' corner 0, packed bricks' and narrow groups' centres), then the signed bytes (7 per
-/// narrow own leaf, 27 per packed brick or narrow group), then wide bricks and wide groups,
-/// 2-aligned.
+/// leaves' corner 0, packed bricks' and groups' centres), then the steps (7 bytes per narrow
+/// own leaf; per packed brick, then per packed group: the narrow ones' 7-bit fields, then the
+/// coarse-narrow and far ones' bytes), then wide bricks and wide groups, 2-aligned.
 struct Layout {
     std::size_t nodes, wideLeaves, leafBases, brickBases, groupBases, leafDeltas, brickDeltas, groupDeltas, wideBricks,
         wideGroups, total;
@@ -58,15 +58,18 @@ Layout layoutOf(const Tile::Counts& n) {
     l.wideLeaves = l.nodes + alignUp(std::size_t(n.nodes) * (n.narrowNodes ? 2 : 4), 8);
     l.leafBases = l.wideLeaves + std::size_t(n.wideLeaves) * Tile::kWideLeafBytes;
     l.brickBases = l.leafBases + std::size_t(n.narrowLeaves) * 2;
-    const std::size_t packedBricks = std::size_t(n.narrowBricks) + n.coarseBricks;
-    const std::size_t packedGroups = n.narrowGroups;
+    const std::size_t packedBricks = std::size_t(n.narrowBricks) + n.coarseBricks + n.farBricks;
+    const std::size_t packedGroups = std::size_t(n.narrowGroups) + n.coarseGroups + n.farGroups;
     l.groupBases = l.brickBases + packedBricks * 2;
     l.leafDeltas = l.groupBases + packedGroups * 2;
     l.brickDeltas = l.leafDeltas + std::size_t(n.narrowLeaves) * 7;
-    l.groupDeltas = l.brickDeltas + packedBricks * 27;
-    l.wideBricks = alignUp(l.groupDeltas + packedGroups * 27, 2);
-    l.wideGroups = l.wideBricks + std::size_t(n.wideBricks) * Tile::kWideBrickBytes;
-    l.total = l.wideGroups + std::size_t(n.wideGroups) * Tile::kWideBrickBytes;
+    l.groupDeltas = l.brickDeltas + n.narrowBricks * Tile::kNarrowGridSteps +
+                    (packedBricks - n.narrowBricks) * Tile::kCoarseGridSteps;
+    l.wideBricks = alignUp(l.groupDeltas + n.narrowGroups * Tile::kNarrowGridSteps +
+                               (packedGroups - n.narrowGroups) * Tile::kCoarseGridSteps,
+                           2);
+    l.wideGroups = l.wideBricks + std::size_t(n.wideBricks) * Tile::kWideGridBytes;
+    l.total = l.wideGroups + std::size_t(n.wideGroups) * Tile::kWideGridBytes;
     return l;
 }
 }  // namespace
@@ -89,14 +92,17 @@ Tile* Tile::allocate(const Counts& n) {
     t->mGroupDeltasAt = uint32_t(l.groupDeltas);
     t->mWideGroupsAt = uint32_t(l.wideGroups);
     t->mNodeCount = n.nodes;
-    t->mGroupCount = n.narrowGroups + n.wideGroups;
+    t->mGroupCount = n.narrowGroups + n.coarseGroups + n.farGroups + n.wideGroups;
     t->mNarrowGroupCount = n.narrowGroups;
+    t->mCoarseGroupEnd = n.narrowGroups + n.coarseGroups;
+    t->mPackedGroupCount = n.narrowGroups + n.coarseGroups + n.farGroups;
     t->mGroupedLeafCount = n.groupedLeaves;
     t->mLeafCount = 8 * t->mGroupCount + n.narrowLeaves + n.wideLeaves;
     t->mNarrowLeafCount = n.narrowLeaves;
-    t->mBrickCount = n.narrowBricks + n.coarseBricks + n.wideBricks;
+    t->mBrickCount = n.narrowBricks + n.coarseBricks + n.farBricks + n.wideBricks;
     t->mNarrowCount = n.narrowBricks;
-    t->mPackedCount = n.narrowBricks + n.coarseBricks;
+    t->mCoarseEnd = n.narrowBricks + n.coarseBricks;
+    t->mPackedCount = n.narrowBricks + n.coarseBricks + n.farBricks;
     return t;
 }
 
@@ -107,12 +113,22 @@ Tile::Counts Tile::counts() const {
     n.narrowLeaves = mNarrowLeafCount;
     n.wideLeaves = ownLeafCount() - mNarrowLeafCount;
     n.narrowBricks = mNarrowCount;
-    n.coarseBricks = mPackedCount - mNarrowCount;
+    n.coarseBricks = mCoarseEnd - mNarrowCount;
+    n.farBricks = mPackedCount - mCoarseEnd;
     n.wideBricks = mBrickCount - mPackedCount;
     n.narrowGroups = mNarrowGroupCount;
-    n.wideGroups = mGroupCount - mNarrowGroupCount;
+    n.coarseGroups = mCoarseGroupEnd - mNarrowGroupCount;
+    n.farGroups = mPackedGroupCount - mCoarseGroupEnd;
+    n.wideGroups = mGroupCount - mPackedGroupCount;
     n.groupedLeaves = mGroupedLeafCount;
     return n;
+}
+
+std::size_t Tile::valueBytes(const Counts& n) {
+    return std::size_t(n.narrowLeaves) * kNarrowLeafBytes + std::size_t(n.wideLeaves) * kWideLeafBytes +
+           std::size_t(n.narrowBricks + n.narrowGroups) * kNarrowGridBytes +
+           std::size_t(n.coarseBricks + n.coarseGroups + n.farBricks + n.farGroups) * kCoarseGridBytes +
+           std::size_t(n.wideBricks + n.wideGroups) * kWideGridBytes;
 }
 
 void Tile::Deleter::operator()(const Tile* t) const {
@@ -160,8 +176,8 @@ uint64_t Tile::computeChecksum() const {
     h = fnv1a(h, &mStep, sizeof mStep);
     h = fnv1a(h, &n.nodes, sizeof n.nodes);
     h = fnv1a(h, &n.narrowNodes, sizeof n.narrowNodes);
-    const uint32_t items[] = {n.narrowLeaves, n.wideLeaves,   n.narrowBricks, n.coarseBricks,
-                              n.wideBricks,   n.narrowGroups, n.wideGroups,   n.groupedLeaves};
+    const uint32_t items[] = {n.narrowLeaves, n.wideLeaves,   n.narrowBricks, n.coarseBricks, n.farBricks, n.wideBricks,
+                              n.narrowGroups, n.coarseGroups, n.farGroups,    n.wideGroups,   n.groupedLeaves};
     h = fnv1a(h, items, sizeof items);
     // Every array, padding between them included (allocate leaves none uninitialised: build
     // writes each byte; alignment gaps are zeroed there).
@@ -179,14 +195,14 @@ inline int16_t quantise(float v, float scale) {
     return int16_t(r);
 }
 
-/// Quantisation steps per narrow-brick step: 127 of them span twice a finest cell, which holds
-/// every value of a brick of finest cells (at most sqrt(3) cells from its centre) in a
-/// 1-Lipschitz field. Depends only on the scale and the cell size, never on the values, so a
-/// decoded tile re-encodes to the same bits. Lone leaves and coarse-narrow bricks use twice this
-/// step (Tile::leafStep).
-int32_t narrowStep(float scale, double finestCell) {
-    const double steps = std::ceil(2.0 * finestCell / (127.0 * double(scale)));
-    return steps >= 1.0 ? int32_t(std::min(steps, 32767.0)) : 1;
+/// Quantisation steps per leaf step (Tile::leafStep): twice the whole number of them that 127
+/// fill two finest cells, so 127 leaf steps span at least four finest cells (every corner of a
+/// leaf of two finest cells in a 1-Lipschitz field) and 63 about two (every value of a brick of
+/// finest cells, at most sqrt(3) cells from its centre). Depends only on the scale and the cell
+/// size, never on the values, so a decoded tile re-encodes to the same bits.
+int32_t leafStepOf(float scale, double finestCell) {
+    const double steps = 2.0 * std::ceil(2.0 * finestCell / (127.0 * double(scale)));
+    return steps >= 2.0 ? int32_t(std::min(steps, 32767.0)) : 2;
 }
 
 /// Steps from `base` to the value nearest `q` with q's sign (inside stays inside), or false
@@ -229,14 +245,25 @@ std::vector<uint32_t> numberByForm(const std::vector<uint8_t>& form, std::array<
 
 namespace {
 /// The forms a half grid (brick or leaf group) can take, in their numbering order.
-enum GridForm : uint8_t { kNarrow, kCoarse, kWide };
+enum GridForm : uint8_t { kNarrow, kCoarse, kFar, kWide };
+constexpr std::size_t kGridForms = 4;
 
-/// Packs the 27 values `q` of a half grid as steps from its centre: the brick step (bricks
-/// only: a group's children are two finest cells or more across), else the leaf step; says
-/// which form fits (kWide: neither).
-uint8_t packGrid(const int16_t* q, int32_t brickStep, bool brick, int8_t* out) {
-    if (brick && packs(q, 27, q[13], brickStep, out)) return kNarrow;
-    return packs(q, 27, q[13], 2 * brickStep, out) ? kCoarse : kWide;
+/// Packs the 27 values `q` of a half grid as steps from its centre (out[13] = 0) and says which
+/// form holds them: leaf steps all within 63 (7 bits) or 127 (a byte), else far steps (two leaf
+/// steps) within 127 where each value rounds to within a leaf step (no sign kept a step away),
+/// else none (wide). Idempotent: a decoded value lies on its step, which it rounds to again; a
+/// coarse-narrow grid keeps the step beyond 63 that made it one, and a far one a value beyond
+/// 127 leaf steps (it was within one of the value that missed them, and even).
+uint8_t packGrid(const int16_t* q, int32_t leafStep, int8_t* out) {
+    if (packs(q, 27, q[13], leafStep, out)) {
+        for (int g = 0; g < 27; ++g)
+            if (out[g] < -63 || out[g] > 63) return kCoarse;
+        return kNarrow;
+    }
+    if (!packs(q, 27, q[13], 2 * leafStep, out)) return kWide;
+    for (int g = 0; g < 27; ++g)
+        if (std::abs(int32_t(q[13]) + int32_t(out[g]) * 2 * leafStep - int32_t(q[g])) > leafStep) return kWide;
+    return kFar;
 }
 
 /// Lone-leaf children of one cell: their leaves and which child each is.
@@ -271,12 +298,12 @@ struct LeafGroups {
     std::vector<uint32_t> of;        ///< per leaf: its group, or kNone
     std::vector<uint8_t> child;      ///< per grouped leaf: which child of the group's cell it is
     std::vector<Siblings> apart;     ///< cells with enough lone leaves whose shared corners disagree
-    std::vector<uint8_t> form;       ///< per group: kCoarse (leaf steps) or kWide (packGrid)
+    std::vector<uint8_t> form;       ///< per group: packGrid's form
     std::vector<int16_t> values;     ///< 27 per group, half-grid order
     std::vector<int8_t> deltas;      ///< 27 per group, leaf steps from the centre (packed ones)
 };
 
-LeafGroups findLeafGroups(std::span<const uint32_t> nodes, std::span<const int16_t> leafCorners, int32_t brickStep) {
+LeafGroups findLeafGroups(std::span<const uint32_t> nodes, std::span<const int16_t> leafCorners, int32_t leafStep) {
     const std::size_t leafCount = leafCorners.size() / 8;
     LeafGroups g;
     g.of.assign(leafCount, LeafGroups::kNone);
@@ -314,7 +341,7 @@ LeafGroups findLeafGroups(std::span<const uint32_t> nodes, std::span<const int16
         }
         g.values.insert(g.values.end(), grid.begin(), grid.end());
         g.deltas.resize(g.deltas.size() + 27);
-        g.form.push_back(packGrid(grid.data(), brickStep, false, g.deltas.data() + 27 * std::size_t(id)));
+        g.form.push_back(packGrid(grid.data(), leafStep, g.deltas.data() + 27 * std::size_t(id)));
     }
     return g;
 }
@@ -338,7 +365,7 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
                                                                                                    : 1.0f;
     // Copied items keep their quantised values (quantising a decoded value at its own scale
     // gives it back) and, in build, bricks and narrow own leaves their packing.
-    const Tile* from = copies.from && scale == copies.from->mScale && narrowStep(scale, finestCell) == copies.from->mStep
+    const Tile* from = copies.from && scale == copies.from->mScale && leafStepOf(scale, finestCell) == copies.from->mStep
                            ? copies.from
                            : nullptr;
     std::vector<int16_t> corners(leafCorners.size()), bricks(brickValues.size());
@@ -370,17 +397,9 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
                     std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues, float scale,
                     uint64_t version, double finestCell, const TileCopies& copies) {
     const auto brickCount = uint32_t(brickValues.size() / 27);
-    const int32_t step = narrowStep(scale, finestCell), leafStep = 2 * step;
-    // Which form each brick takes (the brick step, else the leaf step, else wide), and their new
-    // numbers (narrow first, then coarse-narrow, then wide, each group in order).
-    // Idempotent: a coarse-narrow brick decodes to centre + k leaf steps = centre + 2k brick
-    // steps, which the brick step takes back exactly, so it would re-encode narrow only if every
-    // |k| were at most 63. The value q that missed the brick step rules that out: it lies beyond
-    // centre +-127 brick steps (within them, the nearest brick-step point with q's sign is too),
-    // say above. The nearest leaf-step point to it is then centre + 128 brick steps or higher,
-    // and so is the one taken unless centre + 128 has the other sign (q < 0 <= centre + 128);
-    // but then centre + 127 brick steps lies in [q - step, q) with q's sign, and the brick step
-    // would have taken it. Below likewise. (tile_test checks this over every 16-bit value.)
+    const int32_t leafStep = leafStepOf(scale, finestCell);
+    // Which form each brick takes (packGrid: 7-bit steps, else 8-bit, else wide), and their new
+    // numbers (narrow first, then coarse-narrow, then wide, each form in order).
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
     std::vector<uint8_t> form(brickCount);
     // A copied brick's form and steps are its source's: packing its decoded values again would
@@ -392,26 +411,35 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
         int8_t* d = deltas.data() + 27 * std::size_t(b);
         if (from && copies.bricks[b] != TileCopies::kNotCopied) {
             const uint32_t i = copies.bricks[b];
-            if (i < from->mPackedCount) std::memcpy(d, from->at<int8_t>(from->mBrickDeltasAt) + 27 * std::size_t(i), 27);
-            form[b] = i < from->mNarrowCount ? kNarrow : i < from->mPackedCount ? kCoarse : kWide;
+            form[b] = i < from->mNarrowCount ? kNarrow : i < from->mCoarseEnd ? kCoarse : i < from->mPackedCount ? kFar : kWide;
+            if (form[b] == kWide) continue;
+            const unsigned char* steps = from->at<unsigned char>(from->mBrickDeltasAt);
+            if (form[b] == kNarrow) {
+                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(i);
+                for (int g = 0; g < 27; ++g) d[g] = int8_t(narrowGridStep(p, g));
+            } else {
+                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(from->mNarrowCount) +
+                                         kCoarseGridSteps * std::size_t(i - from->mNarrowCount);
+                for (int g = 0; g < 27; ++g) d[g] = int8_t(coarseGridStep(p, g));
+            }
             continue;
         }
-        form[b] = packGrid(q, step, true, d);
+        form[b] = packGrid(q, leafStep, d);
     }
-    std::array<uint32_t, 3> brickForms;
+    std::array<uint32_t, kGridForms> brickForms;
     const std::vector<uint32_t> renumber = numberByForm(form, brickForms);
-    const uint32_t narrowCount = brickForms[kNarrow], coarseCount = brickForms[kCoarse];
-    const uint32_t packedCount = narrowCount + coarseCount;
+    const uint32_t narrowCount = brickForms[kNarrow];
+    const uint32_t packedCount = narrowCount + brickForms[kCoarse] + brickForms[kFar];
 
     // Leaf groups: the lone-leaf children of one cell share corners, so when a cell has at
     // least kMinGroupLeaves of them they are stored as its half grid, one centre and 27 leaf
     // steps (or 27 x 16 bits), like a coarse-narrow (or wide) brick.
     const auto leafCount = uint32_t(leafCorners.size() / 8);
-    const LeafGroups groups = findLeafGroups(nodes, leafCorners, step);
-    std::array<uint32_t, 3> groupForms;
+    const LeafGroups groups = findLeafGroups(nodes, leafCorners, leafStep);
+    std::array<uint32_t, kGridForms> groupForms;
     const std::vector<uint32_t> renumberGroup = numberByForm(groups.form, groupForms);
     const auto groupCount = uint32_t(groups.form.size());
-    const uint32_t packedGroups = groupForms[kCoarse];
+    const uint32_t packedGroups = groupForms[kNarrow] + groupForms[kCoarse] + groupForms[kFar];
 
     // Own lone leaves: corner 0 exact, the others in leaf steps from it.
     std::vector<int8_t> leafDeltas(std::size_t(leafCount) * 7);
@@ -483,13 +511,16 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     n.narrowLeaves = narrowLeafCount;
     n.wideLeaves = ownLeafCount - narrowLeafCount;
     n.narrowBricks = narrowCount;
-    n.coarseBricks = coarseCount;
+    n.coarseBricks = brickForms[kCoarse];
+    n.farBricks = brickForms[kFar];
     n.wideBricks = brickCount - packedCount;
-    n.narrowGroups = packedGroups;
+    n.narrowGroups = groupForms[kNarrow];
+    n.coarseGroups = groupForms[kCoarse];
+    n.farGroups = groupForms[kFar];
     n.wideGroups = groupCount - packedGroups;
     n.groupedLeaves = leafCount - ownLeafCount;
     Tile* t = allocate(n);
-    t->mStep = step;
+    t->mStep = int16_t(leafStep);
     if (narrowNodes) {
         auto* out = const_cast<uint16_t*>(t->at<uint16_t>(t->mNodesAt));
         for (std::size_t i = 0; i < words.size(); ++i) out[i] = node::narrow(words[i]);
@@ -510,33 +541,53 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             std::memcpy(wideLeaves + 8 * std::size_t(i - narrowLeafCount), q, 16);
         }
     }
-    // Bricks and groups alike: packed ones as centre and steps, wide ones as they are.
+    // Bricks and groups alike: packed ones as centre and steps (7-bit fields or bytes, the
+    // centre's 0 left out), wide ones as they are.
     auto writeGrids = [t](std::span<const int16_t> values, const std::vector<uint8_t>& forms, std::span<const int8_t> steps,
-                          const std::vector<uint32_t>& number, uint32_t packed, uint32_t basesAt, uint32_t stepsAt,
-                          uint32_t wideAt) {
+                          const std::vector<uint32_t>& number, uint32_t narrow, uint32_t packed, uint32_t basesAt,
+                          uint32_t stepsAt, uint32_t wideAt) {
         auto* bases = const_cast<int16_t*>(t->at<int16_t>(basesAt));
-        auto* packedSteps = const_cast<int8_t*>(t->at<int8_t>(stepsAt));
+        auto* narrowSteps = const_cast<unsigned char*>(t->at<unsigned char>(stepsAt));
+        unsigned char* coarseSteps = narrowSteps + kNarrowGridSteps * std::size_t(narrow);
         auto* wide = const_cast<int16_t*>(t->at<int16_t>(wideAt));
         for (std::size_t k = 0; k < forms.size(); ++k) {
             const int16_t* q = values.data() + 27 * k;
+            const int8_t* d = steps.data() + 27 * k;
             const uint32_t i = number[k];
-            if (forms[k] != kWide) {
-                bases[i] = q[13];
-                std::memcpy(packedSteps + 27 * std::size_t(i), steps.data() + 27 * k, 27);
-            } else {
+            if (forms[k] == kWide) {
                 std::memcpy(wide + 27 * std::size_t(i - packed), q, 54);
+                continue;
+            }
+            bases[i] = q[13];
+            if (forms[k] == kNarrow) {
+                unsigned char* p = narrowSteps + kNarrowGridSteps * std::size_t(i);  // zeroed by allocate
+                unsigned bit = 0;
+                for (int g = 0; g < 27; ++g, bit += 7) {
+                    if (g == 13) {
+                        bit -= 7;
+                        continue;
+                    }
+                    const unsigned field = unsigned(uint8_t(d[g])) & 0x7fu;
+                    p[bit >> 3] = uint8_t(p[bit >> 3] | (field << (bit & 7u)));
+                    if ((bit & 7u) > 1u) p[(bit >> 3) + 1] = uint8_t(p[(bit >> 3) + 1] | (field >> (8u - (bit & 7u))));
+                }
+            } else {
+                unsigned char* p = coarseSteps + kCoarseGridSteps * std::size_t(i - narrow);
+                for (int g = 0; g < 27; ++g)
+                    if (g != 13) p[g - (g > 13)] = uint8_t(d[g]);
             }
         }
     };
-    writeGrids(brickValues, form, deltas, renumber, packedCount, t->mBrickBasesAt, t->mBrickDeltasAt, t->mWideBricksAt);
-    writeGrids(groups.values, groups.form, groups.deltas, renumberGroup, packedGroups, t->mGroupBasesAt,
-               t->mGroupDeltasAt, t->mWideGroupsAt);
+    writeGrids(brickValues, form, deltas, renumber, narrowCount, packedCount, t->mBrickBasesAt, t->mBrickDeltasAt,
+               t->mWideBricksAt);
+    writeGrids(groups.values, groups.form, groups.deltas, renumberGroup, groupForms[kNarrow], packedGroups,
+               t->mGroupBasesAt, t->mGroupDeltasAt, t->mWideGroupsAt);
     return finish(t, level, latticeOrigin, scale, version);
 }
 
 TilePtr Tile::finish(Tile* t, int level, glm::uvec3 latticeOrigin, float scale, uint64_t version) {
-    t->mLevel = int16_t(level);
-    t->mOrigin = latticeOrigin;
+    t->mLevel = int8_t(level);
+    for (int a = 0; a < 3; ++a) t->mOrigin[a] = uint16_t(latticeOrigin[a]);
     t->mScale = scale;
     t->mVersion = version;
     t->mChecksum = t->computeChecksum();

@@ -9,27 +9,30 @@
 /// a *brick*: one node word and the 27 distances of its 3x3x3 half grid, which the 8 children
 /// share (27 values instead of 8 words and 64 values). Distances are quantised to 16 bits with
 /// one scale per tile (docs/ARCHITECTURE.md gives the measurements behind both choices).
-/// A brick whose values all lie within 127 *brick steps* of its centre (every brick of finest
-/// cells, in a 1-Lipschitz field) is stored *narrow*: its centre as 16 bits and 27 signed bytes
-/// counting brick steps from it (29 bytes instead of 54); the step is fixed per tile from its
-/// scale and the finest cell size, so the encoding is idempotent (decode, re-encode: same bits).
-/// A brick that does not fit the brick step but fits twice it (the *leaf step* below: 127 of
-/// them span four finest cells, which holds every brick of two-cell children) is stored
-/// *coarse-narrow*, the same 29 bytes with its bytes counting leaf steps. Other bricks stay
-/// *wide* (27 x 16 bits). The numbering is narrow bricks first, then coarse-narrow, then wide;
-/// readers tell the forms apart by index range. Encoding tries the brick step, then the leaf
-/// step, then wide: a coarse-narrow brick never re-encodes narrow (a value the brick step missed
-/// needs at least 64 leaf steps, 128 brick steps), so the encoding stays idempotent.
-/// Lone leaves are packed the same way: a leaf whose corners all lie within 127 *leaf steps*
-/// (twice the brick step: 127 of them span four finest cells, which holds every leaf of two
-/// finest cells in a 1-Lipschitz field) of its corner 0 is stored *narrow*: corner 0 as 16
-/// bits, the other 7 as signed bytes counting leaf steps from it (9 bytes instead of 16). Other
-/// leaves stay wide (8 x 16 bits); narrow leaves come first in the leaf numbering. Both packings
-/// keep the sign of every value (inside stays inside, outside outside) and are idempotent.
+/// A brick's values are stored *packed* where they fit: its centre as 16 bits and the other 26
+/// as signed steps from it, counting *leaf steps* (below: 127 of them span four finest cells).
+/// A brick whose values all lie within 63 leaf steps of its centre (every brick of finest
+/// cells, at most sqrt(3) cells from their centre in a 1-Lipschitz field) is stored *narrow*:
+/// 7 bits a step, 25 bytes instead of 54. One within 127 leaf steps (bricks of two-cell
+/// children) is stored *coarse-narrow*: a byte a step, 28 bytes. One within 127 *far steps*
+/// (two leaf steps) where every value rounds to within one leaf step, as a packed value always
+/// does (bricks of four-cell children, away from the surface), is stored *far*: a byte a step.
+/// Other bricks stay *wide* (27 x 16 bits). The steps are fixed per tile from its scale and the
+/// finest cell size, never chosen from the values, so the encoding is idempotent (decode,
+/// re-encode: same bits). The numbering is narrow bricks first, then coarse-narrow, far, wide;
+/// readers tell the forms apart by index range. Encoding tries them in that order: a
+/// coarse-narrow brick has a value at 64 leaf steps or more and a far one at 128 or more
+/// (exactly, once decoded), so neither re-encodes in an earlier form.
+/// Lone leaves are packed in leaf steps too: a leaf whose corners all lie within 127 leaf
+/// steps of its corner 0 (every leaf of two finest cells in a 1-Lipschitz field) is stored
+/// *narrow*: corner 0 as 16 bits, the other 7 as signed bytes counting leaf steps from it (9
+/// bytes instead of 16). Other leaves stay wide (8 x 16 bits); narrow leaves come first in the
+/// leaf numbering. Every packing keeps the sign of every value (inside stays inside, outside
+/// outside) and is idempotent.
 /// A cell with at least kMinGroupLeaves lone-leaf children whose shared corners agree (the
 /// same samples: what generation gives) stores them as one *leaf group*: its 27-value half
-/// grid, packed in leaf steps like a coarse-narrow brick or wide, which all its lone-leaf
-/// children read (29 bytes for up to 8 leaves instead of 9 or 16 each). Grouped leaves take
+/// grid, packed like a brick (narrow, coarse-narrow) or wide, which all its lone-leaf children
+/// read (25 or 28 bytes for up to 8 leaves instead of 9 or 16 each). Grouped leaves take
 /// indices 8g + child; a group's unused slots are never referenced. Where a cell's lone leaves
 /// disagree at a shared corner they stay on their own, and wide where their packed corners
 /// would agree (so that decoding and building again never groups them): grouping is
@@ -124,7 +127,7 @@ public:
     /// @param leafCorners     8 values per leaf in corner order
     /// @param brickValues     27 values per brick in half-grid order
     /// @param version         snapshot version that created it (readers check it)
-    /// @param finestCell      the domain's finest cell size, m (sets the narrow-brick step)
+    /// @param finestCell      the domain's finest cell size, m (sets the leaf step)
     /// @param keepScale       a scale to keep when every value fits it and it is at most twice
     ///                        what the values need (0: none). Regeneration
     ///                        passes the old tile's, so cells it copies keep their bits and
@@ -134,11 +137,10 @@ public:
     ///                        bytes are taken as they are instead of being quantised and packed
     ///                        again, which gives the same bits (the encodings are idempotent).
     /// Brick and leaf indices in `nodes` are renumbered (narrow ones first, then coarse-narrow
-    /// bricks); the field is unchanged but for narrow bricks' and leaves' rounding to their
-    /// step: a narrow brick value within one brick step (2/127 finest cell, rounded up to whole
-    /// quantisation steps), a coarse-narrow brick value and a leaf corner but corner 0 within
-    /// one leaf step (twice that); half a step but where keeping the sign takes the step on the
-    /// value's own side. A brick's centre is exact.
+    /// bricks); the field is unchanged but for packed values' rounding to the leaf step: a
+    /// packed brick or group value and a narrow leaf's corner but corner 0 within one leaf step
+    /// (4/127 finest cell, rounded up to whole quantisation steps); half a step but where
+    /// keeping the sign takes the step on the value's own side. A brick's centre is exact.
     /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
     static std::shared_ptr<const Tile> create(int level, glm::uvec3 latticeOrigin,
                                               std::span<const uint32_t> nodes,
@@ -155,7 +157,7 @@ public:
                                                        float scale, uint64_t version, double finestCell);
 
     int level() const { return mLevel; }
-    glm::uvec3 latticeOrigin() const { return mOrigin; }
+    glm::uvec3 latticeOrigin() const { return {mOrigin[0], mOrigin[1], mOrigin[2]}; }
     uint32_t nodeCount() const { return mNodeCount; }
     /// True when the node words are stored in 16 bits (node::narrow), half the bytes.
     bool narrowNodes() const { return mNarrowNodes; }
@@ -164,8 +166,10 @@ public:
     /// Leaf indices: 8 per leaf group (slot 8g + child; a slot whose child is not a lone leaf is
     /// never referenced), then narrow lone leaves, then wide ones. Every index below this decodes.
     uint32_t leafCount() const { return mLeafCount; }
-    uint32_t groupCount() const { return mGroupCount; }              ///< leaf groups, narrow and wide
-    uint32_t narrowGroupCount() const { return mNarrowGroupCount; }  ///< groups 0 .. this - 1 are packed (leaf steps)
+    uint32_t groupCount() const { return mGroupCount; }              ///< leaf groups, packed and wide
+    uint32_t narrowGroupCount() const { return mNarrowGroupCount; }  ///< groups 0 .. this - 1 are narrow (7-bit leaf steps)
+    uint32_t packedGroupCount() const { return mPackedGroupCount; }  ///< groups 0 .. this - 1 are packed (narrow, coarse-narrow, far)
+    uint32_t farGroupCount() const { return mPackedGroupCount - mCoarseGroupEnd; }  ///< the last of the packed groups are far
     uint32_t groupedLeafCount() const { return mGroupedLeafCount; }  ///< lone leaves stored in groups
     /// Lone leaves stored on their own (not in a group), narrow and wide.
     uint32_t ownLeafCount() const { return mLeafCount - 8 * mGroupCount; }
@@ -175,21 +179,25 @@ public:
     /// group's centre exact): packed groups and narrow own leaves.
     bool packedLeaf(uint32_t leaf) const {
         const uint32_t grouped = 8 * mGroupCount;
-        return leaf < grouped ? leaf < 8 * mNarrowGroupCount : leaf - grouped < mNarrowLeafCount;
+        return leaf < grouped ? leaf < 8 * mPackedGroupCount : leaf - grouped < mNarrowLeafCount;
     }
-    int32_t leafStep() const { return 2 * mStep; }       ///< quantisation steps per narrow-leaf step
+    int32_t leafStep() const { return mStep; }  ///< quantisation steps per leaf step (every packed value counts them)
     uint32_t brickCount() const { return mBrickCount; }   ///< narrow, coarse-narrow and wide
-    uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow (brick step)
-    /// Bricks narrowBrickCount() .. packedBrickCount() - 1 are coarse-narrow (leaf step).
-    uint32_t coarseBrickCount() const { return mPackedCount - mNarrowCount; }
-    uint32_t packedBrickCount() const { return mPackedCount; }  ///< narrow and coarse-narrow: 29 bytes each
-    /// Bytes of one stored item of each form (the layout in tile.cpp), for accounting. Groups
-    /// take a packed or a wide brick's bytes.
+    uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow (7-bit steps)
+    /// Bricks narrowBrickCount() .. that + this - 1 are coarse-narrow (8-bit leaf steps).
+    uint32_t coarseBrickCount() const { return mCoarseEnd - mNarrowCount; }
+    /// The bricks after them up to packedBrickCount() - 1 are far (8-bit far steps).
+    uint32_t farBrickCount() const { return mPackedCount - mCoarseEnd; }
+    uint32_t packedBrickCount() const { return mPackedCount; }  ///< narrow, coarse-narrow and far
+    /// Bytes of one stored item of each form (the layout in tile.cpp), for accounting. Bricks
+    /// and groups are half grids: a centre and 26 steps of 7 bits (narrow) or 8 (coarse-narrow,
+    /// far), or 27 values of 16 bits (wide).
     static constexpr std::size_t kNarrowLeafBytes = 2 + 7, kWideLeafBytes = 8 * 2;
-    static constexpr std::size_t kPackedBrickBytes = 2 + 27, kWideBrickBytes = 27 * 2;
+    static constexpr std::size_t kNarrowGridSteps = (26 * 7 + 7) / 8, kCoarseGridSteps = 26;
+    static constexpr std::size_t kNarrowGridBytes = 2 + kNarrowGridSteps, kCoarseGridBytes = 2 + kCoarseGridSteps,
+                                 kWideGridBytes = 27 * 2;
     /// Lone-leaf children a cell needs for them to be stored as a group (fewer cost less alone).
     static constexpr int kMinGroupLeaves = 4;
-    int32_t brickStep() const { return mStep; }           ///< quantisation steps per narrow-brick step
     /// Leaf cells: lone leaves (own and grouped) plus 8 per brick.
     std::size_t cellCount() const {
         return std::size_t(ownLeafCount()) + mGroupedLeafCount + 8 * std::size_t(mBrickCount);
@@ -221,7 +229,7 @@ public:
         if (leaf < mNarrowLeafCount) {
             const int32_t base = at<int16_t>(mLeafBasesAt)[leaf];
             return c == 0 ? int16_t(base)
-                          : int16_t(base + int32_t(at<int8_t>(mLeafDeltasAt)[7 * leaf + uint32_t(c - 1)]) * 2 * mStep);
+                          : int16_t(base + int32_t(at<int8_t>(mLeafDeltasAt)[7 * leaf + uint32_t(c - 1)]) * mStep);
         }
         return at<int16_t>(mWideLeavesAt)[8 * (leaf - mNarrowLeafCount) + uint32_t(c)];
     }
@@ -289,10 +297,13 @@ public:
         uint32_t nodes = 0;
         bool narrowNodes = false;
         uint32_t narrowLeaves = 0, wideLeaves = 0;
-        uint32_t narrowBricks = 0, coarseBricks = 0, wideBricks = 0;
-        uint32_t narrowGroups = 0, wideGroups = 0, groupedLeaves = 0;  ///< narrow: packed in leaf steps
+        uint32_t narrowBricks = 0, coarseBricks = 0, farBricks = 0, wideBricks = 0;
+        uint32_t narrowGroups = 0, coarseGroups = 0, farGroups = 0, wideGroups = 0, groupedLeaves = 0;  ///< as bricks
     };
     Counts counts() const;
+    /// Bytes of the stored values (leaf corners, brick and group half grids) of items counted
+    /// by `n`: the tile's bytes less its header, node words and padding.
+    static std::size_t valueBytes(const Counts& n);
 
     ~Tile();
     Tile(const Tile&) = delete;
@@ -307,30 +318,55 @@ private:
                                                            brickPoint(0, 3), brickPoint(0, 4), brickPoint(0, 5),
                                                            brickPoint(0, 6), brickPoint(0, 7)};
     /// The quantised values of half-grid points first + points[k] of half grid `index` stored
-    /// at `basesAt`/`stepsAt` (packed: a centre and 27 steps, brick steps below `narrowEnd`,
-    /// leaf steps to `packedEnd`) or `wideAt` (27 x 16 bits), with one branch on the form for
-    /// all of them: bricks and leaf groups share it.
+    /// at `basesAt`/`stepsAt` (packed: a centre and 26 steps: leaf steps of 7 bits below
+    /// `narrowEnd`, then leaf steps of a byte below `coarseEnd`, far steps of a byte below
+    /// `packedEnd`) or `wideAt` (27 x 16 bits), with one branch on the form for all of them:
+    /// bricks and leaf groups share it.
     template <std::size_t N>
-    void decodeGrid(uint32_t basesAt, uint32_t stepsAt, uint32_t wideAt, uint32_t narrowEnd, uint32_t packedEnd,
-                    uint32_t index, int first, const std::array<int, N>& points, int16_t* out) const {
+    void decodeGrid(uint32_t basesAt, uint32_t stepsAt, uint32_t wideAt, uint32_t narrowEnd, uint32_t coarseEnd,
+                    uint32_t packedEnd, uint32_t index, int first, const std::array<int, N>& points,
+                    int16_t* out) const {
         if (index < packedEnd) {
-            const int32_t base = at<int16_t>(basesAt)[index], step = index < narrowEnd ? mStep : 2 * mStep;
-            const int8_t* d = at<int8_t>(stepsAt) + 27 * std::size_t(index) + first;
-            for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + int32_t(d[points[k]]) * step);
+            const int32_t base = at<int16_t>(basesAt)[index];
+            const unsigned char* steps = at<unsigned char>(stepsAt);
+            if (index < narrowEnd) {
+                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(index);
+                for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + narrowGridStep(p, first + points[k]) * mStep);
+            } else {
+                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(narrowEnd) +
+                                         kCoarseGridSteps * std::size_t(index - narrowEnd);
+                const int32_t step = index < coarseEnd ? mStep : 2 * mStep;
+                for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + coarseGridStep(p, first + points[k]) * step);
+            }
         } else {
             const int16_t* q = at<int16_t>(wideAt) + 27 * std::size_t(index - packedEnd) + first;
             for (std::size_t k = 0; k < N; ++k) out[k] = q[points[k]];
         }
     }
+    /// Leaf steps of half-grid point g from the centre (0 at the centre, 13, which is not
+    /// stored): 7-bit fields packed little-endian from bit 0, one per other point in order.
+    static int32_t narrowGridStep(const unsigned char* p, int g) {
+        const unsigned bit = 7u * unsigned(g - (g > 13));
+        const unsigned pair = unsigned(p[bit >> 3]) | unsigned(p[(bit >> 3) + 1]) << 8;
+        const int32_t k = int32_t((pair >> (bit & 7u)) << 25) >> 25;  // sign-extend 7 bits
+        return g == 13 ? 0 : k;
+    }
+    /// The same with a signed byte per point.
+    static int32_t coarseGridStep(const unsigned char* p, int g) {
+        const int32_t k = int8_t(p[g - (g > 13)]);
+        return g == 13 ? 0 : k;
+    }
     /// Brick `brick`'s values (brickValues, brickCorners; brickValue is the one-point case).
     template <std::size_t N>
     void decodeBrick(uint32_t brick, int first, const std::array<int, N>& points, int16_t* out) const {
-        decodeGrid(mBrickBasesAt, mBrickDeltasAt, mWideBricksAt, mNarrowCount, mPackedCount, brick, first, points, out);
+        decodeGrid(mBrickBasesAt, mBrickDeltasAt, mWideBricksAt, mNarrowCount, mCoarseEnd, mPackedCount, brick, first,
+                   points, out);
     }
     /// Grouped leaf `leaf`'s values: its group's half grid (all leaf steps when packed).
     template <std::size_t N>
     void decodeGroup(uint32_t leaf, int first, const std::array<int, N>& points, int16_t* out) const {
-        decodeGrid(mGroupBasesAt, mGroupDeltasAt, mWideGroupsAt, 0, mNarrowGroupCount, leaf >> 3, first, points, out);
+        decodeGrid(mGroupBasesAt, mGroupDeltasAt, mWideGroupsAt, mNarrowGroupCount, mCoarseGroupEnd, mPackedGroupCount,
+                   leaf >> 3, first, points, out);
     }
     /// A narrow own leaf's 8 corners from its corner 0 and 7 steps of `step` (Tile::leafValues,
     /// and Tile::build, which asks what a packed leaf would decode to).
@@ -365,24 +401,27 @@ private:
     uint32_t mLeafBasesAt = 0;    ///< int16 corner 0 of each narrow own leaf
     uint32_t mLeafDeltasAt = 0;   ///< 7 x int8 per narrow own leaf, leaf steps from corner 0
     uint32_t mBrickBasesAt = 0;   ///< int16 centre of each narrow and coarse-narrow brick
-    uint32_t mBrickDeltasAt = 0;  ///< 27 x int8 per narrow and coarse-narrow brick
+    uint32_t mBrickDeltasAt = 0;  ///< 26 x 7 bits per narrow brick, then 26 x int8 per coarse-narrow and far one
     uint32_t mWideBricksAt = 0;   ///< 27 x int16 per wide brick
-    uint32_t mGroupBasesAt = 0;   ///< int16 centre of each narrow leaf group
-    uint32_t mGroupDeltasAt = 0;  ///< 27 x int8 per narrow leaf group, leaf steps from the centre
+    uint32_t mGroupBasesAt = 0;   ///< int16 centre of each packed leaf group
+    uint32_t mGroupDeltasAt = 0;  ///< leaf steps, as for bricks
     uint32_t mWideGroupsAt = 0;   ///< 27 x int16 per wide leaf group
-    glm::uvec3 mOrigin{0};
+    uint16_t mOrigin[3] = {0, 0, 0};  ///< lattice coordinates: below 2^16 (level 16 at most)
     uint32_t mNodeCount = 0;
     uint32_t mLeafCount = 0;
     uint32_t mNarrowLeafCount = 0;
     uint32_t mBrickCount = 0;
     uint32_t mNarrowCount = 0;
-    uint32_t mPackedCount = 0;  ///< narrow and coarse-narrow bricks
+    uint32_t mCoarseEnd = 0;    ///< narrow and coarse-narrow bricks
+    uint32_t mPackedCount = 0;  ///< narrow, coarse-narrow and far bricks
     uint32_t mGroupCount = 0;
-    uint32_t mNarrowGroupCount = 0;  ///< packed groups (leaf steps)
+    uint32_t mNarrowGroupCount = 0;  ///< narrow groups (7-bit leaf steps)
+    uint32_t mCoarseGroupEnd = 0;    ///< narrow and coarse-narrow groups
+    uint32_t mPackedGroupCount = 0;  ///< narrow, coarse-narrow and far groups
     uint32_t mGroupedLeafCount = 0;
-    int32_t mStep = 1;
     float mScale = 0.0f;
-    int16_t mLevel = 0;  // with the flag below, keeps the header at 128 bytes (tile_test)
+    int16_t mStep = 1;   ///< quantisation steps per leaf step (at most 32767)
+    int8_t mLevel = 0;   // with the flag below, keeps the header at 128 bytes (tile_test)
     bool mNarrowNodes = false;
 
 public:

@@ -39,18 +39,23 @@ inline ::testing::AssertionResult sameColours(const adf::Adf& a, const adf::Adf&
 }
 
 /// The same tree, and decoded values within the rounding of both tiles (half a quantisation
-/// step each, and half a narrow-brick or narrow-leaf step each where they are narrow, a leaf
-/// step for coarse-narrow bricks).
+/// step each, and half a leaf step each where they are packed in leaf steps, a leaf step where
+/// in far steps) and a leaf step more for a copy's older rounding.
 inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
-    auto brickTolerance = [](const adf::Tile& t, uint32_t brick) {
-        return 0.5 * double(t.scale()) *
-               (brick < t.narrowBrickCount()   ? double(t.brickStep()) + 1.0
-                : brick < t.packedBrickCount() ? double(t.leafStep()) + 1.0
-                                               : 1.0);
+    auto rounding = [](const adf::Tile& t, bool packed, bool far) {
+        return 0.5 * double(t.scale()) * (far ? 2.0 * double(t.leafStep()) + 1.0 : packed ? double(t.leafStep()) + 1.0 : 1.0);
     };
-    auto leafTolerance = [](const adf::Tile& t, uint32_t leaf) {
-        return 0.5 * double(t.scale()) * (t.packedLeaf(leaf) ? double(t.leafStep()) + 1.0 : 1.0);
+    auto brickTolerance = [&](const adf::Tile& t, uint32_t brick) {
+        return rounding(t, brick < t.packedBrickCount(), brick >= t.packedBrickCount() - t.farBrickCount() && brick < t.packedBrickCount());
     };
+    auto leafTolerance = [&](const adf::Tile& t, uint32_t leaf) {
+        const uint32_t group = leaf >> 3;
+        const bool far = leaf < 8 * t.groupCount() && group < t.packedGroupCount() && group >= t.packedGroupCount() - t.farGroupCount();
+        return rounding(t, t.packedLeaf(leaf), far);
+    };
+    // A copied cell may carry the rounding of the tile it was copied from too: a packed item's,
+    // within a leaf step (a far group's 4-cell leaf, say, copied where it is stored wide).
+    const double copied = std::max(double(a.leafStep()) * double(a.scale()), double(b.leafStep()) * double(b.scale()));
     std::vector<std::pair<uint32_t, uint32_t>> stack{{a.node(0), b.node(0)}};
     while (!stack.empty()) {
         const auto [wa, wb] = stack.back();
@@ -62,16 +67,14 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
             for (uint32_t c = 0; c < 8; ++c) stack.emplace_back(a.node(wa + c), b.node(wb + c));
         } else if (adf::node::isBrick(wa)) {
             const uint32_t ka = adf::node::brickIndex(wa), kb = adf::node::brickIndex(wb);
-            // twice: a copied cell may carry the rounding of the tile it was copied from too
-            const double tolerance = 2.0 * (brickTolerance(a, ka) + brickTolerance(b, kb)) * (1.0 + 1e-6);
+            const double tolerance = (brickTolerance(a, ka) + brickTolerance(b, kb) + copied) * (1.0 + 1e-6);
             for (int g = 0; g < 27; ++g)
                 if (std::abs(double(a.brickValue(ka, g)) * a.scale() - double(b.brickValue(kb, g)) * b.scale()) > tolerance)
                     return false;
         } else {
             if (adf::node::leafType(wa) != adf::node::leafType(wb)) return false;
-            // twice, as for bricks: a copied leaf may carry an older tile's rounding too
             const uint32_t la = adf::node::leafIndex(wa), lb = adf::node::leafIndex(wb);
-            const double tolerance = 2.0 * (leafTolerance(a, la) + leafTolerance(b, lb)) * (1.0 + 1e-6);
+            const double tolerance = (leafTolerance(a, la) + leafTolerance(b, lb) + copied) * (1.0 + 1e-6);
             for (int c = 0; c < 8; ++c)
                 if (std::abs(double(a.corner(la, c)) - double(b.corner(lb, c))) > tolerance)
                     return false;
@@ -94,6 +97,34 @@ template <class Differs>
     return ::testing::AssertionSuccess();
 }
 
+/// What sameAdf finds different between two tiles, or null.
+inline const char* tileDifference(const adf::Tile& ta, const adf::Tile& tb, bool scaleMayDiffer) {
+    if (ta.level() != tb.level()) return "tile level";
+    if (ta.latticeOrigin() != tb.latticeOrigin()) return "tile origin";
+    if (ta.nodeCount() != tb.nodeCount() || ta.leafCount() != tb.leafCount() || ta.brickCount() != tb.brickCount())
+        return "cell count";
+    if (ta.scale() != tb.scale()) {
+        if (!scaleMayDiffer) return "quantisation scale";
+        return sameUpToQuantisation(ta, tb) ? nullptr : "tree or distances (beyond quantisation)";
+    }
+    if (ta.nodeWords() != tb.nodeWords()) return "node words";
+    if (ta.narrowBrickCount() != tb.narrowBrickCount() || ta.coarseBrickCount() != tb.coarseBrickCount() ||
+        ta.farBrickCount() != tb.farBrickCount() || ta.leafStep() != tb.leafStep())
+        return "brick encoding";
+    if (ta.narrowLeafCount() != tb.narrowLeafCount() || ta.groupCount() != tb.groupCount() ||
+        ta.narrowGroupCount() != tb.narrowGroupCount() || ta.packedGroupCount() != tb.packedGroupCount() ||
+        ta.farGroupCount() != tb.farGroupCount() || ta.groupedLeafCount() != tb.groupedLeafCount())
+        return "leaf encoding";
+    for (uint32_t k = 0; k < ta.leafCount(); ++k)
+        for (int c = 0; c < 8; ++c)
+            if (ta.leafValue(k, c) != tb.leafValue(k, c)) return "corner distances";
+    for (uint32_t k = 0; k < ta.brickCount(); ++k)
+        for (int g = 0; g < 27; ++g)
+            if (ta.brickValue(k, g) != tb.brickValue(k, g)) return "brick distances";
+    if (ta.checksum() != tb.checksum()) return "tile checksum";
+    return nullptr;
+}
+
 /// Every slot maps to tiles with identical level, origin, scale, nodes and corners, and the
 /// paint is the same. `scaleMayDiffer`: tiles may be quantised at different scales (a rebuilt
 /// tile keeps its old one when its values fit), and then their values agree within half a
@@ -101,30 +132,8 @@ template <class Differs>
 inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, bool scaleMayDiffer = false) {
     if (!(a.domain() == b.domain())) return ::testing::AssertionFailure() << "domains differ";
     if (auto paint = sameColours(a, b); !paint) return paint;
-    return firstSlotWhere(a, b, [scaleMayDiffer](const adf::Tile& ta, const adf::Tile& tb) -> const char* {
-        if (ta.level() != tb.level()) return "tile level";
-        if (ta.latticeOrigin() != tb.latticeOrigin()) return "tile origin";
-        if (ta.nodeCount() != tb.nodeCount() || ta.leafCount() != tb.leafCount() || ta.brickCount() != tb.brickCount())
-            return "cell count";
-        if (ta.scale() != tb.scale()) {
-            if (!scaleMayDiffer) return "quantisation scale";
-            return sameUpToQuantisation(ta, tb) ? nullptr : "tree or distances (beyond quantisation)";
-        }
-        if (ta.nodeWords() != tb.nodeWords()) return "node words";
-        if (ta.narrowBrickCount() != tb.narrowBrickCount() || ta.coarseBrickCount() != tb.coarseBrickCount() ||
-            ta.brickStep() != tb.brickStep())
-            return "brick encoding";
-        if (ta.narrowLeafCount() != tb.narrowLeafCount() || ta.groupCount() != tb.groupCount() ||
-            ta.narrowGroupCount() != tb.narrowGroupCount() || ta.groupedLeafCount() != tb.groupedLeafCount())
-            return "leaf encoding";
-        for (uint32_t k = 0; k < ta.leafCount(); ++k)
-            for (int c = 0; c < 8; ++c)
-                if (ta.leafValue(k, c) != tb.leafValue(k, c)) return "corner distances";
-        for (uint32_t k = 0; k < ta.brickCount(); ++k)
-            for (int g = 0; g < 27; ++g)
-                if (ta.brickValue(k, g) != tb.brickValue(k, g)) return "brick distances";
-        if (ta.checksum() != tb.checksum()) return "tile checksum";
-        return nullptr;
+    return firstSlotWhere(a, b, [scaleMayDiffer](const adf::Tile& ta, const adf::Tile& tb) {
+        return tileDifference(ta, tb, scaleMayDiffer);
     });
 }
 
@@ -133,8 +142,9 @@ inline ::testing::AssertionResult sameAdf(const adf::Adf& a, const adf::Adf& b, 
 inline ::testing::AssertionResult sameFieldUpToQuantisation(const adf::Adf& a, const adf::Adf& b) {
     return firstSlotWhere(a, b, [](const adf::Tile& ta, const adf::Tile& tb) -> const char* {
         if (ta.level() != tb.level() || ta.latticeOrigin() != tb.latticeOrigin() || ta.nodeCount() != tb.nodeCount() ||
-            ta.cellCount() != tb.cellCount() || !sameUpToQuantisation(ta, tb))
-            return "the field";
+            ta.cellCount() != tb.cellCount())
+            return "the tree";
+        if (!sameUpToQuantisation(ta, tb)) return "the field (tree or distances beyond quantisation)";
         return nullptr;
     });
 }

@@ -100,12 +100,13 @@ TEST(Tile, BricksOfFinestCellsAreNarrowAndWithinAStep) {
     }
     const TilePtr t = tileOfBricks(values);
     EXPECT_EQ(t->narrowBrickCount(), 8u);
-    // The figure memory work is judged by: 29 bytes per narrow brick (54 wide).
+    // The figure memory work is judged by: 25 bytes per narrow brick (54 wide).
     const TilePtr wide = Tile::create(9, glm::uvec3(0), std::vector<uint32_t>{node::makeBrick(0)}, {},
                                       std::vector<float>(values.begin(), values.begin() + 27), 1, 1e-9);
     EXPECT_EQ(wide->narrowBrickCount(), 0u);
-    const double step = double(t->brickStep()) * double(t->scale());
-    EXPECT_LT(step, 0.02 * kCell) << "a step must stay far under epsilon (0.25 cells)";
+    const double step = double(t->leafStep()) * double(t->scale());
+    EXPECT_LT(step, 0.04 * kCell) << "a step must stay far under epsilon (0.25 cells)";
+    EXPECT_GE(63.0 * step, std::sqrt(3.0) * kCell) << "63 leaf steps (7 bits) must span a finest brick's half diagonal";
     for (uint32_t b = 0; b < 8; ++b)
         for (int g = 0; g < 27; ++g) {
             const float exact = values[27 * b + uint32_t(g)];
@@ -147,11 +148,11 @@ TEST(Tile, BricksOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
         const float exact = values[27 * b];
         const float decoded = float(t->brickValue(stored, 0)) * t->scale();
         // Wide: only the 16-bit rounding; narrow: within a step. Either way the same brick.
-        EXPECT_NEAR(decoded, exact, b % 3 == 0 ? t->scale() : (t->brickStep() + 1) * t->scale());
+        EXPECT_NEAR(decoded, exact, b % 3 == 0 ? t->scale() : (t->leafStep() + 1) * t->scale());
     }
-    // Memory by counter: 29 bytes a narrow brick (2 for its centre, 27 steps), 54 a wide one.
+    // Memory by counter: 25 bytes a narrow brick (2 for its centre, 26 steps of 7 bits), 54 a wide one.
     const std::size_t header = headerBytes();
-    EXPECT_EQ(t->bytes(), header + 24 /* 9 16-bit node words, 8-aligned */ + 5 * 29 + 1 /* 2-alignment */ + 3 * 54);
+    EXPECT_EQ(t->bytes(), header + 24 /* 9 16-bit node words, 8-aligned */ + 5 * 25 + 1 /* 2-alignment */ + 3 * 54);
 }
 
 TEST(Tile, LeavesOfTwoFinestCellsAreNarrowAndWithinALeafStep) {
@@ -165,7 +166,6 @@ TEST(Tile, LeavesOfTwoFinestCellsAreNarrowAndWithinALeafStep) {
     EXPECT_EQ(t->leafCount(), 8u);
     EXPECT_EQ(t->groupCount(), 0u);
     EXPECT_EQ(t->narrowLeafCount(), 8u);
-    EXPECT_EQ(t->leafStep(), 2 * t->brickStep());
     const double step = double(t->leafStep()) * double(t->scale());
     EXPECT_LT(step, 0.04 * kCell) << "a leaf step must stay far under epsilon (0.25 cells)";
     EXPECT_GE(127.0 * step, 2.0 * std::sqrt(3.0) * kCell) << "127 steps must span a 2-cell leaf's diagonal";
@@ -257,7 +257,7 @@ TEST(Tile, LeavesOutOfRangeStayWideAndExactAndAreRenumberedAfterNarrowOnes) {
 TEST(Tile, NarrowLeavesKeepTheSignOfEveryCorner) {
     // Quantised values straddling zero by less than a leaf step: rounding to the nearest step
     // would flip them; the encoding takes the step on the value's own side instead.
-    const float scale = float(kCell / 1000.0);  // brick step 16, leaf step 32
+    const float scale = float(kCell / 1000.0);  // leaf step 32
     std::vector<int16_t> q = {0, -1, 1, -5, 3, -16, 16, -31,    // base 0 (outside)
                               -1, 1, 0, -2, 2, 15, -15, 40};   // base -1 (inside)
     const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), std::vector<uint32_t>{node::makeLeaf(0, CellType::Boundary)},
@@ -277,16 +277,18 @@ TEST(Tile, NarrowLeavesKeepTheSignOfEveryCorner) {
 }
 
 namespace {
-/// Which form brick word `w` of `t` points at: 0 narrow, 1 coarse-narrow, 2 wide.
+/// Which form brick word `w` of `t` points at: 0 narrow, 1 coarse-narrow, 2 far, 3 wide.
 int brickForm(const Tile& t, uint32_t w) {
     const uint32_t b = node::brickIndex(w);
-    return b < t.narrowBrickCount() ? 0 : b < t.packedBrickCount() ? 1 : 2;
+    const uint32_t coarseEnd = t.narrowBrickCount() + t.coarseBrickCount();
+    return b < t.narrowBrickCount() ? 0 : b < coarseEnd ? 1 : b < t.packedBrickCount() ? 2 : 3;
 }
-/// A brick of 2-finest-cell children at `origin` (lattice), the field's gradient close to a
-/// diagonal so its corners lie about 2 sqrt(3) cells from the centre: beyond the brick step's
-/// reach (127 steps span 2 cells), within the leaf step's (4 cells).
-std::vector<float> diagonalBrick(glm::dvec3 origin, double r) {
-    return sphereBrick(origin, {-60.0, -61.0, -59.0}, r, 2.0);
+/// A brick of children `spacing` finest cells across at `origin` (lattice), the field's
+/// gradient close to a diagonal so its corners lie about spacing x sqrt(3) cells from the
+/// centre: for 2-cell children beyond 7-bit leaf steps' reach (63 span 2 cells), within
+/// 8-bit ones' (4 cells); for 4-cell children beyond those, within far steps' (8 cells).
+std::vector<float> diagonalBrick(glm::dvec3 origin, double r, double spacing = 2.0) {
+    return sphereBrick(origin, {-60.0, -61.0, -59.0}, r, spacing);
 }
 }  // namespace
 
@@ -297,7 +299,7 @@ TEST(Tile, BricksOfTwoCellChildrenAreCoarseNarrowAndWithinALeafStep) {
         values.insert(values.end(), v.begin(), v.end());
     }
     const TilePtr t = tileOfBricks(values);
-    EXPECT_EQ(t->narrowBrickCount(), 0u) << "2-cell children reach past 127 brick steps";
+    EXPECT_EQ(t->narrowBrickCount(), 0u) << "2-cell children reach past 63 leaf steps";
     EXPECT_EQ(t->coarseBrickCount(), 8u);
     EXPECT_EQ(t->packedBrickCount(), 8u);
     const double step = double(t->leafStep()) * double(t->scale());
@@ -314,16 +316,54 @@ TEST(Tile, BricksOfTwoCellChildrenAreCoarseNarrowAndWithinALeafStep) {
             if (g == 13) {
                 EXPECT_EQ(t->brickValue(stored, g), int16_t(std::lround(exact / t->scale()))) << "centre exact";
             }
-            beyondBrickStep |= std::abs(double(exact - values[27 * b + 13])) > 127.0 * t->brickStep() * t->scale();
+            beyondBrickStep |= std::abs(double(exact - values[27 * b + 13])) > 63.0 * t->leafStep() * t->scale();
         }
     }
-    EXPECT_TRUE(beyondBrickStep) << "the test bricks must need the leaf step";
-    // 29 bytes a coarse-narrow brick, as a narrow one (54 wide).
+    EXPECT_TRUE(beyondBrickStep) << "the test bricks must need 8 bits";
+    // 28 bytes a coarse-narrow brick (54 wide).
     std::vector<float> steep(values);
     for (uint32_t b = 0; b < 8; ++b) steep[27 * b] += float(30.0 * kCell);
     const TilePtr wide = tileOfBricks(steep);
     EXPECT_EQ(wide->packedBrickCount(), 0u);
-    EXPECT_EQ(wide->bytes() - t->bytes(), 8u * (54 - 29));
+    EXPECT_EQ(wide->bytes() - t->bytes(), 8u * (54 - 28));
+}
+
+TEST(Tile, BricksOfFourCellChildrenAwayFromTheSurfaceAreFarAndWithinALeafStep) {
+    // Children four finest cells across, some 100 cells from the surface: beyond 127 leaf
+    // steps, within 127 far steps, every value rounding to within a leaf step.
+    std::vector<float> values;
+    for (int b = 0; b < 8; ++b) {
+        const auto v = diagonalBrick(glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 8.0, 0.4 * b, 4.0);
+        values.insert(values.end(), v.begin(), v.end());
+    }
+    const TilePtr t = tileOfBricks(values);
+    EXPECT_EQ(t->farBrickCount(), 8u);
+    EXPECT_EQ(t->packedBrickCount(), 8u);
+    const double step = double(t->leafStep()) * double(t->scale());
+    EXPECT_GE(127.0 * 2.0 * step, 4.0 * std::sqrt(3.0) * kCell) << "127 far steps must span a 4-cell brick's half diagonal";
+    bool beyondLeafSteps = false;
+    for (uint32_t b = 0; b < 8; ++b) {
+        const uint32_t stored = node::brickIndex(t->node(1 + b));
+        EXPECT_EQ(brickForm(*t, t->node(1 + b)), 2);
+        for (int g = 0; g < 27; ++g) {
+            const float exact = values[27 * b + uint32_t(g)];
+            const float decoded = float(t->brickValue(stored, g)) * t->scale();
+            EXPECT_LE(std::abs(double(decoded - exact)), step + double(t->scale())) << "brick " << b << " point " << g;
+            beyondLeafSteps |= std::abs(double(exact - values[27 * b + 13])) > 127.0 * step;
+        }
+        EXPECT_EQ(t->brickValue(stored, 13), int16_t(std::lround(values[27 * b + 13] / t->scale()))) << "centre exact";
+    }
+    EXPECT_TRUE(beyondLeafSteps) << "the test bricks must need the far step";
+    EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 8 * 28);
+    // At the surface a far step could not keep a small value's sign within a leaf step: wide.
+    std::vector<float> crossing(values);
+    for (uint32_t b = 0; b < 8; ++b) {
+        const float shift = values[27 * b + 13];
+        for (int g = 0; g < 27; ++g) crossing[27 * b + uint32_t(g)] -= shift;
+        crossing[27 * b + 0] = -0.5f * float(step);  // inside, half a leaf step: the far step's nearest is 0
+    }
+    const TilePtr wide = tileOfBricks(crossing);
+    EXPECT_EQ(wide->packedBrickCount(), 0u);
 }
 
 TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExact) {
@@ -344,11 +384,9 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
     for (uint32_t b = 0; b < 8; ++b) {
         const uint32_t w = t->node(1 + b);
         const int form = int(b % 3);
-        EXPECT_EQ(brickForm(*t, w), form) << "brick " << b;
+        EXPECT_EQ(brickForm(*t, w), form == 2 ? 3 : form) << "brick " << b;
         EXPECT_EQ(node::brickIndex(w), next[form]++) << "each form numbered in order, narrow, coarse-narrow, wide";
-        const double tolerance = form == 0 ? double(t->brickStep() + 1) * t->scale()
-                                 : form == 1 ? double(t->leafStep() + 1) * t->scale()
-                                             : 0.5 * double(t->scale()) * (1.0 + 1e-6);
+        const double tolerance = form < 2 ? double(t->leafStep() + 1) * t->scale() : 0.5 * double(t->scale()) * (1.0 + 1e-6);
         for (int g = 0; g < 27; ++g)
             EXPECT_LE(std::abs(double(t->brickValue(node::brickIndex(w), g)) * t->scale() - double(values[27 * b + uint32_t(g)])),
                       tolerance)
@@ -365,23 +403,26 @@ TEST(Tile, BricksOfEveryFormAreNumberedNarrowCoarseWideAndOutOfRangeOnesStayExac
         for (int g = 0; g < 27; ++g)
             EXPECT_EQ(all[g], t->brickValue(node::brickIndex(w), g)) << "bulk decode, brick " << b << " point " << g;
     }
-    // Memory by counter: 29 bytes a packed brick (narrow or coarse-narrow), 54 a wide one.
-    EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 6 * 29 + 2 * 54);
+    // Memory by counter: 25 bytes a narrow brick, 28 a coarse-narrow one, 54 a wide one.
+    EXPECT_EQ(t->bytes(), headerBytes() + 24 /* 9 16-bit node words, 8-aligned */ + 3 * 25 + 3 * 28 + 1 /* 2-alignment */ + 2 * 54);
 }
 
-/// `count` bricks under the root (node 0), appended, of all three forms: by b % 3, a sphere
-/// (narrow), a steep diagonal plane, the same with one value pushed 12 cells out (wide).
+/// `count` bricks under the root (node 0), appended, of all four forms: by b % 4, a sphere
+/// (narrow), a steep diagonal plane (coarse-narrow), the same with 4-cell children (far), the
+/// same with one value pushed 12 cells out (wide).
 void appendBricksOfAllForms(int count, std::vector<float>& values, std::vector<uint32_t>& nodes) {
     for (int b = 0; b < count; ++b) {
-        const glm::dvec3 o = glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 4.0;
-        auto v = b % 3 == 0 ? sphereBrick(o, {0.4, 0.9, 1.1}, 0.7 + 0.05 * b) : diagonalBrick(o, 105.5 + 0.1 * b);
-        if (b % 3 == 2) v[3] += float(12.0 * kCell);
+        const glm::dvec3 o = glm::dvec3(b & 1, (b >> 1) & 1, b >> 2) * 8.0;
+        auto v = b % 4 == 0   ? sphereBrick(o, {0.4, 0.9, 1.1}, 0.7 + 0.05 * b)
+                 : b % 4 == 2 ? diagonalBrick(o, 105.5 + 0.1 * b, 4.0)
+                              : diagonalBrick(o, 105.5 + 0.1 * b);
+        if (b % 4 == 3) v[3] += float(12.0 * kCell);
         values.insert(values.end(), v.begin(), v.end());
         nodes.push_back(node::makeBrick(uint32_t(b)));
     }
 }
 
-TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
+TEST(Tile, EncodingOfAllFourBrickFormsIsIdempotent) {
     // Decode and re-encode (file loading, sub-tile copying): the same bits and the same form
     // for every brick, lone leaves alongside.
     std::vector<float> values;
@@ -394,6 +435,7 @@ TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
     const TilePtr t = Tile::create(9, glm::uvec3(0), nodes, corners, values, 1, kCell);
     ASSERT_GT(t->narrowBrickCount(), 0u);
     ASSERT_GT(t->coarseBrickCount(), 0u);
+    ASSERT_GT(t->farBrickCount(), 0u);
     ASSERT_LT(t->packedBrickCount(), t->brickCount());
     std::vector<int16_t> leafValues(8), brickValues;
     t->leafValues(0, leafValues.data());
@@ -403,9 +445,10 @@ TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
                                                 brickValues, t->scale(), 1, kCell);
     EXPECT_EQ(again->narrowBrickCount(), t->narrowBrickCount());
     EXPECT_EQ(again->coarseBrickCount(), t->coarseBrickCount()) << "a coarse-narrow brick never becomes narrow";
+    EXPECT_EQ(again->farBrickCount(), t->farBrickCount()) << "nor a far one coarse-narrow";
     EXPECT_EQ(again->nodeWords(),
               t->nodeWords())
-        << "already numbered narrow, coarse-narrow, wide: unchanged";
+        << "already numbered narrow, coarse-narrow, far, wide: unchanged";
     EXPECT_EQ(again->checksum(), t->checksum());
     EXPECT_EQ(again->bytes(), t->bytes());
     // and through floats at the kept scale (what regeneration's copy does)
@@ -418,7 +461,7 @@ TEST(Tile, EncodingOfAllThreeBrickFormsIsIdempotent) {
 }
 
 TEST(Tile, CopiedItemsTakeTheirSourcesPackingWithTheSameBits) {
-    // A source with bricks of all three forms and a narrow and a wide lone leaf.
+    // A source with bricks of all four forms and a narrow and a wide lone leaf.
     std::vector<float> values;
     std::vector<uint32_t> nodes{1};
     appendBricksOfAllForms(6, values, nodes);
@@ -429,6 +472,7 @@ TEST(Tile, CopiedItemsTakeTheirSourcesPackingWithTheSameBits) {
     const TilePtr from = Tile::create(9, glm::uvec3(0), nodes, corners, values, 1, kCell);
     ASSERT_GT(from->narrowBrickCount(), 0u);
     ASSERT_GT(from->coarseBrickCount(), 0u);
+    ASSERT_GT(from->farBrickCount(), 0u);
     ASSERT_LT(from->packedBrickCount(), from->brickCount());
     ASSERT_EQ(from->narrowLeafCount(), 1u);
     ASSERT_EQ(from->leafCount(), 2u);
@@ -470,13 +514,13 @@ TEST(Tile, CopiedItemsTakeTheirSourcesPackingWithTheSameBits) {
 }
 
 TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
-    // The argument in Tile::build, checked exhaustively: a brick whose one off-centre value q
-    // misses the brick step and takes the leaf step decodes to a value the brick step cannot
-    // reach either, so the re-encoded brick is coarse-narrow again (never narrow), with the same
-    // bits; and every form keeps q's sign, within one step of its own (wide: exact). Steps from
-    // 1 to the largest (32767, where the 16-bit range clamps), centres across the range.
-    for (const int32_t s : {1, 2, 3, 16, 17, 129, 1000, 32767}) {
-        const float scale = float(2.0 / (127.0 * (double(s) - 0.5)));  // finest cell 1: brick step s
+    // The argument in packGrid, checked exhaustively: a brick whose one off-centre value q
+    // misses 7-bit leaf steps (or 8-bit ones) decodes to a value they cannot reach either, so
+    // the re-encoded brick takes its form again, with the same bits; and every form keeps q's
+    // sign, within one leaf step of its own (wide: exact). Leaf steps from 2 to the largest
+    // (32767, where the 16-bit range clamps), centres across the range.
+    for (const int32_t s : {1, 2, 3, 16, 17, 129, 1000, 16384}) {
+        const float scale = float(2.0 / (127.0 * (double(s) - 0.5)));  // finest cell 1: leaf step 2s
         for (const int16_t centre : {int16_t(-32767), int16_t(-3000), int16_t(-1), int16_t(0), int16_t(1), int16_t(2500),
                                      int16_t(32767)}) {
             std::vector<int16_t> values;
@@ -486,9 +530,13 @@ TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
                 for (int g = 0; g < 27; ++g) values.push_back(g == 4 ? int16_t(q) : centre);
             }
             const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), nodes, {}, values, scale, 1, 1.0);
-            ASSERT_EQ(t->brickStep(), s);
-            if (127 * s < 32767) {
+            const int32_t leaf = std::min(2 * s, 32767);
+            ASSERT_EQ(t->leafStep(), leaf);
+            if (127 * leaf < 32767) {
                 ASSERT_GT(t->coarseBrickCount(), 0u) << "step " << s << " centre " << centre;
+            }
+            if (128 * leaf < 32767 + std::abs(int32_t(centre))) {  // some value lies beyond 8-bit leaf steps
+                ASSERT_GT(t->farBrickCount(), 0u) << "step " << s << " centre " << centre;
             }
             std::vector<int16_t> decoded;
             decoded.reserve(values.size());
@@ -500,7 +548,7 @@ TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
                 const uint32_t b = node::brickIndex(t->node(i));
                 const int form = brickForm(*t, t->node(i));
                 const int32_t d = t->brickValue(b, 4);
-                const int32_t bound = form == 0 ? s : form == 1 ? 2 * s : 0;
+                const int32_t bound = form < 3 ? leaf : 0;
                 if ((d < 0) != (q < 0) || std::abs(d - q) > bound || t->brickValue(b, 13) != centre) {
                     ++failures;
                     ADD_FAILURE() << "step " << s << " centre " << centre << " value " << q << " form " << form << " decoded " << d;
@@ -510,6 +558,7 @@ TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
                                                         scale, 1, 1.0);
             EXPECT_EQ(again->narrowBrickCount(), t->narrowBrickCount()) << "step " << s << " centre " << centre;
             EXPECT_EQ(again->coarseBrickCount(), t->coarseBrickCount()) << "step " << s << " centre " << centre;
+            EXPECT_EQ(again->farBrickCount(), t->farBrickCount()) << "step " << s << " centre " << centre;
             EXPECT_EQ(t->nodeWords(), again->nodeWords()) << "step " << s << " centre " << centre;
             EXPECT_EQ(again->checksum(), t->checksum()) << "step " << s << " centre " << centre;
         }
@@ -520,14 +569,14 @@ TEST(Tile, CoarseNarrowBricksKeepTheSignOfEveryValue) {
     // Values straddling zero by less than a leaf step, in a brick one value of which needs the
     // leaf step: rounding to the nearest leaf step would flip them; the encoding takes the step
     // on the value's own side instead.
-    const float scale = float(kCell / 1000.0);  // brick step 16, leaf step 32
+    const float scale = float(kCell / 1000.0);  // leaf step 32
     for (const int16_t centre : {int16_t(0), int16_t(-1), int16_t(7), int16_t(-20)}) {
         std::vector<int16_t> q = {-1, 1, -5, 3, -16, 16, -31, 31, -33, 17, -15, 15, 2, centre, -2,
-                                  40, -40, 63, -63, 64, -64, 0, -47, 47, 1, -1, 3200 /* 200 brick steps */};
+                                  40, -40, 63, -63, 64, -64, 0, -47, 47, 1, -1, 3200 /* 100 leaf steps */};
         ASSERT_EQ(q.size(), 27u);
         const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), std::vector<uint32_t>{node::makeBrick(0)}, {}, q, scale, 1,
                                                 kCell);
-        ASSERT_EQ(t->brickStep(), 16);
+        ASSERT_EQ(t->leafStep(), 32);
         ASSERT_EQ(t->coarseBrickCount(), 1u) << "centre " << centre;
         for (int g = 0; g < 27; ++g) {
             const int16_t d = t->brickValue(0, g);
@@ -609,7 +658,7 @@ TEST(Tile, SiblingLeavesAreStoredAsOneGroupWithinALeafStep) {
     const std::vector<float> corners = siblingLeaves(glm::dvec3(0.0), 2.0, field);
     const TilePtr t = Tile::create(9, glm::uvec3(0), nodesOfLeaves(corners), corners, {}, 1, kCell);
     EXPECT_EQ(t->groupCount(), 1u);
-    EXPECT_EQ(t->narrowGroupCount(), 1u);
+    EXPECT_EQ(t->packedGroupCount(), 1u);
     EXPECT_EQ(t->groupedLeafCount(), 8u);
     EXPECT_EQ(t->ownLeafCount(), 0u);
     EXPECT_EQ(t->cellCount(), 8u);
@@ -631,9 +680,10 @@ TEST(Tile, SiblingLeavesAreStoredAsOneGroupWithinALeafStep) {
         // A corner shared with a sibling decodes the same from both.
         EXPECT_EQ(t->leafValue(node::leafIndex(w), 7 - int(l)), t->leafValue(0, 7)) << "the cell's centre";
     }
-    // 29 bytes for all 8 (9 16-bit node words, 8-aligned; the centre; 27 steps; 2-alignment),
-    // where 8 narrow leaves on their own would take 72.
-    EXPECT_EQ(t->bytes(), headerBytes() + 24 + 2 + 27 + 1);
+    // 28 bytes for all 8 (9 16-bit node words, 8-aligned; the centre; 26 8-bit steps: the
+    // corners lie up to 2 sqrt(3) cells from it), where 8 narrow leaves on their own would take 72.
+    EXPECT_EQ(t->packedGroupCount() - t->narrowGroupCount() - t->farGroupCount(), 1u) << "coarse-narrow";
+    EXPECT_EQ(t->bytes(), headerBytes() + 24 + 2 + 26);
     EXPECT_EQ(headerBytes(), 128u) << "array offsets, not pointers: the header keeps its size with groups";
 }
 
@@ -658,18 +708,19 @@ TEST(Tile, CellsWithFewLoneLeavesKeepThemOnTheirOwn) {
 }
 
 TEST(Tile, LeafGroupsOfEveryFormAndSiblingsThatDisagreeAreIdempotent) {
-    // Root children: 0 a packed group, 1 a wide group (leaves 4 cells across: their cell's half
-    // grid spans more than 127 leaf steps), 2 a wide group (a field steeper than 1, the same at
-    // shared corners), 3 five lone leaves whose shared corners disagree and 3 bricks, 4-7 bricks.
+    // Root children: 0 a coarse-narrow group, 1 a far group (leaves 4 cells across, 20 cells out:
+    // their cell's half grid spans more than 127 leaf steps), 2 a wide group (a field steeper
+    // than 1, the same at shared corners), 3 five lone leaves whose shared corners disagree and 3
+    // bricks, 4 a narrow group (a field flatter than 1), 5-7 bricks.
     std::vector<uint32_t> nodes{1};
-    for (uint32_t c = 0; c < 4; ++c) nodes.push_back(9 + 8 * c);
+    for (uint32_t c = 0; c < 5; ++c) nodes.push_back(9 + 8 * c);
     std::vector<float> corners, bricks;
     auto addBrick = [&](glm::dvec3 origin) {
         const auto v = sphereBrick(origin, {0.5, 0.5, 40.0}, 6.0);
         bricks.insert(bricks.end(), v.begin(), v.end());
         return node::makeBrick(uint32_t(bricks.size() / 27 - 1));
     };
-    for (uint32_t c = 4; c < 8; ++c) nodes.push_back(addBrick(glm::dvec3(c, 0.0, 0.0)));
+    for (uint32_t c = 5; c < 8; ++c) nodes.push_back(addBrick(glm::dvec3(c, 0.0, 0.0)));
     auto addLeaves = [&](const std::vector<float>& v, int count) {
         for (int child = 0; child < 8; ++child) {
             if (child >= count) {
@@ -682,15 +733,21 @@ TEST(Tile, LeafGroupsOfEveryFormAndSiblingsThatDisagreeAreIdempotent) {
         }
     };
     addLeaves(siblingLeaves(glm::dvec3(0.0), 2.0, [](glm::dvec3 p) { return sphereCells(p, {1.3, 2.1, 9.0}, 4.1); }), 8);
-    addLeaves(siblingLeaves(glm::dvec3(0.0), 4.0, [](glm::dvec3 p) { return sphereCells(p, {2.0, 3.0, 40.0}, 5.0); }), 8);
+    // (20 cells out, not the tile's largest value: rounding that to the far step could not
+    // stay within a leaf step, clamped at the 16-bit range, and it would stay wide.)
+    addLeaves(siblingLeaves(glm::dvec3(0.0), 4.0, [](glm::dvec3 p) { return sphereCells(p, {2.0, 3.0, 30.0}, 5.0); }), 8);
     addLeaves(siblingLeaves(glm::dvec3(0.0), 2.0, [](glm::dvec3 p) { return 9.0 * sphereCells(p, {1.0, 2.0, 3.0}, 2.5); }), 8);
     std::vector<float> disagree = siblingLeaves(glm::dvec3(0.0), 2.0, [](glm::dvec3 p) { return sphereCells(p, {1.3, 2.1, 9.0}, 4.1); });
     disagree[8 * 1 + 0] += float(0.3 * kCell);  // child 1's corner 0 is child 0's corner 1
     addLeaves(disagree, 5);
+    // A field flatter than a distance (a creased or trilinear old field): within 63 leaf steps.
+    addLeaves(siblingLeaves(glm::dvec3(0.0), 2.0, [](glm::dvec3 p) { return 0.45 * sphereCells(p, {1.3, 2.1, 9.0}, 4.1); }), 8);
     const TilePtr t = Tile::create(6, glm::uvec3(0), nodes, corners, bricks, 1, kCell);
-    ASSERT_EQ(t->groupCount(), 3u);
-    EXPECT_EQ(t->narrowGroupCount(), 1u) << "a packed and two wide groups";
-    EXPECT_EQ(t->groupedLeafCount(), 24u);
+    ASSERT_EQ(t->groupCount(), 4u);
+    EXPECT_EQ(t->packedGroupCount(), 3u) << "a coarse-narrow, a far, a wide and a narrow group";
+    EXPECT_EQ(t->narrowGroupCount(), 1u);
+    EXPECT_EQ(t->farGroupCount(), 1u);
+    EXPECT_EQ(t->groupedLeafCount(), 32u);
     EXPECT_EQ(t->ownLeafCount(), 5u);
     EXPECT_EQ(t->narrowLeafCount(), 5u) << "siblings that disagree, still apart once decoded, stay narrow on their own";
     for (uint32_t l = 24; l < 29; ++l) {
@@ -699,11 +756,14 @@ TEST(Tile, LeafGroupsOfEveryFormAndSiblingsThatDisagreeAreIdempotent) {
         for (int c = 0; c < 8; ++c)
             EXPECT_NEAR(t->corner(slot, c), corners[8 * l + uint32_t(c)], float(t->leafStep() + 1) * t->scale());
     }
-    // The wide groups: exact but for the 16-bit rounding.
-    for (uint32_t l = 8; l < 24; ++l) {
-        const uint32_t slot = node::leafIndex(t->node(9 + l));
-        EXPECT_FALSE(t->packedLeaf(slot));
-        for (int c = 0; c < 8; ++c) EXPECT_NEAR(t->corner(slot, c), corners[8 * l + uint32_t(c)], 0.5f * t->scale());
+    // The far group (4-cell leaves 20 cells out): within a leaf step; the wide one: exact but
+    // for the 16-bit rounding; the narrow one within a leaf step.
+    for (uint32_t l = 8; l < 37; ++l) {
+        if (l >= 24 && l < 29) continue;  // the own leaves, above
+        const uint32_t slot = node::leafIndex(t->node(l < 24 ? 9 + l : 12 + l));
+        EXPECT_EQ(t->packedLeaf(slot), l < 16 || l >= 29) << "leaf " << l;
+        const float tolerance = l < 16 || l >= 29 ? float(t->leafStep() + 1) * t->scale() : 0.5f * t->scale();
+        for (int c = 0; c < 8; ++c) EXPECT_NEAR(t->corner(slot, c), corners[8 * l + uint32_t(c)], tolerance) << "leaf " << l;
     }
     // Decoded, renumbered densely (the file) and built again: the same bits.
     const TilePtr again = rebuiltDense(*t);
@@ -722,7 +782,7 @@ TEST(Tile, LeafGroupsOfEveryFormAndSiblingsThatDisagreeAreIdempotent) {
 
 namespace {
 /// Four lone-leaf children of one cell (four bricks beside them) on a grid of whole leaf steps
-/// (scale kFourSiblingsScale: brick step 16, leaf step 32), so each packs exactly, but for the
+/// (scale kFourSiblingsScale: leaf step 32), so each packs exactly, but for the
 /// shared centre, one quantisation step higher in child 0 alone.
 constexpr float kFourSiblingsScale = float(kCell / 1000.0);
 int16_t fourSiblingsGrid(int p) { return int16_t(1000 + 32 * (p % 3 + 2 * ((p / 3) % 3) + 3 * (p / 9))); }
@@ -767,7 +827,7 @@ TEST(Tile, SiblingsThatWouldAgreeOnceDecodedStayWideAndApart) {
     leaves[7] = grid(brickPoint(0, 7));
     const TilePtr grouped = Tile::createQuantised(12, glm::uvec3(0), nodes, leaves, bricks, scale, 1, kCell);
     EXPECT_EQ(grouped->groupCount(), 1u);
-    EXPECT_EQ(grouped->narrowGroupCount(), 1u);
+    EXPECT_EQ(grouped->packedGroupCount(), 1u);
 }
 
 TEST(Tile, CopiedLeavesThatWereWideOnlyForTheirSiblingsArePackedAgain) {
