@@ -31,7 +31,7 @@
 /// outside) and is idempotent.
 /// A cell with at least kMinGroupLeaves lone-leaf children whose shared corners agree (the
 /// same samples: what generation gives) stores them as one *leaf group*: its 27-value half
-/// grid, packed like a brick (narrow, coarse-narrow) or wide, which all its lone-leaf children
+/// grid, packed like a brick (narrow, coarse-narrow, far) or wide, which all its lone-leaf children
 /// read (25 or 28 bytes for up to 8 leaves instead of 9 or 16 each). Grouped leaves take
 /// indices 8g + child; a group's unused slots are never referenced. Where a cell's lone leaves
 /// disagree at a shared corner they stay on their own, and wide where their packed corners
@@ -136,9 +136,9 @@ public:
     ///                        tile keeps that tile's scale (and so its steps), their packed
     ///                        bytes are taken as they are instead of being quantised and packed
     ///                        again, which gives the same bits (the encodings are idempotent).
-    /// Brick and leaf indices in `nodes` are renumbered (narrow ones first, then coarse-narrow
-    /// bricks); the field is unchanged but for packed values' rounding to the leaf step: a
-    /// packed brick or group value and a narrow leaf's corner but corner 0 within one leaf step
+    /// Brick and leaf indices in `nodes` are renumbered (by form, in the order above); the field
+    /// is unchanged but for packed values' rounding to the leaf step: a packed brick or group
+    /// value (far ones too) and a narrow leaf's corner but corner 0 within one leaf step
     /// (4/127 finest cell, rounded up to whole quantisation steps); half a step but where
     /// keeping the sign takes the step on the value's own side. A brick's centre is exact.
     /// Complexity: O(nodes + values). Threading: any thread. Memory: one allocation.
@@ -182,7 +182,7 @@ public:
         return leaf < grouped ? leaf < 8 * mPackedGroupCount : leaf - grouped < mNarrowLeafCount;
     }
     int32_t leafStep() const { return mStep; }  ///< quantisation steps per leaf step (every packed value counts them)
-    uint32_t brickCount() const { return mBrickCount; }   ///< narrow, coarse-narrow and wide
+    uint32_t brickCount() const { return mBrickCount; }   ///< narrow, coarse-narrow, far and wide
     uint32_t narrowBrickCount() const { return mNarrowCount; }  ///< bricks 0 .. this - 1 are narrow (7-bit steps)
     /// Bricks narrowBrickCount() .. that + this - 1 are coarse-narrow (8-bit leaf steps).
     uint32_t coarseBrickCount() const { return mCoarseEnd - mNarrowCount; }

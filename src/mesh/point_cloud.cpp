@@ -29,50 +29,61 @@ struct SplitMix {
     float unit() { return float(next() >> 40) * (1.0f / 16777216.0f); }
 };
 
+/// Estimated surface area of a boundary cell (lattice units squared): its face area over the
+/// L1 norm of the unit gradient at its centre, the mean area of a plane across it.
+double cellArea(const BoundaryCell& cell) {
+    const adf::Sample s = adf::trilinear(cell.corners, glm::vec3(0.5f));
+    const float g1 = std::abs(s.gradient.x) + std::abs(s.gradient.y) + std::abs(s.gradient.z);
+    const float g2 = glm::length(s.gradient);
+    const double size = double(cell.size);
+    return g1 > 0.0f ? size * size * double(g2 / g1) : size * size;
+}
 
 }  // namespace
 
 PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t seed, util::ThreadPool* pool) {
     PointCloud out;
-    // Boundary cells, tile by tile (in slot order, so the result does not depend on threads).
+    // Boundary cells and their running area, tile by tile (in slot order, so the result does
+    // not depend on threads); the cells stay in their tile's list.
     std::vector<const adf::Tile*> tiles;
     adf.forEachTile([&](const adf::Tile& t) { tiles.push_back(&t); });
     std::vector<std::vector<BoundaryCell>> cells(tiles.size());
+    std::vector<std::vector<double>> area(tiles.size());  // per tile: area of its cells before each, then the total
     const int maxLevel = adf.domain().maxLevel;
-    util::parallelFor(pool, tiles.size(), [&](std::size_t i) { appendBoundaryCells(*tiles[i], maxLevel, cells[i]); });
-    std::vector<BoundaryCell> all;
-    for (auto& c : cells) all.insert(all.end(), c.begin(), c.end());
-    if (all.empty() || count == 0) return out;
-
-    // Estimated area per cell, from the gradient at its centre.
-    std::vector<double> prefix(all.size() + 1, 0.0);
-    for (std::size_t i = 0; i < all.size(); ++i) {
-        const adf::Sample s = adf::trilinear(all[i].corners, glm::vec3(0.5f));
-        const float g1 = std::abs(s.gradient.x) + std::abs(s.gradient.y) + std::abs(s.gradient.z);
-        const float g2 = glm::length(s.gradient);
-        const double size = double(all[i].size);
-        prefix[i + 1] = prefix[i] + (g1 > 0.0f ? size * size * double(g2 / g1) : size * size);
+    util::parallelFor(pool, tiles.size(), [&](std::size_t i) {
+        appendBoundaryCells(*tiles[i], maxLevel, cells[i]);
+        area[i].resize(cells[i].size() + 1);
+        area[i][0] = 0.0;
+        for (std::size_t j = 0; j < cells[i].size(); ++j) area[i][j + 1] = area[i][j] + cellArea(cells[i][j]);
+    });
+    // Where each tile's cells and area start in the whole.
+    std::vector<std::size_t> firstCell(tiles.size() + 1, 0);
+    std::vector<double> areaBefore(tiles.size() + 1, 0.0);
+    for (std::size_t i = 0; i < tiles.size(); ++i) {
+        firstCell[i + 1] = firstCell[i] + cells[i].size();
+        areaBefore[i + 1] = areaBefore[i] + area[i].back();
     }
-    // Cell i gets the points whose stratified positions k + 0.5 fall in its share of the total.
-    const double total = prefix.back();
-    auto firstPoint = [&](std::size_t cell) {
-        return std::size_t(std::min(double(count), std::ceil(prefix[cell] / total * double(count) - 0.5)));
+    if (firstCell.back() == 0 || count == 0) return out;
+
+    // Cell j of tile i gets the points whose stratified positions k + 0.5 fall in its share of
+    // the total (a tile's last bound is the next tile's first: the same sum).
+    const double total = areaBefore.back();
+    auto firstPoint = [&](std::size_t i, std::size_t j) {
+        return std::size_t(std::min(double(count), std::ceil((areaBefore[i] + area[i][j]) / total * double(count) - 0.5)));
     };
-    out.positions.resize(count);
+    out.positions.resize(count);  // every point is written below, by the thread that places it
     out.normals.resize(count);
     const glm::vec3 origin = adf.originWorldF();
     const float h = adf.metresPerLattice();
-    const std::size_t chunk = 4096;
-    const std::size_t chunks = (all.size() + chunk - 1) / chunk;
-    util::parallelFor(pool, chunks, [&](std::size_t c) {
-        for (std::size_t i = c * chunk; i < std::min(all.size(), (c + 1) * chunk); ++i) {
-            const BoundaryCell& cell = all[i];
-            SplitMix rng{seed * 0x2545f4914f6cdd1dull + i};
+    util::parallelFor(pool, tiles.size(), [&](std::size_t i) {
+        for (std::size_t j = 0; j < cells[i].size(); ++j) {
+            const BoundaryCell& cell = cells[i][j];
+            SplitMix rng{seed * 0x2545f4914f6cdd1dull + firstCell[i] + j};
             const float size = float(cell.size);
             const glm::vec3 cellOrigin = origin + glm::vec3(cell.origin) * h;
             const float cellMetres = size * h;
-            const std::size_t end = firstPoint(i + 1);
-            for (std::size_t k = firstPoint(i); k < end; ++k) {
+            const std::size_t end = firstPoint(i, j + 1);
+            for (std::size_t k = firstPoint(i, j); k < end; ++k) {
                 glm::vec3 f(rng.unit(), rng.unit(), rng.unit());
                 const adf::Sample s = adf::trilinear(cell.corners, f);
                 // One projection step along the gradient, in cell units: f -= d g / |g|^2,

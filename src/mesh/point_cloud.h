@@ -9,10 +9,11 @@
 /// cell's own corners are read (no lookups); a painted snapshot's points get their colours
 /// from its colour layer (mesh_colours.h). Deterministic for a given seed and thread count
 /// independent. Complexity: O(boundary cells + points). Threading: parallel on the pool.
-/// Memory: the output and one float per boundary cell.
+/// Memory: the output, the boundary cells and one double per boundary cell.
 #pragma once
 
 #include "adf/adf.h"
+#include "util/default_init_allocator.h"
 
 #include <glm/gtc/type_precision.hpp>
 
@@ -27,8 +28,10 @@ class ThreadPool;
 namespace kizamu::mesh {
 
 struct PointCloud {
-    std::vector<glm::vec3> positions;  ///< m, world
-    std::vector<glm::vec3> normals;    ///< unit
+    /// Filled by a parallel loop: no zero-fill first (util/default_init_allocator.h).
+    using Points = std::vector<glm::vec3, util::DefaultInitAllocator<glm::vec3>>;
+    Points positions;  ///< m, world
+    Points normals;    ///< unit
     std::vector<glm::u8vec3> colours;  ///< sRGB from the snapshot's paint, or empty when unpainted
 };
 

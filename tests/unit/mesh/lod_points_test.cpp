@@ -128,7 +128,7 @@ TEST(Paint, MeshesLodsAndPointsCarryTheLayersColoursAndUnpaintedClayNone) {
     const AdfPtr painted = test::paintedAbove(plain, red, 0.5);
     const float h = float(d.finestCellSize());
     // Above z = 0.5 + a cell every blended corner is painted; below 0.5 - a cell none is.
-    auto check = [&](const std::vector<glm::vec3>& positions, const std::vector<glm::u8vec3>& colours, const char* what) {
+    auto check = [&](std::span<const glm::vec3> positions, const std::vector<glm::u8vec3>& colours, const char* what) {
         ASSERT_EQ(colours.size(), positions.size()) << what;
         std::size_t above = 0, below = 0;
         for (std::size_t i = 0; i < positions.size(); ++i) {
