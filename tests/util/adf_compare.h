@@ -54,8 +54,10 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
         return rounding(t, t.packedLeaf(leaf), far);
     };
     // A copied cell may carry the rounding of the tile it was copied from too: a packed item's,
-    // within a leaf step (a far group's 4-cell leaf, say, copied where it is stored wide).
-    const double copied = std::max(double(a.leafStep()) * double(a.scale()), double(b.leafStep()) * double(b.scale()));
+    // within a leaf step (a far group's 4-cell leaf, say, copied where it is stored wide). The
+    // other tile may store it wide as well (its group, straddling the edit, went wide there),
+    // so wide items get the slack too.
+    const double copiedSlack = std::max(double(a.leafStep()) * double(a.scale()), double(b.leafStep()) * double(b.scale()));
     std::vector<std::pair<uint32_t, uint32_t>> stack{{a.node(0), b.node(0)}};
     while (!stack.empty()) {
         const auto [wa, wb] = stack.back();
@@ -67,14 +69,14 @@ inline bool sameUpToQuantisation(const adf::Tile& a, const adf::Tile& b) {
             for (uint32_t c = 0; c < 8; ++c) stack.emplace_back(a.node(wa + c), b.node(wb + c));
         } else if (adf::node::isBrick(wa)) {
             const uint32_t ka = adf::node::brickIndex(wa), kb = adf::node::brickIndex(wb);
-            const double tolerance = (brickTolerance(a, ka) + brickTolerance(b, kb) + copied) * (1.0 + 1e-6);
+            const double tolerance = (brickTolerance(a, ka) + brickTolerance(b, kb) + copiedSlack) * (1.0 + 1e-6);
             for (int g = 0; g < 27; ++g)
                 if (std::abs(double(a.brickValue(ka, g)) * a.scale() - double(b.brickValue(kb, g)) * b.scale()) > tolerance)
                     return false;
         } else {
             if (adf::node::leafType(wa) != adf::node::leafType(wb)) return false;
             const uint32_t la = adf::node::leafIndex(wa), lb = adf::node::leafIndex(wb);
-            const double tolerance = (leafTolerance(a, la) + leafTolerance(b, lb) + copied) * (1.0 + 1e-6);
+            const double tolerance = (leafTolerance(a, la) + leafTolerance(b, lb) + copiedSlack) * (1.0 + 1e-6);
             for (int c = 0; c < 8; ++c)
                 if (std::abs(double(a.corner(la, c)) - double(b.corner(lb, c))) > tolerance)
                     return false;
