@@ -7,6 +7,8 @@
 /// material. Plain value type; one owner, no internal synchronisation.
 #pragma once
 
+#include "util/default_init_allocator.h"
+
 #include <glm/gtc/type_precision.hpp>
 #include <glm/vec3.hpp>
 
@@ -17,10 +19,13 @@
 namespace kizamu::mesh {
 
 struct MeshBuffers {
-    std::vector<glm::vec3> positions;  ///< m
-    std::vector<glm::vec3> normals;    ///< unit, one per vertex, or empty
+    /// Sized first, then filled by parallel loops: no zero-fill (util/default_init_allocator.h).
+    template <class T>
+    using Buffer = std::vector<T, util::DefaultInitAllocator<T>>;
+    Buffer<glm::vec3> positions;       ///< m
+    Buffer<glm::vec3> normals;         ///< unit, one per vertex, or empty
     std::vector<glm::u8vec3> colours;  ///< sRGB, one per vertex, or empty
-    std::vector<uint32_t> indices;     ///< 3 per triangle
+    Buffer<uint32_t> indices;          ///< 3 per triangle
 
     std::size_t vertexCount() const { return positions.size(); }
     std::size_t triangleCount() const { return indices.size() / 3; }

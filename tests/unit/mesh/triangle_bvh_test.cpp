@@ -44,7 +44,7 @@ MeshBuffers icosphere(float radius, int subdivisions) {
     }
     MeshBuffers m;
     for (auto& p : v) m.positions.push_back(p * radius);
-    m.indices = f;
+    m.indices.assign(f.begin(), f.end());
     return m;
 }
 
