@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <vector>
 
 using namespace kizamu::adf;
@@ -561,6 +562,34 @@ TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
             EXPECT_EQ(again->farBrickCount(), t->farBrickCount()) << "step " << s << " centre " << centre;
             EXPECT_EQ(t->nodeWords(), again->nodeWords()) << "step " << s << " centre " << centre;
             EXPECT_EQ(again->checksum(), t->checksum()) << "step " << s << " centre " << centre;
+        }
+    }
+}
+
+TEST(Tile, NarrowBricksDecodeAlikeWholeOrPointByPoint) {
+    // Random bricks whose every step fits 7 bits, at leaf step 32: the whole-brick decoder
+    // (8 fields per 7-byte block) and the one-point one must agree on every field, the last
+    // block's two included, and give back the values exactly (they lie on the steps).
+    const float scale = float(kCell / 1000.0);  // leaf step 32
+    std::mt19937 rng(12345);
+    std::uniform_int_distribution<int> step(-63, 63), centre(-30000, 30000);
+    std::vector<int16_t> values;
+    std::vector<uint32_t> nodes;
+    for (uint32_t b = 0; b < 500; ++b) {
+        const int c = centre(rng);
+        for (int g = 0; g < 27; ++g) values.push_back(int16_t(g == 13 ? c : c + 32 * step(rng)));
+        nodes.push_back(node::makeBrick(b));
+    }
+    const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), nodes, {}, values, scale, 1, kCell);
+    ASSERT_EQ(t->leafStep(), 32);
+    ASSERT_EQ(t->narrowBrickCount(), 500u);
+    for (uint32_t i = 0; i < 500; ++i) {
+        const uint32_t b = node::brickIndex(t->node(i));
+        int16_t all[27];
+        t->brickValues(b, all);
+        for (int g = 0; g < 27; ++g) {
+            EXPECT_EQ(all[g], t->brickValue(b, g)) << "brick " << i << " point " << g;
+            EXPECT_EQ(all[g], values[27 * i + uint32_t(g)]) << "brick " << i << " point " << g;
         }
     }
 }
