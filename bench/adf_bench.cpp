@@ -201,7 +201,7 @@ int runAdfBench(const AdfBenchOptions& opt) {
                 "16-bit corners, one scale per tile; packed bricks and leaves 7- or 8-bit steps");
         const std::size_t loneLeaves = st.cells - 8 * st.bricks;
         out.add("adf.narrow_leaf_fraction" + L,
-                loneLeaves ? double(st.narrowLeaves + st.narrowGroupedLeaves) / double(loneLeaves) : 0.0, "",
+                loneLeaves ? double(st.narrowLeaves + st.packedGroupedLeaves) / double(loneLeaves) : 0.0, "",
                 "lone leaves stored with 8-bit steps (on their own, 9 bytes instead of 16, or in a packed group)");
         out.add("adf.grouped_leaf_fraction" + L, loneLeaves ? double(st.groupedLeaves) / double(loneLeaves) : 0.0, "",
                 "lone leaves stored in leaf groups (one half grid for a cell's lone-leaf children)");

@@ -138,7 +138,7 @@ Adf::Stats Adf::computeStats() const {
         s.groupedLeaves += t.groupedLeafCount();
         for (uint32_t i = 0; i < t.nodeCount(); ++i) {
             const uint32_t w = t.node(i);
-            s.narrowGroupedLeaves += node::isLeaf(w) && node::leafIndex(w) < 8 * t.packedGroupCount();
+            s.packedGroupedLeaves += node::isLeaf(w) && node::leafIndex(w) < 8 * t.packedGroupCount();
         }
         s.nodes += t.nodeCount();
         s.tileBytes += t.bytes();

@@ -144,7 +144,7 @@ public:
         std::size_t farBricks = 0;    ///< of them stored far (8-bit far steps, tile.h)
         std::size_t narrowLeaves = 0; ///< lone leaves stored narrow on their own (8-bit steps, tile.h)
         std::size_t groupedLeaves = 0;  ///< lone leaves stored in leaf groups (tile.h)
-        std::size_t narrowGroupedLeaves = 0;  ///< of them in packed groups (7- or 8-bit leaf steps, or far steps)
+        std::size_t packedGroupedLeaves = 0;  ///< of them in packed groups (narrow, coarse-narrow or far)
         std::size_t nodes = 0;        ///< node words (leaves and internal)
         std::size_t tileBytes = 0;    ///< bytes of all tile blocks
         std::size_t tableBytes = 0;   ///< root array and chunks

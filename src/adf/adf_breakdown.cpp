@@ -52,28 +52,25 @@ AdfBreakdown computeBreakdown(const Adf& adf) {
         b.nodeBytes += nodeBytes;
         const Tile::Counts n = t.counts();
         const std::size_t ownNarrowBytes = std::size_t(n.narrowLeaves) * Tile::kNarrowLeafBytes;
-        const std::size_t groupBytes = std::size_t(n.narrowGroups) * Tile::kNarrowGridBytes +
-                                       std::size_t(n.coarseGroups + n.farGroups) * Tile::kCoarseGridBytes +
-                                       std::size_t(n.wideGroups) * Tile::kWideGridBytes;
+        const std::size_t packedGroups = std::size_t(n.narrowGroups) + n.coarseGroups + n.farGroups;
+        const std::size_t groupBytes = Tile::gridBytes(n.narrowGroups, packedGroups, packedGroups + n.wideGroups);
         const std::size_t leafBytes = ownNarrowBytes + std::size_t(n.wideLeaves) * Tile::kWideLeafBytes + groupBytes;
         b.cornerBytes += leafBytes;
         b.narrowLeafBytes += ownNarrowBytes;
         b.groupBytes += groupBytes;
         b.narrowLeaves += n.narrowLeaves;
         b.wideLeaves += n.wideLeaves;
-        b.groups += n.narrowGroups + n.coarseGroups + n.farGroups + n.wideGroups;
-        b.packedGroups += n.narrowGroups + n.coarseGroups + n.farGroups;
+        b.groups += packedGroups + n.wideGroups;
+        b.packedGroups += packedGroups;
         b.farGroups += n.farGroups;
         b.narrowGroups += n.narrowGroups;
         b.groupedLeaves += n.groupedLeaves;
-        const std::size_t brickBytes = std::size_t(n.narrowBricks) * Tile::kNarrowGridBytes +
-                                       std::size_t(n.coarseBricks + n.farBricks) * Tile::kCoarseGridBytes +
-                                       std::size_t(n.wideBricks) * Tile::kWideGridBytes;
+        const std::size_t brickBytes = Tile::gridBytes(n.narrowBricks, t.packedBrickCount(), t.brickCount());
         b.brickBytes += brickBytes;
-        b.narrowBricks += t.narrowBrickCount();
-        b.coarseBricks += t.coarseBrickCount();
-        b.farBricks += t.farBrickCount();
-        b.wideBricks += t.brickCount() - t.packedBrickCount();
+        b.narrowBricks += n.narrowBricks;
+        b.coarseBricks += n.coarseBricks;
+        b.farBricks += n.farBricks;
+        b.wideBricks += n.wideBricks;
         b.headerBytes += total - nodeBytes - leafBytes - brickBytes;
         struct Item {
             uint32_t node;

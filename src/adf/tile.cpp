@@ -63,11 +63,8 @@ Layout layoutOf(const Tile::Counts& n) {
     l.groupBases = l.brickBases + packedBricks * 2;
     l.leafDeltas = l.groupBases + packedGroups * 2;
     l.brickDeltas = l.leafDeltas + std::size_t(n.narrowLeaves) * 7;
-    l.groupDeltas = l.brickDeltas + n.narrowBricks * Tile::kNarrowGridSteps +
-                    (packedBricks - n.narrowBricks) * Tile::kCoarseGridSteps;
-    l.wideBricks = alignUp(l.groupDeltas + n.narrowGroups * Tile::kNarrowGridSteps +
-                               (packedGroups - n.narrowGroups) * Tile::kCoarseGridSteps,
-                           2);
+    l.groupDeltas = l.brickDeltas + Tile::gridStepsOffset(n.narrowBricks, packedBricks);
+    l.wideBricks = alignUp(l.groupDeltas + Tile::gridStepsOffset(n.narrowGroups, packedGroups), 2);
     l.wideGroups = l.wideBricks + std::size_t(n.wideBricks) * Tile::kWideGridBytes;
     l.total = l.wideGroups + std::size_t(n.wideGroups) * Tile::kWideGridBytes;
     return l;
@@ -125,10 +122,11 @@ Tile::Counts Tile::counts() const {
 }
 
 std::size_t Tile::valueBytes(const Counts& n) {
+    const std::size_t packedBricks = std::size_t(n.narrowBricks) + n.coarseBricks + n.farBricks;
+    const std::size_t packedGroups = std::size_t(n.narrowGroups) + n.coarseGroups + n.farGroups;
     return std::size_t(n.narrowLeaves) * kNarrowLeafBytes + std::size_t(n.wideLeaves) * kWideLeafBytes +
-           std::size_t(n.narrowBricks + n.narrowGroups) * kNarrowGridBytes +
-           std::size_t(n.coarseBricks + n.coarseGroups + n.farBricks + n.farGroups) * kCoarseGridBytes +
-           std::size_t(n.wideBricks + n.wideGroups) * kWideGridBytes;
+           gridBytes(n.narrowBricks, packedBricks, packedBricks + n.wideBricks) +
+           gridBytes(n.narrowGroups, packedGroups, packedGroups + n.wideGroups);
 }
 
 void Tile::Deleter::operator()(const Tile* t) const {
@@ -398,8 +396,8 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
                     uint64_t version, double finestCell, const TileCopies& copies) {
     const auto brickCount = uint32_t(brickValues.size() / 27);
     const int32_t leafStep = leafStepOf(scale, finestCell);
-    // Which form each brick takes (packGrid: 7-bit steps, else 8-bit, else wide), and their new
-    // numbers (narrow first, then coarse-narrow, then wide, each form in order).
+    // Which form each brick takes (packGrid: narrow, coarse-narrow, far or wide), and their new
+    // numbers (in that order, each form's bricks in their order).
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
     std::vector<uint8_t> form(brickCount);
     // A copied brick's form and steps are its source's: packing its decoded values again would
@@ -413,15 +411,8 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             const uint32_t i = copies.bricks[b];
             form[b] = i < from->mNarrowCount ? kNarrow : i < from->mCoarseEnd ? kCoarse : i < from->mPackedCount ? kFar : kWide;
             if (form[b] == kWide) continue;
-            const unsigned char* steps = from->at<unsigned char>(from->mBrickDeltasAt);
-            if (form[b] == kNarrow) {
-                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(i);
-                for (int g = 0; g < 27; ++g) d[g] = int8_t(narrowGridStep(p, g));
-            } else {
-                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(from->mNarrowCount) +
-                                         kCoarseGridSteps * std::size_t(i - from->mNarrowCount);
-                for (int g = 0; g < 27; ++g) d[g] = int8_t(coarseGridStep(p, g));
-            }
+            const unsigned char* p = from->at<unsigned char>(from->mBrickDeltasAt) + gridStepsOffset(from->mNarrowCount, i);
+            for (int g = 0; g < 27; ++g) d[g] = int8_t(form[b] == kNarrow ? narrowGridStep(p, g) : coarseGridStep(p, g));
             continue;
         }
         form[b] = packGrid(q, leafStep, d);
@@ -432,8 +423,8 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     const uint32_t packedCount = narrowCount + brickForms[kCoarse] + brickForms[kFar];
 
     // Leaf groups: the lone-leaf children of one cell share corners, so when a cell has at
-    // least kMinGroupLeaves of them they are stored as its half grid, one centre and 27 leaf
-    // steps (or 27 x 16 bits), like a coarse-narrow (or wide) brick.
+    // least kMinGroupLeaves of them they are stored as its half grid, packed in the forms of a
+    // brick.
     const auto leafCount = uint32_t(leafCorners.size() / 8);
     const LeafGroups groups = findLeafGroups(nodes, leafCorners, leafStep);
     std::array<uint32_t, kGridForms> groupForms;
@@ -547,8 +538,7 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
                           const std::vector<uint32_t>& number, uint32_t narrow, uint32_t packed, uint32_t basesAt,
                           uint32_t stepsAt, uint32_t wideAt) {
         auto* bases = const_cast<int16_t*>(t->at<int16_t>(basesAt));
-        auto* narrowSteps = const_cast<unsigned char*>(t->at<unsigned char>(stepsAt));
-        unsigned char* coarseSteps = narrowSteps + kNarrowGridSteps * std::size_t(narrow);
+        auto* packedSteps = const_cast<unsigned char*>(t->at<unsigned char>(stepsAt));
         auto* wide = const_cast<int16_t*>(t->at<int16_t>(wideAt));
         for (std::size_t k = 0; k < forms.size(); ++k) {
             const int16_t* q = values.data() + 27 * k;
@@ -559,22 +549,16 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
                 continue;
             }
             bases[i] = q[13];
-            if (forms[k] == kNarrow) {
-                unsigned char* p = narrowSteps + kNarrowGridSteps * std::size_t(i);  // zeroed by allocate
-                unsigned bit = 0;
-                for (int g = 0; g < 27; ++g, bit += 7) {
-                    if (g == 13) {
-                        bit -= 7;
-                        continue;
-                    }
-                    const unsigned field = unsigned(uint8_t(d[g])) & 0x7fu;
-                    p[bit >> 3] = uint8_t(p[bit >> 3] | (field << (bit & 7u)));
-                    if ((bit & 7u) > 1u) p[(bit >> 3) + 1] = uint8_t(p[(bit >> 3) + 1] | (field >> (8u - (bit & 7u))));
+            unsigned char* p = packedSteps + gridStepsOffset(narrow, i);  // zeroed by allocate
+            for (int j = 0; j < 26; ++j) {
+                const auto field = uint8_t(d[gridPointOf(j)]);
+                if (forms[k] != kNarrow) {
+                    p[j] = field;
+                    continue;
                 }
-            } else {
-                unsigned char* p = coarseSteps + kCoarseGridSteps * std::size_t(i - narrow);
-                for (int g = 0; g < 27; ++g)
-                    if (g != 13) p[g - (g > 13)] = uint8_t(d[g]);
+                const unsigned bit = 7u * unsigned(j), bits = field & 0x7fu;  // 7-bit fields, little-endian
+                p[bit >> 3] = uint8_t(p[bit >> 3] | (bits << (bit & 7u)));
+                if ((bit & 7u) > 1u) p[(bit >> 3) + 1] = uint8_t(p[(bit >> 3) + 1] | (bits >> (8u - (bit & 7u))));
             }
         }
     };

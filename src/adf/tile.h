@@ -306,6 +306,17 @@ public:
     /// Bytes of the stored values (leaf corners, brick and group half grids) of items counted
     /// by `n`: the tile's bytes less its header, node words and padding.
     static std::size_t valueBytes(const Counts& n);
+    /// Bytes of half grids (bricks or leaf groups): `narrow` of 25, `packed - narrow` of 28
+    /// (coarse-narrow and far) and `all - packed` of 54.
+    static constexpr std::size_t gridBytes(std::size_t narrow, std::size_t packed, std::size_t all) {
+        return narrow * kNarrowGridBytes + (packed - narrow) * kCoarseGridBytes + (all - packed) * kWideGridBytes;
+    }
+    /// Where packed half grid `index` keeps its steps, from the start of its steps array: the
+    /// `narrowEnd` narrow ones first (7-bit fields), then the others (a byte each). (With
+    /// index = packed count, the bytes of them all.)
+    static constexpr std::size_t gridStepsOffset(std::size_t narrowEnd, std::size_t index) {
+        return index < narrowEnd ? kNarrowGridSteps * index : kNarrowGridSteps * narrowEnd + kCoarseGridSteps * (index - narrowEnd);
+    }
 
     ~Tile();
     Tile(const Tile&) = delete;
@@ -330,17 +341,14 @@ private:
                     int16_t* out) const {
         if (index < packedEnd) {
             const int32_t base = at<int16_t>(basesAt)[index];
-            const unsigned char* steps = at<unsigned char>(stepsAt);
+            const unsigned char* p = at<unsigned char>(stepsAt) + gridStepsOffset(narrowEnd, index);
             if (index < narrowEnd) {
-                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(index);
                 if constexpr (N == 27) {
                     unpackNarrowGrid(p, base, mStep, out);  // every point (first is 0): a block at a time
                 } else {
                     for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + narrowGridStep(p, first + points[k]) * mStep);
                 }
             } else {
-                const unsigned char* p = steps + kNarrowGridSteps * std::size_t(narrowEnd) +
-                                         kCoarseGridSteps * std::size_t(index - narrowEnd);
                 const int32_t step = index < coarseEnd ? mStep : 2 * mStep;
                 for (std::size_t k = 0; k < N; ++k) out[k] = int16_t(base + coarseGridStep(p, first + points[k]) * step);
             }
@@ -349,10 +357,14 @@ private:
             for (std::size_t k = 0; k < N; ++k) out[k] = q[points[k]];
         }
     }
-    /// Leaf steps of half-grid point g from the centre (0 at the centre, 13, which is not
-    /// stored): 7-bit fields packed little-endian from bit 0, one per other point in order.
+    /// A packed half grid stores the steps of its 26 points other than the centre (point 13,
+    /// whose step is 0), in point order: field j holds point gridPointOf(j).
+    static constexpr int fieldOf(int g) { return g - (g > 13); }
+    static constexpr int gridPointOf(int j) { return j + (j >= 13); }
+    /// Leaf steps of half-grid point g from the centre (0 at the centre): 7-bit fields packed
+    /// little-endian from bit 0.
     static int32_t narrowGridStep(const unsigned char* p, int g) {
-        const unsigned bit = 7u * unsigned(g - (g > 13));
+        const unsigned bit = 7u * unsigned(fieldOf(g));
         const unsigned pair = unsigned(p[bit >> 3]) | unsigned(p[(bit >> 3) + 1]) << 8;
         const int32_t k = int32_t((pair >> (bit & 7u)) << 25) >> 25;  // sign-extend 7 bits
         return g == 13 ? 0 : k;
@@ -370,15 +382,14 @@ private:
             std::memcpy(&w, p + 7 * block, block < 3 ? 8 : 2);
 #pragma GCC unroll 8
             for (int f = 0; f < fields; ++f) {
-                const int j = 8 * block + f, g = j + (j >= 13);
                 const int32_t k = int32_t(uint32_t(w >> (7 * f)) << 25) >> 25;  // sign-extend 7 bits
-                out[g] = int16_t(base + k * step);
+                out[gridPointOf(8 * block + f)] = int16_t(base + k * step);
             }
         }
     }
     /// The same with a signed byte per point.
     static int32_t coarseGridStep(const unsigned char* p, int g) {
-        const int32_t k = int8_t(p[g - (g > 13)]);
+        const int32_t k = int8_t(p[fieldOf(g)]);
         return g == 13 ? 0 : k;
     }
     /// Brick `brick`'s values (brickValues, brickCorners; brickValue is the one-point case).

@@ -50,7 +50,7 @@ TEST(AdfBreakdown, AccountsForEveryCellAndByte) {
     EXPECT_EQ(b.narrowLeaves + b.wideLeaves + b.groupedLeaves, leaves);
     EXPECT_EQ(grouped, b.groupedLeaves) << "leaves the walk finds in groups, against the tiles' counts";
     EXPECT_EQ(b.narrowLeaves, stats.narrowLeaves);
-    EXPECT_EQ(narrowLeaves, stats.narrowLeaves + stats.narrowGroupedLeaves) << "packed: narrow own leaves and packed groups";
+    EXPECT_EQ(narrowLeaves, stats.narrowLeaves + stats.packedGroupedLeaves) << "packed: narrow own leaves and packed groups";
     EXPECT_GT(b.narrowLeaves, 0u) << "a typical field has narrow lone leaves";
     EXPECT_GT(b.groups, 0u) << "and cells with several lone-leaf children";
     EXPECT_EQ(b.cornerBytes, 9 * b.narrowLeaves + 16 * b.wideLeaves + b.groupBytes);
