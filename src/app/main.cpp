@@ -11,8 +11,25 @@
 
 #include <cstdio>
 #include <exception>
+#include <malloc.h>
+
+namespace {
+
+/// Keeps freed memory in the process. Meshing, points and edits free and allocate buffers of
+/// megabytes every frame; by default glibc hands large ones back to the kernel (fresh mmap
+/// above its threshold, heap trimming on free), so the next frame takes a page fault per 4 KiB
+/// again, which on a virtual machine cost 800k points three quarters of their time
+/// (docs/PERFORMANCE.md, "Eleventh session"). Blocks above 32 MiB (glibc's largest threshold)
+/// are still mapped, and more than 256 MiB free at the heap's top is still returned.
+void keepFreedMemory() {
+    mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    mallopt(M_TRIM_THRESHOLD, 256 << 20);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+    keepFreedMemory();
     CLI::App app{"Kizamu: sculpt digital clay held in an adaptively sampled distance field.\n"
                  "Run `kizamu <command> --help` for the options of each command."};
     app.require_subcommand(1);

@@ -2,11 +2,12 @@
 /// @file thread_pool.h
 /// @brief A fixed set of worker threads running blocking parallel loops.
 ///
-/// Used by generation, regeneration and (later) the mesher. We keep our own small pool rather
+/// Used by generation, regeneration, the mesher and the point sampler. We keep our own small pool rather
 /// than TBB so that every thread Kizamu starts is visible and nameable, and so ThreadSanitizer
 /// sees plain std::thread/mutex synchronisation. Never used by the haptic thread.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
@@ -29,7 +30,8 @@ public:
     ThreadPool& operator=(const ThreadPool&) = delete;
 
     /// Runs fn(i) for i in [0, n) across the workers and the caller; returns when all are done.
-    /// Indices are handed out one by one, so uneven items balance. Exceptions thrown by fn are
+    /// Indices are handed out one by one by an atomic ticket (no lock per item), so uneven
+    /// items balance and small ones cost a compare-and-swap each. Exceptions thrown by fn are
     /// rethrown here (the first one) after the loop finishes.
     /// Complexity: O(n) calls plus one wake-up per worker. Memory: none per item.
     void parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
@@ -37,15 +39,28 @@ public:
     unsigned threadCount() const { return unsigned(mWorkers.size()) + 1; }
 
 private:
+    /// One parallelFor: what a worker copies when it wakes.
+    struct Loop {
+        const std::function<void(std::size_t)>* fn = nullptr;
+        std::size_t count = 0;
+        uint64_t generation = 0;
+    };
+    static constexpr int kIndexBits = 40;
+    static constexpr uint64_t kIndexMask = (uint64_t(1) << kIndexBits) - 1;
+    /// Generations 1..kGenerations fit the ticket's high bits; they wrap (a worker would have
+    /// to sleep through 16 million loops to mistake one for another).
+    static constexpr uint64_t kGenerations = (uint64_t(1) << (64 - kIndexBits)) - 1;
+
     void workerLoop();
-    void runItems();
+    void runItems(const Loop& loop);
 
     std::vector<std::thread> mWorkers;
-    std::mutex mMutex;
+    std::mutex mMutex;  ///< guards mLoop, mStop, mError; the counters are atomic
     std::condition_variable mWake, mDone;
-    const std::function<void(std::size_t)>* mFn = nullptr;
-    std::size_t mCount = 0, mNext = 0, mFinished = 0;
-    uint64_t mGeneration = 0;
+    Loop mLoop;
+    /// The loop's generation (high bits) and its next index (low kIndexBits bits).
+    std::atomic<uint64_t> mTicket{0};
+    std::atomic<std::size_t> mFinished{0};
     bool mStop = false;
     std::exception_ptr mError;
 };
