@@ -33,7 +33,9 @@ public:
     /// Indices are handed out one by one by an atomic ticket (no lock per item), so uneven
     /// items balance and small ones cost a compare-and-swap each. Exceptions thrown by fn are
     /// rethrown here (the first one) after the loop finishes.
-    /// Complexity: O(n) calls plus one wake-up per worker. Memory: none per item.
+    /// Workers poll for the next loop for a while before they sleep, and the caller for the last
+    /// item (thread_pool.cpp says why). Complexity: O(n) calls plus at most one wake-up per
+    /// worker. Memory: none per item.
     void parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
 
     unsigned threadCount() const { return unsigned(mWorkers.size()) + 1; }
@@ -61,6 +63,9 @@ private:
     /// The loop's generation (high bits) and its next index (low kIndexBits bits).
     std::atomic<uint64_t> mTicket{0};
     std::atomic<std::size_t> mFinished{0};
+    /// mLoop.generation, readable without the mutex: what a polling worker watches.
+    std::atomic<uint64_t> mPublished{0};
+    std::atomic<bool> mStopping{false};
     bool mStop = false;
     std::exception_ptr mError;
 };
