@@ -220,6 +220,21 @@ struct CellTask {
     bool operator<(const CellTask& o) const { return owner != o.owner ? owner < o.owner : cell < o.cell; }
 };
 
+/// An update's per-task buffers, kept per pool thread across updates. Made afresh each time,
+/// they came from the heap's top more often than not (the snapshots an editing session keeps
+/// for undo take the space they freed), so every update paid first-touch page faults for them.
+struct UpdateScratch {
+    std::vector<BoundaryCell> leaves;
+    std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot or index)
+    std::vector<Crossing> fresh;
+    std::vector<Incidence> inc;
+    CellScratch cell;
+};
+UpdateScratch& updateScratch() {
+    thread_local UpdateScratch s;
+    return s;
+}
+
 /// Rebuilds `tm`'s incidence list when most of it belongs to re-meshed vertices.
 void compactIncidences(TileMesh& tm) {
     if (tm.incidences.size() < 2 * tm.liveIncidences + 1024) return;
@@ -354,8 +369,11 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         };
         // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
         // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
-        std::vector<std::pair<uint64_t, uint32_t>> old;  // (key, slot)
-        std::vector<BoundaryCell> leaves;
+        UpdateScratch& scratch = updateScratch();
+        std::vector<std::pair<uint64_t, uint32_t>>& old = scratch.old;  // (key, slot)
+        std::vector<BoundaryCell>& leaves = scratch.leaves;
+        old.clear();
+        leaves.clear();
         const Tile* was = nullptr;
         if (tm.liveCrossings > 0) {
             was = tileOfKey(oldAdf, tm.key);
@@ -377,7 +395,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                 }
             }
         }
-        std::vector<Crossing> fresh;
+        std::vector<Crossing>& fresh = scratch.fresh;
+        fresh.clear();
         if (tileOfKey(a, tm.key) == tm.tile) {
             if (was != tm.tile) {  // a rebuilt tile (a neighbour the edit left alone has the same leaves)
                 leaves.clear();
@@ -392,7 +411,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
         }
         std::sort(old.begin(), old.end());
-        std::vector<std::pair<uint64_t, uint32_t>> order(fresh.size());  // (key, index): no record moves
+        std::vector<std::pair<uint64_t, uint32_t>>& order = scratch.order;  // (key, index): no record moves
+        order.resize(fresh.size());
         for (uint32_t j = 0; j < fresh.size(); ++j) order[j] = {fresh[j].key(), j};
         std::sort(order.begin(), order.end());
         std::size_t o = 0, f = 0;
@@ -492,8 +512,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             const auto at = std::lower_bound(taskFirst, taskEnd, mf.cellA, [](const CellTask& t, uint64_t c) { return t.cell < c; });
             return at != taskEnd && at->cell == mf.cellA;
         });
-        CellScratch scratch;
-        std::vector<Incidence> inc;
+        UpdateScratch& buffers = updateScratch();
+        CellScratch& scratch = buffers.cell;
+        scratch.freshCrossings = false;
+        std::vector<Incidence>& inc = buffers.inc;
         const ChangedCells::Query cellChanged(changed);
         for (std::size_t t = taskBegin[ti]; t < taskBegin[ti + 1]; ++t) {
             const uint64_t cell = tasks[t].cell;
