@@ -896,7 +896,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
         TileMesh& tm = *meshTiles[i];
         splitFaces(tm);
-        for (Vertex& v : tm.vertices) relaxVertex(tm, v);
+        relaxInOrder(tm.vertices.size(), [&](std::size_t k) { return std::pair<TileMesh&, Vertex&>(tm, tm.vertices[k]); });
         // What only a build needs.
         tm.leaves = {};
         tm.border = {};

@@ -616,8 +616,11 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     // blocks of vertices, not one pool hand-off each.
     constexpr std::size_t kRelaxBlock = 512;
     util::parallelFor(mPool, (relax.size() + kRelaxBlock - 1) / kRelaxBlock, [&](std::size_t b) {
-        const std::size_t end = std::min(relax.size(), (b + 1) * kRelaxBlock);
-        for (std::size_t i = b * kRelaxBlock; i < end; ++i) relaxVertex(*relax[i].tile, relax[i].tile->vertices[relax[i].index]);
+        const std::size_t first = b * kRelaxBlock, end = std::min(relax.size(), first + kRelaxBlock);
+        relaxInOrder(end - first, [&](std::size_t k) {
+            const VertexRef& r = relax[first + k];
+            return std::pair<TileMesh&, Vertex&>(*r.tile, r.tile->vertices[r.index]);
+        });
     });
     st.verticesRelaxed = relax.size();
 
