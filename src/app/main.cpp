@@ -11,7 +11,9 @@
 
 #include <cstdio>
 #include <exception>
+#ifdef __GLIBC__
 #include <malloc.h>
+#endif
 
 namespace {
 
@@ -19,11 +21,16 @@ namespace {
 /// megabytes every frame; by default glibc hands large ones back to the kernel (fresh mmap
 /// above its threshold, heap trimming on free), so the next frame takes a page fault per 4 KiB
 /// again, which on a virtual machine cost 800k points three quarters of their time
-/// (docs/PERFORMANCE.md, "Eleventh session"). Blocks above 32 MiB (glibc's largest threshold)
-/// are still mapped, and more than 256 MiB free at the heap's top is still returned.
+/// (docs/PERFORMANCE.md, "Eleventh session"). Blocks above 32 MiB (the ceiling of glibc's
+/// own adaptive threshold) are still mapped, and more than 256 MiB free at an arena's top is
+/// still returned: the price is that much resident memory kept per arena at most. A value
+/// glibc refuses leaves its default (the calls report it; nothing else to do). Other C
+/// libraries keep their own policy.
 void keepFreedMemory() {
-    mallopt(M_MMAP_THRESHOLD, 32 << 20);
-    mallopt(M_TRIM_THRESHOLD, 256 << 20);
+#ifdef __GLIBC__
+    (void)mallopt(M_MMAP_THRESHOLD, 32 << 20);
+    (void)mallopt(M_TRIM_THRESHOLD, 256 << 20);
+#endif
 }
 
 }  // namespace

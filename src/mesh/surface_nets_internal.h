@@ -241,7 +241,7 @@ void relaxVertex(TileMesh& tm, Vertex& v);
 
 /// Relaxes vertices 0..n-1 in order, `at(k)` giving vertex k's tile and the vertex. Relaxation
 /// chases pointers (incidence, crossing, neighbour vertex), so the crossings are asked for a
-/// few vertices ahead and the neighbours one vertex ahead: a build's relaxation phase took 18 %
+/// few vertices ahead and the neighbours one vertex ahead: a build's relaxation phase took 16 %
 /// less (docs/PERFORMANCE.md, "Eleventh session").
 template <class At>
 void relaxInOrder(std::size_t n, At at) {

@@ -223,6 +223,7 @@ struct CellTask {
 /// An update's per-task buffers, kept per pool thread across updates. Made afresh each time,
 /// they came from the heap's top more often than not (the snapshots an editing session keeps
 /// for undo take the space they freed), so every update paid first-touch page faults for them.
+/// Not reentrant: a task must not start another update (none does).
 struct UpdateScratch {
     std::vector<BoundaryCell> leaves;
     std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot or index)
@@ -369,9 +370,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         };
         // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
         // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
-        UpdateScratch& scratch = updateScratch();
-        std::vector<std::pair<uint64_t, uint32_t>>& old = scratch.old;  // (key, slot)
-        std::vector<BoundaryCell>& leaves = scratch.leaves;
+        UpdateScratch& buffers = updateScratch();
+        std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
+        std::vector<BoundaryCell>& leaves = buffers.leaves;
         old.clear();
         leaves.clear();
         const Tile* was = nullptr;
@@ -395,7 +396,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                 }
             }
         }
-        std::vector<Crossing>& fresh = scratch.fresh;
+        std::vector<Crossing>& fresh = buffers.fresh;
         fresh.clear();
         if (tileOfKey(a, tm.key) == tm.tile) {
             if (was != tm.tile) {  // a rebuilt tile (a neighbour the edit left alone has the same leaves)
@@ -411,7 +412,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
         }
         std::sort(old.begin(), old.end());
-        std::vector<std::pair<uint64_t, uint32_t>>& order = scratch.order;  // (key, index): no record moves
+        std::vector<std::pair<uint64_t, uint32_t>>& order = buffers.order;  // (key, index): no record moves
         order.resize(fresh.size());
         for (uint32_t j = 0; j < fresh.size(); ++j) order[j] = {fresh[j].key(), j};
         std::sort(order.begin(), order.end());
@@ -513,8 +514,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             return at != taskEnd && at->cell == mf.cellA;
         });
         UpdateScratch& buffers = updateScratch();
-        CellScratch& scratch = buffers.cell;
-        scratch.freshCrossings = false;
+        CellScratch& cellScratch = buffers.cell;
+        cellScratch.freshCrossings = false;
         std::vector<Incidence>& inc = buffers.inc;
         const ChangedCells::Query cellChanged(changed);
         for (std::size_t t = taskBegin[ti]; t < taskBegin[ti + 1]; ++t) {
@@ -561,7 +562,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
             if (!(anyIn && anyOut)) ++ms.signlessCells;
             const std::size_t incBefore = tm.incidences.size();
-            const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), corners, scratch, ms);
+            const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), corners, cellScratch, ms);
             tm.liveIncidences += tm.incidences.size() - incBefore;
             tm.cellVertex.assign(cell, first);
             for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) made[ti].push_back({&tm, vi});

@@ -20,9 +20,11 @@ namespace kizamu::util {
 
 namespace {
 
-/// Polls `done` for up to `limit`; true if it came true.
+/// Polls `done` for up to `limit`; true if it came true. Yields between rounds, so a thread
+/// that needs the core (the haptic thread) gets it.
 template <class Done>
 bool pollFor(std::chrono::microseconds limit, Done done) {
+    if (limit.count() <= 0) return done();
     const auto until = std::chrono::steady_clock::now() + limit;
     for (;;) {
         for (int i = 0; i < 64; ++i) {
@@ -32,6 +34,7 @@ bool pollFor(std::chrono::microseconds limit, Done done) {
 #endif
         }
         if (std::chrono::steady_clock::now() >= until) return false;
+        std::this_thread::yield();
     }
 }
 
@@ -40,13 +43,17 @@ bool pollFor(std::chrono::microseconds limit, Done done) {
 /// runs its loops back to back with short serial steps between them (a LOD about 14, a dab
 /// about 20): polling 500 us made the 2k LOD 12 % and a dab 10-20 % faster (docs/PERFORMANCE.md,
 /// "Eleventh session"). The same trade as OpenMP's and TBB's workers, which also spin before
-/// they sleep; an idle pool costs at most this much CPU after its last loop.
+/// they sleep; after its last loop an idle pool costs at most this much CPU per thread. With
+/// more threads than cores nobody polls: the pollers would take the cores from the threads
+/// still running items.
 constexpr std::chrono::microseconds kPoll{500};
 
 }  // namespace
 
 ThreadPool::ThreadPool(unsigned threads) {
-    if (threads == 0) threads = std::max(1u, std::thread::hardware_concurrency());
+    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+    if (threads == 0) threads = cores;
+    mPoll = threads <= cores ? kPoll : std::chrono::microseconds(0);
     for (unsigned i = 1; i < threads; ++i) mWorkers.emplace_back([this] { workerLoop(); });
 }
 
@@ -90,7 +97,7 @@ void ThreadPool::runItems(const Loop& loop) {
 void ThreadPool::workerLoop() {
     uint64_t seen = 0;
     for (;;) {
-        pollFor(kPoll, [&] {
+        pollFor(mPoll, [&] {
             return mPublished.load(std::memory_order_acquire) != seen || mStopping.load(std::memory_order_acquire);
         });
         std::unique_lock lock(mMutex);
@@ -98,13 +105,21 @@ void ThreadPool::workerLoop() {
         if (mStop) return;
         seen = mLoop.generation;
         const Loop loop = mLoop;  // fn stays valid while an item of this generation is unfinished
+        mActive.fetch_add(1, std::memory_order_relaxed);  // under the mutex, with the copy
         lock.unlock();
         runItems(loop);
+        mActive.fetch_sub(1, std::memory_order_release);
     }
 }
 
 void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn) {
     if (n > kIndexMask) throw std::length_error("thread pool: too many items in one loop");
+    if (mPublished.load(std::memory_order_relaxed) == kGenerations) {
+        // The generations wrap: first let every worker leave the loops it copied (outside the
+        // mutex, which a finishing worker takes to notify). One that copies the last loop
+        // meanwhile finds the new generation and takes nothing.
+        while (mActive.load(std::memory_order_acquire) != 0) std::this_thread::yield();
+    }
     Loop loop;
     {
         std::lock_guard lock(mMutex);
@@ -120,7 +135,7 @@ void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t
     // Every item done is enough: a worker touches fn only for an item it took, and one that
     // wakes late finds none (or the next loop's). Waiting for it too would add its wake-up
     // latency to every loop the caller could finish alone (a small LOD runs a dozen).
-    pollFor(kPoll, [&] { return mFinished.load(std::memory_order_acquire) == n; });
+    pollFor(mPoll, [&] { return mFinished.load(std::memory_order_acquire) == n; });
     std::unique_lock lock(mMutex);
     mDone.wait(lock, [&] { return mFinished.load(std::memory_order_acquire) == n; });
     if (mError) std::rethrow_exception(std::exchange(mError, nullptr));

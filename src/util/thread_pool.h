@@ -8,6 +8,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
@@ -49,8 +50,9 @@ private:
     };
     static constexpr int kIndexBits = 40;
     static constexpr uint64_t kIndexMask = (uint64_t(1) << kIndexBits) - 1;
-    /// Generations 1..kGenerations fit the ticket's high bits; they wrap (a worker would have
-    /// to sleep through 16 million loops to mistake one for another).
+    /// Generations 1..kGenerations fit the ticket's high bits. Before they wrap, parallelFor
+    /// waits until no worker is inside an earlier loop (mActive), so a worker stalled between
+    /// copying a loop and taking an item can never meet its generation again.
     static constexpr uint64_t kGenerations = (uint64_t(1) << (64 - kIndexBits)) - 1;
 
     void workerLoop();
@@ -65,7 +67,10 @@ private:
     std::atomic<std::size_t> mFinished{0};
     /// mLoop.generation, readable without the mutex: what a polling worker watches.
     std::atomic<uint64_t> mPublished{0};
-    std::atomic<bool> mStopping{false};
+    /// Workers that copied a loop and have not left runItems (counted under the mutex).
+    std::atomic<unsigned> mActive{0};
+    std::chrono::microseconds mPoll{0};  ///< 0 when there are more threads than cores
+    std::atomic<bool> mStopping{false};  ///< set with mStop, for workers that poll
     bool mStop = false;
     std::exception_ptr mError;
 };

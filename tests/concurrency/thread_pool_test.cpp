@@ -1,16 +1,31 @@
 // SPDX-License-Identifier: Apache-2.0
 // The pool hands out indices by an atomic ticket that names its loop: every index runs exactly
-// once, a worker waking late never runs an old loop's function on a new loop's index, and the
-// first exception reaches the caller after the loop. Run under ThreadSanitizer (scripts/test).
+// once, a worker waking late never runs an old loop's function on a new loop's index, workers
+// do take items, a caller asleep on the last item is woken, and the first exception (from any
+// thread) reaches the caller after the loop. Run under ThreadSanitizer (scripts/test).
 #include "util/thread_pool.h"
 
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 using kizamu::util::ThreadPool;
+using namespace std::chrono_literals;
+
+namespace {
+
+/// Waits up to 2 s for `flag`; true if it came.
+bool waitFor(const std::atomic<bool>& flag) {
+    const auto until = std::chrono::steady_clock::now() + 2s;
+    while (!flag.load() && std::chrono::steady_clock::now() < until) std::this_thread::sleep_for(50us);
+    return flag.load();
+}
+
+}  // namespace
 
 TEST(ThreadPool, EveryIndexRunsOnceInManyShortLoops) {
     ThreadPool pool(4);
@@ -45,6 +60,68 @@ TEST(ThreadPool, FirstExceptionReachesTheCallerAndThePoolGoesOn) {
     std::atomic<int> after{0};
     pool.parallelFor(10, [&](std::size_t) { after.fetch_add(1); });
     EXPECT_EQ(after.load(), 10);
+}
+
+TEST(ThreadPool, WorkersTakeItems) {
+    ThreadPool pool(2);
+    const std::thread::id caller = std::this_thread::get_id();
+    std::atomic<bool> workerRan{false}, waited{false};
+    // The caller's first item waits for a worker to run one: a pool whose workers never take
+    // work leaves it alone.
+    pool.parallelFor(16, [&](std::size_t) {
+        if (std::this_thread::get_id() != caller) workerRan = true;
+        else if (!waited.exchange(true)) waitFor(workerRan);
+    });
+    EXPECT_TRUE(workerRan.load());
+}
+
+TEST(ThreadPool, CallerSleepingOnTheLastItemIsWoken) {
+    ThreadPool pool(2);
+    const std::thread::id caller = std::this_thread::get_id();
+    // The worker's item outlasts the caller's polling (500 us), so the caller sleeps on the
+    // pool's condition variable and must be woken by the worker: a lost wake-up hangs here
+    // (the test's timeout fails it).
+    for (int loop = 0; loop < 100; ++loop) {
+        std::atomic<bool> workerStarted{false};
+        std::atomic<int> done{0};
+        pool.parallelFor(2, [&](std::size_t) {
+            if (std::this_thread::get_id() != caller) {
+                workerStarted = true;
+                std::this_thread::sleep_for(2ms);
+            } else {
+                waitFor(workerStarted);
+            }
+            done.fetch_add(1);
+        });
+        ASSERT_EQ(done.load(), 2) << "loop " << loop;
+    }
+}
+
+TEST(ThreadPool, ExceptionOnAWorkerReachesTheCaller) {
+    ThreadPool pool(2);
+    const std::thread::id caller = std::this_thread::get_id();
+    std::atomic<bool> workerRan{false}, waited{false};
+    EXPECT_THROW(pool.parallelFor(8,
+                                  [&](std::size_t) {
+                                      if (std::this_thread::get_id() != caller) {
+                                          workerRan = true;
+                                          throw std::runtime_error("worker item failed");
+                                      }
+                                      if (!waited.exchange(true)) waitFor(workerRan);
+                                  }),
+                 std::runtime_error);
+    EXPECT_TRUE(workerRan.load());
+}
+
+TEST(ThreadPool, PoolsEndWhileWorkersPollOrSleep) {
+    // Destroyed right after a loop (workers polling) or after a pause (workers asleep).
+    for (int i = 0; i < 200; ++i) {
+        ThreadPool pool(3);
+        std::atomic<int> runs{0};
+        pool.parallelFor(4, [&](std::size_t) { runs.fetch_add(1); });
+        ASSERT_EQ(runs.load(), 4);
+        if (i % 2) std::this_thread::sleep_for(1ms);
+    }
 }
 
 TEST(ThreadPool, EmptyAndSingleLoops) {
