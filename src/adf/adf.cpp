@@ -51,16 +51,56 @@ Sample Adf::sample(const glm::vec3& pWorld) const noexcept {
     return s;
 }
 
-float Adf::latticeDistance(glm::uvec3 p) const noexcept {
-    assert(p.x <= mDomain.latticeSize() && p.y <= mDomain.latticeSize() && p.z <= mDomain.latticeSize() &&
-           "latticeDistance needs a point of the domain's lattice");
-    // A point on the domain's far faces is a corner of the cell below it.
-    const LeafCell leaf = locateLeaf(glm::min(p, glm::uvec3(mDomain.latticeSize() - 1)));
+namespace {
+
+/// latticeDistance's answer once the leaf holding the point (clamped into the domain) is known.
+[[gnu::always_inline]] inline float latticeValue(const LeafCell& leaf, glm::uvec3 p) {
     const int c = leaf.cornerIndex(p);
     if (c >= 0) return leaf.corner(c);
     float v[8];
     leaf.corners(v);
     return trilinear(v, glm::vec3(p - leaf.origin) / float(leaf.size)).distance;
+}
+
+}  // namespace
+
+float Adf::latticeDistance(glm::uvec3 p) const noexcept {
+    assert(p.x <= mDomain.latticeSize() && p.y <= mDomain.latticeSize() && p.z <= mDomain.latticeSize() &&
+           "latticeDistance needs a point of the domain's lattice");
+    // A point on the domain's far faces is a corner of the cell below it.
+    return latticeValue(locateLeaf(glm::min(p, glm::uvec3(mDomain.latticeSize() - 1))), p);
+}
+
+void Adf::latticeDistances(std::span<const glm::uvec3> points, std::span<float> out) const noexcept {
+    assert(points.size() == out.size() && "latticeDistances writes one value per point");
+    constexpr std::size_t kLanes = 16;
+    const glm::uvec3 last(mDomain.latticeSize() - 1);
+    for (std::size_t first = 0; first < points.size(); first += kLanes) {
+        const std::size_t n = std::min(kLanes, points.size() - first);
+        glm::uvec3 q[kLanes];
+        const Tile* tile[kLanes];
+        uint32_t w[kLanes];
+        int shift[kLanes];
+        for (std::size_t i = 0; i < n; ++i) {
+            q[i] = glm::min(points[first + i], last);
+            tile[i] = tileAtSlot(q[i] >> uint32_t(mDomain.tileSpan()));
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            shift[i] = mDomain.maxLevel - tile[i]->level();
+            w[i] = tile[i]->node(0);
+        }
+        // A level of every lane's descent at a time: the loads of different lanes are
+        // independent, so the core overlaps them.
+        for (bool deeper = true; deeper;) {
+            deeper = false;
+            for (std::size_t i = 0; i < n; ++i)
+                if (node::isInternal(w[i])) {
+                    w[i] = tile[i]->node(w[i] + uint32_t(childAt(q[i], shift[i]--)));
+                    deeper = true;
+                }
+        }
+        for (std::size_t i = 0; i < n; ++i) out[first + i] = latticeValue(leafOfWord(tile[i], w[i], shift[i], q[i]), points[first + i]);
+    }
 }
 
 void AdfAccessor::descend(glm::uvec3 p) noexcept {

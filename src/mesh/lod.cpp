@@ -28,8 +28,22 @@ public:
         glm::uvec3 lattice;
         return mRounding.nearest(p, 1e-6, lattice) ? mAdf->latticeDistance(lattice) : mAdf->sample(glm::vec3(p)).distance;
     }
+    /// The lattice points of a batch together (Adf::latticeDistances overlaps their descents).
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
-        for (std::size_t i = 0; i < p.size(); ++i) out[i] = distance(p[i]);
+        constexpr std::size_t kBatch = 64;
+        glm::uvec3 lattice[kBatch];
+        uint32_t at[kBatch];
+        float values[kBatch];
+        for (std::size_t first = 0; first < p.size(); first += kBatch) {
+            const std::size_t n = std::min(kBatch, p.size() - first);
+            std::size_t m = 0;
+            for (std::size_t i = first; i < first + n; ++i) {
+                if (mRounding.nearest(p[i], 1e-6, lattice[m])) at[m++] = uint32_t(i);
+                else out[i] = mAdf->sample(glm::vec3(p[i])).distance;
+            }
+            mAdf->latticeDistances({lattice, m}, {values, m});
+            for (std::size_t k = 0; k < m; ++k) out[at[k]] = values[k];
+        }
     }
 
 private:

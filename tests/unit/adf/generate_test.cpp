@@ -11,9 +11,12 @@
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
+#define GLM_ENABLE_EXPERIMENTAL
+#include <glm/gtx/string_cast.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -318,6 +321,37 @@ TEST(Generate, LatticeDistanceReadsTheStoredCornersAndInterpolatesBetweenThem) {
         });
     });
     EXPECT_GT(interpolated, 100u);
+}
+
+TEST(Generate, LatticeDistancesInBatchesEqualOneByOne) {
+    // Batches of every size up to past one group of lanes, over random lattice points (the far
+    // faces included) and the corners and centres of leaves: the same bits as latticeDistance.
+    const Domain d = testPartDomain(8);
+    const AdfPtr adf = generate(*makeTestPart(d), d, testPartSettings());
+    const uint32_t top = d.latticeSize();
+    std::vector<glm::uvec3> points;
+    std::mt19937 rng(7);
+    std::uniform_int_distribution<uint32_t> coord(0, top);
+    for (int i = 0; i < 4000; ++i) points.emplace_back(coord(rng), coord(rng), coord(rng));
+    adf->forEachTile([&](const Tile& t) {
+        forEachLeaf(t, d.maxLevel, [&](const LeafRef& leaf) {
+            if (points.size() < 20000) {
+                points.push_back(leaf.latticeOrigin);
+                points.push_back(leaf.latticeOrigin + leaf.latticeSize / 2);
+            }
+        });
+    });
+    points.push_back(glm::uvec3(top));
+    std::size_t at = 0;
+    for (std::size_t batch = 1; at < points.size(); batch = batch % 40 + 1) {
+        const std::size_t n = std::min(batch, points.size() - at);
+        std::vector<float> out(n, std::numeric_limits<float>::quiet_NaN());
+        adf->latticeDistances({points.data() + at, n}, out);
+        for (std::size_t i = 0; i < n; ++i)
+            ASSERT_EQ(std::bit_cast<uint32_t>(out[i]), std::bit_cast<uint32_t>(adf->latticeDistance(points[at + i])))
+                << "point " << glm::to_string(points[at + i]) << " in a batch of " << n;
+        at += n;
+    }
 }
 
 TEST(Generate, RandomLocalRegenerationsGiveTheFullGenerationsFieldUpToQuantisation) {
