@@ -896,7 +896,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
         TileMesh& tm = *meshTiles[i];
         splitFaces(tm);
-        relaxInOrder(tm.vertices.size(), [&](std::size_t k) { return std::pair<TileMesh&, Vertex&>(tm, tm.vertices[k]); });
+        relaxInOrder(tm.vertices.size(), [&](std::size_t k) { return VertexRef{&tm, uint32_t(k)}; });
         // What only a build needs.
         tm.leaves = {};
         tm.border = {};

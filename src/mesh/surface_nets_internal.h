@@ -239,28 +239,31 @@ void splitFaces(TileMesh& tm);
 /// `projected`, writes the vertex's `position` and `normal`).
 void relaxVertex(TileMesh& tm, Vertex& v);
 
-/// Relaxes vertices 0..n-1 in order, `at(k)` giving vertex k's tile and the vertex. Relaxation
-/// chases pointers (incidence, crossing, neighbour vertex), so the crossings are asked for a
-/// few vertices ahead and the neighbours one vertex ahead: a build's relaxation phase took 16 %
+/// Relaxes vertices at(0..n-1) in order (`at` gives each one's VertexRef). Relaxation chases
+/// pointers (incidence, crossing, neighbour vertex), so the crossings are asked for a few
+/// vertices ahead and the neighbours one vertex ahead: a build's relaxation phase took 16 %
 /// less (docs/PERFORMANCE.md, "Eleventh session").
 template <class At>
 void relaxInOrder(std::size_t n, At at) {
     constexpr std::size_t kCrossingsAhead = 4;
+    auto vertexOf = [](const VertexRef& r) -> Vertex& { return r.tile->vertices[r.index]; };
     for (std::size_t k = 0; k < n; ++k) {
         if (k + kCrossingsAhead < n) {
-            auto [tile, v] = at(k + kCrossingsAhead);
-            for (uint32_t j = v.incBegin; j < v.incEnd; ++j) __builtin_prefetch(&tile.incidences[j].x->ringVertex);
+            const VertexRef r = at(k + kCrossingsAhead);
+            const Vertex& v = vertexOf(r);
+            for (uint32_t j = v.incBegin; j < v.incEnd; ++j) __builtin_prefetch(&r.tile->incidences[j].x->ringVertex);
         }
         if (k + 1 < n) {
-            auto [tile, v] = at(k + 1);
+            const VertexRef r = at(k + 1);
+            const Vertex& v = vertexOf(r);
             for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
-                const VertexIncidence& c = tile.incidences[j];
-                for (const VertexRef& r : {c.x->ringVertex[(c.first + 3) % 4], c.x->ringVertex[(c.last + 1) % 4]})
-                    if (r.tile) __builtin_prefetch(&r.tile->vertices[r.index].projected);
+                const VertexIncidence& c = r.tile->incidences[j];
+                for (const VertexRef& nb : {c.x->ringVertex[(c.first + 3) % 4], c.x->ringVertex[(c.last + 1) % 4]})
+                    if (nb.tile) __builtin_prefetch(&vertexOf(nb).projected);
             }
         }
-        auto [tile, v] = at(k);
-        relaxVertex(tile, v);
+        const VertexRef r = at(k);
+        relaxVertex(*r.tile, vertexOf(r));
     }
 }
 

@@ -618,10 +618,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     constexpr std::size_t kRelaxBlock = 512;
     util::parallelFor(mPool, (relax.size() + kRelaxBlock - 1) / kRelaxBlock, [&](std::size_t b) {
         const std::size_t first = b * kRelaxBlock, end = std::min(relax.size(), first + kRelaxBlock);
-        relaxInOrder(end - first, [&](std::size_t k) {
-            const VertexRef& r = relax[first + k];
-            return std::pair<TileMesh&, Vertex&>(*r.tile, r.tile->vertices[r.index]);
-        });
+        relaxInOrder(end - first, [&](std::size_t k) { return relax[first + k]; });
     });
     st.verticesRelaxed = relax.size();
 

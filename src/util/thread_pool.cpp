@@ -60,8 +60,7 @@ ThreadPool::ThreadPool(unsigned threads) {
 ThreadPool::~ThreadPool() {
     {
         std::lock_guard lock(mMutex);
-        mStop = true;
-        mStopping.store(true, std::memory_order_release);
+        mStop.store(true, std::memory_order_release);
     }
     mWake.notify_all();
     for (auto& t : mWorkers) t.join();
@@ -98,11 +97,11 @@ void ThreadPool::workerLoop() {
     uint64_t seen = 0;
     for (;;) {
         pollFor(mPoll, [&] {
-            return mPublished.load(std::memory_order_acquire) != seen || mStopping.load(std::memory_order_acquire);
+            return mPublished.load(std::memory_order_acquire) != seen || mStop.load(std::memory_order_acquire);
         });
         std::unique_lock lock(mMutex);
-        mWake.wait(lock, [&] { return mStop || mLoop.generation != seen; });
-        if (mStop) return;
+        mWake.wait(lock, [&] { return mStop.load(std::memory_order_relaxed) || mLoop.generation != seen; });
+        if (mStop.load(std::memory_order_relaxed)) return;
         seen = mLoop.generation;
         const Loop loop = mLoop;  // fn stays valid while an item of this generation is unfinished
         mActive.fetch_add(1, std::memory_order_relaxed);  // under the mutex, with the copy
@@ -135,9 +134,10 @@ void ThreadPool::parallelFor(std::size_t n, const std::function<void(std::size_t
     // Every item done is enough: a worker touches fn only for an item it took, and one that
     // wakes late finds none (or the next loop's). Waiting for it too would add its wake-up
     // latency to every loop the caller could finish alone (a small LOD runs a dozen).
-    pollFor(mPoll, [&] { return mFinished.load(std::memory_order_acquire) == n; });
+    auto allDone = [&] { return mFinished.load(std::memory_order_acquire) == n; };
+    pollFor(mPoll, allDone);
     std::unique_lock lock(mMutex);
-    mDone.wait(lock, [&] { return mFinished.load(std::memory_order_acquire) == n; });
+    mDone.wait(lock, allDone);
     if (mError) std::rethrow_exception(std::exchange(mError, nullptr));
 }
 

@@ -59,7 +59,7 @@ private:
     void runItems(const Loop& loop);
 
     std::vector<std::thread> mWorkers;
-    std::mutex mMutex;  ///< guards mLoop, mStop, mError; the counters are atomic
+    std::mutex mMutex;  ///< guards mLoop and mError, and orders mStop for sleepers
     std::condition_variable mWake, mDone;
     Loop mLoop;
     /// The loop's generation (high bits) and its next index (low kIndexBits bits).
@@ -70,8 +70,7 @@ private:
     /// Workers that copied a loop and have not left runItems (counted under the mutex).
     std::atomic<unsigned> mActive{0};
     std::chrono::microseconds mPoll{0};  ///< 0 when there are more threads than cores
-    std::atomic<bool> mStopping{false};  ///< set with mStop, for workers that poll
-    bool mStop = false;
+    std::atomic<bool> mStop{false};      ///< set under the mutex; read by sleeping and polling workers
     std::exception_ptr mError;
 };
 
