@@ -373,6 +373,80 @@ public:
     /// Builds the tile for `job`; reads its neighbours' border samples, writes its own to `border`.
     TilePtr build(const TileJob& job, const std::array<const BorderSamples*, kNeighbours>& neighbours,
                   BorderSamples& border, uint64_t version) {
+        begin(job);
+        for (int i = 0; i < kNeighbours; ++i)
+            if (neighbours[i]) importFrom(*neighbours[i], i);
+        subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
+        groupBorder(border);
+        return finish(version);
+    }
+
+    // ---- a tile generated in parts: its root here, its 8 children side by side, then joined ----
+    // (Run::generateSmall does it for small regenerations, where one tile holds most of a dab.)
+    // The arrays come out as build() makes them: a child's subtree is a contiguous, depth-first
+    // run of nodes, leaves and bricks, so the parts are joined by moving their indices.
+
+    /// What a cell needs once its own samples are in: nothing more (it was settled as a leaf, a
+    /// copy, or a brick of finest children), or its children generated as `keep` says.
+    struct Split {
+        float v[27];  ///< the cell's half-grid values: its children's corners
+        Keep keep[8];
+        bool nearBand;
+    };
+
+    /// A child's subtree on its own: node 0 is the child's word.
+    struct Part {
+        std::vector<uint32_t> nodes;
+        std::vector<float> leafCorners, brickValues;
+        std::vector<uint32_t> leafFrom, brickFrom;
+    };
+
+    /// The tile root's decision. Returns the finished tile when the root needs no children
+    /// generated, else null and fills `split`.
+    TilePtr planRoot(const TileJob& job, Split& split, uint64_t version) {
+        begin(job);
+        if (decide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, split)) return finish(version);
+        return nullptr;
+    }
+
+    /// Child `c` of the tile root that `split` describes.
+    Part buildChild(const TileJob& job, const Split& split, int c) {
+        begin(job);
+        const uint32_t half = mSpan / 2;
+        for (int g = 0; g < 27; ++g) set(index(gridOffset(g) * half), split.v[g]);  // the root's samples
+        child(0, glm::uvec3(0), half, mDomain.tileLevel() + 1, c, split);
+        return {mNodes, mLeafCorners, mBrickValues, mLeafFrom, mBrickFrom};
+    }
+
+    /// The tile from the root's `split` and its 8 children's parts.
+    TilePtr join(const TileJob& job, const Split& split, const Part* parts, uint64_t version) {
+        begin(job);
+        mNodes.resize(9);
+        for (int c = 0; c < 8; ++c) {
+            const Part& part = parts[c];
+            const auto nodeShift = uint32_t(mNodes.size() - 1);  // part node k >= 1 lands at k + shift
+            const auto leafShift = uint32_t(mLeafFrom.size()), brickShift = uint32_t(mBrickFrom.size());
+            auto moved = [&](uint32_t w) {
+                if (node::isLeaf(w)) return node::makeLeaf(node::leafIndex(w) + leafShift, node::leafType(w));
+                if (node::isBrick(w)) return node::makeBrick(node::brickIndex(w) + brickShift);
+                return w + nodeShift;
+            };
+            mNodes[1 + c] = moved(part.nodes[0]);
+            for (std::size_t k = 1; k < part.nodes.size(); ++k) mNodes.push_back(moved(part.nodes[k]));
+            mLeafCorners.insert(mLeafCorners.end(), part.leafCorners.begin(), part.leafCorners.end());
+            mBrickValues.insert(mBrickValues.end(), part.brickValues.begin(), part.brickValues.end());
+            mLeafFrom.insert(mLeafFrom.end(), part.leafFrom.begin(), part.leafFrom.end());
+            mBrickFrom.insert(mBrickFrom.end(), part.brickFrom.begin(), part.brickFrom.end());
+        }
+        finishParent(0, 1, 0, split);
+        return finish(version);
+    }
+
+    uint64_t evaluations() const { return mEvaluations; }
+
+private:
+    /// Starts a tile: a fresh stamp, the job's old tile and corners, empty arrays.
+    void begin(const TileJob& job) {
         if (++mCurrent == 0) {  // stamp wrapped: clear once every 4 billion tiles
             std::fill(mStamp.begin(), mStamp.end(), 0u);
             mCurrent = 1;
@@ -380,23 +454,19 @@ public:
         mBase = job.slot * mSpan;
         mOld = job.old && job.old->level() == mDomain.tileLevel() && job.old->latticeOrigin() == mBase ? job.old : nullptr;
         for (int c = 0; c < 8; ++c) set(index(childOffset(c) * mSpan), job.corners[c]);
-        for (int i = 0; i < kNeighbours; ++i)
-            if (neighbours[i]) importFrom(*neighbours[i], i);
         mRecorded.clear();
         mNodes.assign(1, 0u);
         mLeafCorners.clear();
         mBrickValues.clear();
         mLeafFrom.clear();
         mBrickFrom.clear();
-        subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
-        groupBorder(border);
+    }
+
+    TilePtr finish(uint64_t version) const {
         return Tile::create(mDomain.tileLevel(), mBase, mNodes, mLeafCorners, mBrickValues, version, mDomain.finestCellSize(),
                             mOld ? mOld->scale() : 0.0f, {mOld, mLeafFrom, mBrickFrom});
     }
 
-    uint64_t evaluations() const { return mEvaluations; }
-
-private:
     uint32_t index(glm::uvec3 p) const { return (p.z * mDim + p.y) * mDim + p.x; }
     bool valid(uint32_t i) const { return mStamp[i] == mCurrent; }
     void set(uint32_t i, float v) {
@@ -674,8 +744,21 @@ private:
     /// `keepChecked`: the parent already asked keepsOld for this cell (and was told no, or
     /// the copy failed).
     void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked = false) {
-        if (!keepChecked && keepsOld(o, s, level) == Keep::Copy && copyOld(nodeIndex, o, level)) return;
-        float v[27];
+        Split split;
+        if (decide(nodeIndex, o, s, level, keepChecked, split)) return;
+        if (level + 1 < mDomain.maxLevel) prefetchChildren(o, s / 2, level + 1, split.keep);
+        const auto first = uint32_t(mNodes.size());
+        const std::size_t leafMark = mLeafCorners.size();
+        mNodes.resize(first + 8);
+        for (int c = 0; c < 8; ++c) child(first + uint32_t(c), o, s / 2, level + 1, c, split);
+        finishParent(nodeIndex, first, leafMark, split);
+    }
+
+    /// The cell's own decision: true when settled (node `nodeIndex` written), else `split` says
+    /// what its children need.
+    bool decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, Split& split) {
+        if (!keepChecked && keepsOld(o, s, level) == Keep::Copy && copyOld(nodeIndex, o, level)) return true;
+        float* v = split.v;
         const uint32_t base = index(o), dy = mDim * s, dz = mDim * mDim * s;
         const uint32_t cornerAt[8] = {base, base + s, base + dy, base + s + dy, base + dz, base + s + dz, base + dy + dz, base + s + dy + dz};
         float corners[8];
@@ -683,38 +766,49 @@ private:
             assert(valid(cornerAt[c]));
             corners[c] = v[cornerToGrid(c)] = mValues[cornerAt[c]];
         }
-        if (level == mDomain.maxLevel) return makeLeaf(nodeIndex, corners);
+        auto leaf = [&] {
+            makeLeaf(nodeIndex, corners);
+            return true;
+        };
+        if (level == mDomain.maxLevel) return leaf();
 
         const uint32_t half = s / 2;
         ensure(o, half, &kCentre, 1, v);
         const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
-        if (look.leaf) return makeLeaf(nodeIndex, corners);
+        if (look.leaf) return leaf();
 
         auto hides = [&] { return mRule.hidesFeature(mSource, mBase + o, level); };  // asked last: it may query the source
-        if (mRule.farFromSurfaceAtFirstLook(corners, v[kCentre], level) && !hides()) return makeLeaf(nodeIndex, corners);
+        if (mRule.farFromSurfaceAtFirstLook(corners, v[kCentre], level) && !hides()) return leaf();
         ensure(o, half, kFaceEdgePoints.data(), 18, v);
-        if ((mRule.farFromSurface(v, level) || CellRule::error(v) <= look.threshold) && !hides())
-            return makeLeaf(nodeIndex, corners);
+        if ((mRule.farFromSurface(v, level) || CellRule::error(v) <= look.threshold) && !hides()) return leaf();
 
-        Keep keep[8];
-        for (int c = 0; c < 8; ++c) keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1);
-        if (level + 1 == mDomain.maxLevel && std::all_of(keep, keep + 8, [](Keep k) { return k == Keep::No; }))
-            return finestChildren(nodeIndex, v, corners, look.nearBand);
-        if (level + 1 < mDomain.maxLevel) prefetchChildren(o, half, level + 1, keep);
-        const auto first = uint32_t(mNodes.size());
-        const std::size_t leafMark = mLeafCorners.size();
-        mNodes.resize(first + 8);
-        for (int c = 0; c < 8; ++c) {
-            const glm::uvec3 co = o + childOffset(c) * half;
-            if (keep[c] == Keep::Leaf) {
-                float childCorners[8];
-                for (int k = 0; k < 8; ++k) childCorners[k] = v[brickPoint(c, k)];
-                makeLeaf(first + c, childCorners);
-            } else if (!(keep[c] == Keep::Copy && copyOld(first + c, co, level + 1))) {
-                subdivide(first + c, co, half, level + 1, true);
-            }
+        for (int c = 0; c < 8; ++c) split.keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1);
+        split.nearBand = look.nearBand;
+        if (level + 1 == mDomain.maxLevel && std::all_of(split.keep, split.keep + 8, [](Keep k) { return k == Keep::No; })) {
+            finestChildren(nodeIndex, v, corners, look.nearBand);
+            return true;
         }
-        if (!look.nearBand && sameNonBoundaryLeaves(first)) {
+        return false;
+    }
+
+    /// Child `c` (at node `nodeIndex`, size `half`) of the cell at `o`, as `split` says.
+    void child(uint32_t nodeIndex, glm::uvec3 o, uint32_t half, int childLevel, int c, const Split& split) {
+        const glm::uvec3 co = o + childOffset(c) * half;
+        if (split.keep[c] == Keep::Leaf) {
+            float childCorners[8];
+            for (int k = 0; k < 8; ++k) childCorners[k] = split.v[brickPoint(c, k)];
+            makeLeaf(nodeIndex, childCorners);
+        } else if (!(split.keep[c] == Keep::Copy && copyOld(nodeIndex, co, childLevel))) {
+            subdivide(nodeIndex, co, half, childLevel, true);
+        }
+    }
+
+    /// After the children (nodes first..first + 7, leaves from `leafMark` on): coalesce them,
+    /// store them as a brick, or point the parent at them.
+    void finishParent(uint32_t nodeIndex, uint32_t first, std::size_t leafMark, const Split& split) {
+        float corners[8];
+        for (int c = 0; c < 8; ++c) corners[c] = split.v[cornerToGrid(c)];
+        if (!split.nearBand && sameNonBoundaryLeaves(first)) {
             // Coalesce (Kizamu 5.1): the surface did not pass through after all.
             mNodes.resize(first);
             dropLeaves(leafMark);
@@ -725,7 +819,7 @@ private:
             // are exactly this cell's 27 half-grid values.
             mNodes.resize(first);
             dropLeaves(leafMark);
-            return makeBrick(nodeIndex, v);
+            return makeBrick(nodeIndex, split.v);
         }
         mNodes[nodeIndex] = first;
     }
@@ -866,6 +960,10 @@ private:
 
     void generateTiles() {
         if (mJobs.empty()) return;
+        // A small regeneration (a dab: a few tiles, often one per colour) would run its colours
+        // one after another on one thread: generateSmall runs them all at once instead.
+        const unsigned threads = mPool ? mPool->threadCount() : 1u;
+        if (mBase && threads > 1 && mJobs.size() < 8u * threads) return generateSmall();
         FlatKeyMap<uint32_t> jobOfSlot;
         jobOfSlot.reserve(mJobs.size());
         bool inserted;
@@ -878,16 +976,6 @@ private:
             const glm::uvec3 s = mJobs[j].slot;
             colour[j] = int((s.x & 1u) | ((s.y & 1u) << 1) | ((s.z & 1u) << 2));
             byColour[colour[j]].push_back(j);
-        }
-        // A small regeneration (a dab: a few tiles, often one per colour) would run its colours
-        // one after another on one thread. Then all tiles run at once instead, each evaluating
-        // the border points it shares: the values are the same (the source is a function of
-        // the point), only shared border points are evaluated twice.
-        const unsigned threads = mPool ? mPool->threadCount() : 1u;
-        if (mBase && threads > 1 && mJobs.size() < 8u * threads) {
-            byColour = {};
-            for (std::size_t j = 0; j < mJobs.size(); ++j) byColour[0].push_back(j);
-            std::fill(colour.begin(), colour.end(), 0);
         }
         std::atomic<uint64_t> evaluations{0};
         for (int c = 0; c < 8; ++c) {
@@ -907,6 +995,45 @@ private:
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
             });
         }
+        mEvaluations += evaluations.load();
+        for (auto& t : tiles) addTile(std::move(t));
+    }
+
+    /// A small regeneration: every tile at once (no colour phases), each evaluating the border
+    /// points it shares with a neighbour itself, and each in parts: its root first, then its 8
+    /// children side by side with every other tile's, then joined. A dab's tiles are uneven
+    /// (one usually holds most of the crater: 1-2.8 ms against under 0.5 ms for the rest), so
+    /// whole tiles left the second thread idle. Parts evaluate the points they share again:
+    /// the values are the same (the source is a function of the point), and the tiles come out
+    /// as build() makes them (tested: the same bits on 1, 2 and 3 threads); only the
+    /// evaluation count depends on the thread count.
+    void generateSmall() {
+        using Split = TileGenerator::Split;
+        using Part = TileGenerator::Part;
+        const std::size_t n = mJobs.size();
+        std::vector<TilePtr> tiles(n);
+        std::vector<Split> splits(n);
+        std::atomic<uint64_t> evaluations{0};
+        util::parallelFor(mPool, n, [&](std::size_t j) {
+            TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+            tiles[j] = g.planRoot(mJobs[j], splits[j], mVersion);
+            evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
+        });
+        std::vector<std::size_t> split;  // jobs whose root waits for its children
+        for (std::size_t j = 0; j < n; ++j)
+            if (!tiles[j]) split.push_back(j);
+        std::vector<Part> parts(8 * split.size());
+        util::parallelFor(mPool, parts.size(), [&](std::size_t i) {
+            const std::size_t j = split[i / 8];
+            TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+            parts[i] = g.buildChild(mJobs[j], splits[j], int(i % 8));
+            evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
+        });
+        util::parallelFor(mPool, split.size(), [&](std::size_t k) {
+            const std::size_t j = split[k];
+            TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+            tiles[j] = g.join(mJobs[j], splits[j], &parts[8 * k], mVersion);
+        });
         mEvaluations += evaluations.load();
         for (auto& t : tiles) addTile(std::move(t));
     }

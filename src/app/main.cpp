@@ -5,41 +5,20 @@
 /// Only the app decides to end the process: library code reports errors by exception (cold
 /// paths) or state (hot paths), and this file turns them into a one-line message and exit code.
 #include "app/commands.h"
+#include "app/memory_policy.h"
 #include "util/file_error.h"
 
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
 #include <exception>
-#ifdef __GLIBC__
-#include <malloc.h>
-#endif
-
-namespace {
-
-/// Keeps freed memory in the process. Meshing, points and edits free and allocate buffers of
-/// megabytes every frame; by default glibc hands large ones back to the kernel (fresh mmap
-/// above its threshold, heap trimming on free), so the next frame takes a page fault per 4 KiB
-/// again, which on a virtual machine cost 800k points three quarters of their time
-/// (docs/PERFORMANCE.md, "Eleventh session"). Blocks above 32 MiB (the ceiling of glibc's
-/// own adaptive threshold) are still mapped, and more than 256 MiB free at an arena's top is
-/// still returned: the price is that much resident memory kept per arena at most. A value
-/// glibc refuses leaves its default (the calls report it; nothing else to do). Other C
-/// libraries keep their own policy.
-void keepFreedMemory() {
-#ifdef __GLIBC__
-    (void)mallopt(M_MMAP_THRESHOLD, 32 << 20);
-    (void)mallopt(M_TRIM_THRESHOLD, 256 << 20);
-#endif
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
-    keepFreedMemory();
+    kizamu::app::applyMemoryPolicy();
     CLI::App app{"Kizamu: sculpt digital clay held in an adaptively sampled distance field.\n"
                  "Run `kizamu <command> --help` for the options of each command."};
     app.require_subcommand(1);
+    app.set_version_flag("--version", [] { return "kizamu " KIZAMU_VERSION "\n" + kizamu::app::memoryPolicySummary(); });
     kizamu::app::addInfoCommand(app);
     kizamu::app::addGenerateCommand(app);
     kizamu::app::addConvertCommand(app);

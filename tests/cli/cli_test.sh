@@ -1,12 +1,23 @@
 #!/usr/bin/env bash
 # End-to-end checks of the kizamu executable: generate, info, damaged files, and the
-# benchmark's JSON contract. Usage: cli_test.sh path/to/kizamu
+# benchmark's JSON contract. Usage: cli_test.sh path/to/kizamu [mimalloc|default]
 set -uo pipefail
 kizamu="$1"
+allocator="${2:-default}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# --version names the allocator actually serving malloc (asked of the allocator, not the build)
+version=$("$kizamu" --version) || fail "--version exited non-zero"
+grep -q "^kizamu [0-9]" <<<"$version" || fail "--version lacks the version: $version"
+if [ "$allocator" = mimalloc ]; then
+    grep -q "^memory: mimalloc [0-9.]* serves malloc, huge pages advised, freed memory kept$" <<<"$version" ||
+        fail "built with mimalloc, but: $version"
+else
+    grep -q "^memory: " <<<"$version" && ! grep -q "mimalloc" <<<"$version" || fail "built without mimalloc, but: $version"
+fi
 
 # generate + info
 "$kizamu" generate --level 7 --out "$tmp/p.kza" >/dev/null || fail "generate exited non-zero"

@@ -595,14 +595,21 @@ TEST(Generate, CellsAnEditLeavesUnchangedAreCopiedNotSampled) {
 }
 
 TEST(Generate, SmallRegenerationsAreTheSameOnAnyNumberOfThreads) {
-    // A dab's few tiles run in one phase, without handing border samples over: the result
-    // must still be the serial one, bit for bit, at a tile corner (8 tiles) and inside one.
+    // A dab's few tiles run in one phase, without handing border samples over, and each tile
+    // in parts (its root, its 8 children side by side, joined): the result must still be the
+    // serial one, bit for bit, at a tile corner (8 tiles), inside one, and at dabs of several
+    // sizes on the part's surface (crossing children's borders, or filling one child).
     const Domain d = testPartDomain(8);
     util::ThreadPool two(2), three(3);
     const AdfPtr base = generate(*makeTestPart(d), d, testPartSettings(), &two);
     const SourcePtr old = makeAdfSource(base);
-    for (const glm::dvec3 c : {glm::dvec3(0.75), glm::dvec3(0.35, 0.2, 0.65)}) {
-        const double r = 0.03, pad = r + 10 * d.finestCellSize();
+    std::vector<std::pair<glm::dvec3, double>> dabs{{glm::dvec3(0.75), 0.03}, {glm::dvec3(0.35, 0.2, 0.65), 0.03}};
+    const std::vector<glm::dvec3> surface =
+        randomSurfacePoints(*makeTestPart(d), {d.originWorld, d.originWorld + d.sizeWorld}, 10, 12, 0.25 * d.finestCellSize());
+    std::mt19937 rng(12);
+    for (const glm::dvec3& p : surface) dabs.emplace_back(p, std::uniform_real_distribution<double>(0.005, 0.05)(rng));
+    for (const auto& [c, r] : dabs) {
+        const double pad = r + 10 * d.finestCellSize();
         const BoxWorld region{c - pad, c + pad};
         const auto declaring = std::make_shared<DeclaredCarve>(makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)),
                                                                c, r, 0.05 * d.finestCellSize());
@@ -613,6 +620,36 @@ TEST(Generate, SmallRegenerationsAreTheSameOnAnyNumberOfThreads) {
         EXPECT_TRUE(test::sameAdf(*serial, *regenerate(*base, *edit, region, &two)));
         EXPECT_TRUE(test::sameAdf(*serial, *regenerate(*base, *edit, region, &three)));
     }
+}
+
+TEST(Generate, SmallRegenerationsOfSmallTilesAreTheSameOnAnyNumberOfThreads) {
+    // Tiles of 4 and 8 finest cells: a split root's children are often all leaves, so the join
+    // has to coalesce the root or make it a brick, as a whole-tile generation does.
+    util::ThreadPool two(2);
+    int regenerations = 0;
+    for (const int span : {2, 3}) {
+        Domain d = testPartDomain(7);
+        d.tileSpanLevels = span;
+        const AdfPtr base = generate(*makeTestPart(d), d, testPartSettings(), &two);
+        const SourcePtr old = makeAdfSource(base);
+        const double h = d.finestCellSize();
+        const std::vector<glm::dvec3> surface =
+            randomSurfacePoints(*makeTestPart(d), {d.originWorld, d.originWorld + d.sizeWorld}, 24, uint64_t(span), 0.25 * h);
+        std::mt19937 rng{uint32_t(span)};
+        for (const glm::dvec3& c : surface) {
+            const double r = std::uniform_real_distribution<double>(0.5, 3.0)(rng) * h, pad = r + 1.5 * h;
+            const BoxWorld region{c - pad, c + pad};
+            const auto declaring = std::make_shared<DeclaredCarve>(makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)),
+                                                                   c, r, 0.05 * h);
+            const SourcePtr edit = makeRegionLimited(old, declaring, region);
+            GenerationStats stats;
+            const AdfPtr serial = regenerate(*base, *edit, region, nullptr, &stats);
+            if (stats.tilesGenerated >= 16u) continue;  // not a small regeneration on two threads
+            ++regenerations;
+            EXPECT_TRUE(test::sameAdf(*serial, *regenerate(*base, *edit, region, &two))) << "span " << span;
+        }
+    }
+    EXPECT_GT(regenerations, 20);
 }
 
 TEST(Generate, SmallFeaturesOnFlatSurfacesAreNotMissed) {
