@@ -17,6 +17,7 @@
 #include <mutex>
 #include <span>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -977,24 +978,48 @@ private:
             colour[j] = int((s.x & 1u) | ((s.y & 1u) << 1) | ((s.z & 1u) << 2));
             byColour[colour[j]].push_back(j);
         }
+        // Colour by colour, but without a barrier between colours: tiles are handed out in colour
+        // order, and a tile waits only for its neighbours of lower colours (already handed out,
+        // so running or done: no cycle), not for the whole colour before it. A tile reads
+        // exactly the borders it read with barriers, so the result and the evaluation count are
+        // unchanged. With barriers, each of the 8 colours waited for its slowest tile: a LOD's
+        // 64 tiles spent a fifth of their coarsening waiting (docs/PERFORMANCE.md).
+        std::vector<std::size_t> order;
+        order.reserve(mJobs.size());
+        for (const auto& items : byColour) order.insert(order.end(), items.begin(), items.end());
+        const std::unique_ptr<std::atomic<bool>[]> done(new std::atomic<bool>[mJobs.size()]);
+        for (std::size_t j = 0; j < mJobs.size(); ++j) done[j].store(false, std::memory_order_relaxed);
+        std::atomic<bool> failed{false};
         std::atomic<uint64_t> evaluations{0};
-        for (int c = 0; c < 8; ++c) {
-            const auto& items = byColour[c];
-            util::parallelFor(mPool, items.size(), [&](std::size_t k) {
-                const std::size_t j = items[k];
-                std::array<const BorderSamples*, kNeighbours> neighbours{};
-                const glm::ivec3 slot(mJobs[j].slot);
-                for (int i = 0; i < kNeighbours; ++i) {
-                    const glm::ivec3 n = slot + kNeighbourOffsets[i];
-                    if (glm::any(glm::lessThan(n, glm::ivec3(0)))) continue;
-                    const uint32_t* job = jobOfSlot.find(latticeKey(glm::uvec3(n)));
-                    if (job && colour[*job] < c) neighbours[i] = &borders[*job];
-                }
+        util::parallelFor(mPool, order.size(), [&](std::size_t k) {
+            const std::size_t j = order[k];
+            const int c = colour[j];
+            // Set even when this tile throws, after `failed`: a neighbour waiting for it then
+            // stops instead of reading a border that was never filled.
+            struct MarkDone {
+                std::atomic<bool>& flag;
+                ~MarkDone() { flag.store(true, std::memory_order_release); }
+            } markDone{done[j]};
+            std::array<const BorderSamples*, kNeighbours> neighbours{};
+            const glm::ivec3 slot(mJobs[j].slot);
+            for (int i = 0; i < kNeighbours; ++i) {
+                const glm::ivec3 n = slot + kNeighbourOffsets[i];
+                if (glm::any(glm::lessThan(n, glm::ivec3(0)))) continue;
+                const uint32_t* job = jobOfSlot.find(latticeKey(glm::uvec3(n)));
+                if (!job || colour[*job] >= c) continue;
+                while (!done[*job].load(std::memory_order_acquire)) std::this_thread::yield();
+                neighbours[i] = &borders[*job];
+            }
+            if (failed.load(std::memory_order_relaxed)) return;  // the loop rethrows the first error
+            try {
                 TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
                 tiles[j] = g.build(mJobs[j], neighbours, borders[j], mVersion);
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
-            });
-        }
+            } catch (...) {
+                failed.store(true, std::memory_order_relaxed);
+                throw;
+            }
+        });
         mEvaluations += evaluations.load();
         for (auto& t : tiles) addTile(std::move(t));
     }

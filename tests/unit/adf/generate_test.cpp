@@ -690,6 +690,23 @@ TEST(Generate, ANonFiniteSourceIsAnErrorNotAnAdf) {
     EXPECT_THROW(generate(NanSource{}, unitDomain(6), GenerationSettings{}, &pool), std::domain_error);
 }
 
+TEST(Generate, ATileThatFailsStopsTheTilesWaitingForIt) {
+    // Tiles wait for their lower-colour neighbours; one whose neighbour threw must stop, not
+    // wait forever or read the unfilled border. The NaN lies on the sphere, half an upper-pass
+    // step (1/32) from every point the pass above the tiles samples, so only a tile meets it.
+    class NanSpot final : public DistanceSource {
+    public:
+        double distance(const glm::dvec3& p) const override {
+            const glm::dvec3 spot(-0.5 + 12.5 / 16.0, 0.0, 0.0);
+            return glm::distance(p, spot) < 0.01 ? std::numeric_limits<double>::quiet_NaN() : glm::length(p) - spot.x;
+        }
+    };
+    for (const unsigned threads : {1u, 2u, 3u}) {
+        util::ThreadPool pool(threads);
+        EXPECT_THROW(generate(NanSpot{}, unitDomain(7, 3), GenerationSettings{}, &pool), std::domain_error) << threads;
+    }
+}
+
 TEST(Generate, QueriesAtTheEdgesOfTheDomainStayInside) {
     const Domain d = unitDomain(6);
     const AdfPtr adf = generate(*makeSphere(0.3), d, GenerationSettings{});
