@@ -61,10 +61,11 @@ adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadP
     // keeps the fixed costs (tile table, tiles) in proportion to the output.
     adf::Domain d = fine->domain();
     while (d.maxLevel > 1 && d.finestCellSize() <= errorWorld) --d.maxLevel;  // finest cell in (E, 2E]
-    // About 4^3 tiles or more: a small LOD still generates and meshes in parallel. (2^3 tiles
-    // ran fewer instructions but lost the parallel generation: the 2k-triangle LOD took 2.6 ms
-    // instead of 2.2 on an idle 2-core machine; docs/PERFORMANCE.md.)
-    d.tileSpanLevels = std::clamp(d.maxLevel - 2, 1, d.tileSpanLevels);
+    // As few tiles as 2^3: a small generation runs its tiles at once and each in parts
+    // (adf/generate.cpp), so a few large tiles still generate in parallel, and the mesher's
+    // cost per tile (a quarter of the 2k LOD's mesh with 4^3 tiles) stays small. 4^3 tiles
+    // were needed while tiles ran in colour phases (docs/PERFORMANCE.md, "Twelfth session").
+    d.tileSpanLevels = std::clamp(d.maxLevel - 1, 1, d.tileSpanLevels);
     adf::GenerationSettings s = fine->settings();
     s.epsilonCells = errorWorld / d.finestCellSize();
     s.bandCells = 0.0;  // surface only: a mesh needs nothing else

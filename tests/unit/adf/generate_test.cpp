@@ -163,6 +163,20 @@ TEST(Generate, IsDeterministicSerialOrParallel) {
     EXPECT_TRUE(test::sameAdf(*serial, *parallel));
 }
 
+TEST(Generate, SmallGenerationsAreTheSameOnAnyNumberOfThreads) {
+    // Fewer tiles than 8 per thread (a LOD's 2^3) run at once, each from its root, whole or in
+    // parts: the same bits as a serial generation.
+    util::ThreadPool two(2), three(3);
+    for (const int level : {6, 8}) {
+        Domain d = testPartDomain(level);
+        d.tileSpanLevels = level - 1;  // 2^3 tiles
+        const SourcePtr part = makeTestPart(d);
+        const AdfPtr serial = generate(*part, d, testPartSettings());
+        EXPECT_TRUE(test::sameAdf(*serial, *generate(*part, d, testPartSettings(), &two))) << level;
+        EXPECT_TRUE(test::sameAdf(*serial, *generate(*part, d, testPartSettings(), &three))) << level;
+    }
+}
+
 TEST(Generate, EvaluatesEachDistinctLatticePointOnce) {
     const Domain d = testPartDomain(8);
     util::ThreadPool pool(3);
