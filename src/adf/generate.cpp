@@ -276,7 +276,7 @@ private:
 };
 
 /// Samples a tile evaluated itself on its border, filed once under the face or edge they lie on
-/// (named by the neighbour across it); read by the neighbours generated in later colour phases
+/// (named by the neighbour across it); read by the neighbours of higher colours, generated after it
 /// (an edge neighbour reads its edge, a face neighbour its face and the 4 edges around it, see
 /// kBorderLists). Points are packed local coordinates. One array grouped by face and edge,
 /// filled once when the tile is done: 18 growing lists cost a small tile (a LOD's) dozens of

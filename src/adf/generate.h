@@ -7,9 +7,12 @@
 /// band around the surface (bounded-surface generation). Every lattice point is evaluated at
 /// most once per run: points above the tile level are cached in a table, points inside a tile
 /// in the tile's scratch volume, and points on a shared tile face or edge are handed from the
-/// tile that computed them to its neighbours. Tiles are generated in 8 colour phases (slot
-/// parity) so that no two tiles that share a face, edge or corner run at once; that keeps the
-/// hand-over race free and the evaluation count the same in serial and parallel runs.
+/// tile that computed them to its neighbours. Tiles are generated in 8 colours (slot parity),
+/// each tile after its neighbours of lower colours (no two tiles that share a face, edge or
+/// corner run at once); that keeps the hand-over race free and the evaluation count the same
+/// in serial and parallel runs. The exception: a run of fewer than 8 tiles per thread (a dab,
+/// a LOD) runs every tile at once, the large ones in parts, and evaluates the points tiles and
+/// parts share once each: the same bytes, but a count that depends on the thread count.
 #pragma once
 
 #include "adf/adf.h"
@@ -36,7 +39,8 @@ struct GenerationStats {
 /// Generates the ADF of `source` over `domain`.
 /// @param pool   worker threads, or null for a serial run (same bytes either way)
 /// @param stats  optional counters
-/// Complexity: O(cells near the surface and band) evaluations, each distance evaluated once.
+/// Complexity: O(cells near the surface and band) evaluations, each distance evaluated once
+/// (shared border points once per tile or part in a run of fewer than 8 tiles per thread).
 /// Threading: parallel over tiles on `pool`; `source` must be thread-safe. Memory: the ADF plus
 /// one scratch volume of (2^span+1)^3 floats per worker and the shared tile faces.
 /// @throw std::invalid_argument for an invalid domain or settings; std::domain_error when the

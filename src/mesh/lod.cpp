@@ -16,7 +16,8 @@ namespace kizamu::mesh {
 namespace {
 
 /// The fine field as a source: plain trilinear reconstruction (the coarse ADF is a new, full
-/// generation, so every lattice point is evaluated once and signs agree between its cells).
+/// generation: a lattice point has one value however often it is asked for, so signs agree
+/// between its cells).
 /// The coarse lattice is a sub-lattice of the fine one, so every point the generator asks for
 /// is a fine lattice point, nearly always a stored corner, read without gradient (a
 /// world-space sample costs twice the instructions, and its float coordinates can land a

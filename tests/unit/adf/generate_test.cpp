@@ -184,6 +184,7 @@ TEST(Generate, EvaluatesEachDistinctLatticePointOnce) {
         test::CountingSource counting(makeTestPart(d));
         GenerationStats stats;
         generate(counting, d, testPartSettings(), p, &stats);
+        EXPECT_GE(stats.tilesGenerated, 8u * pool.threadCount()) << "a run in colours, not a small one";
         EXPECT_EQ(counting.evaluations(), counting.distinctPoints()) << (p ? "parallel" : "serial");
         EXPECT_EQ(stats.samples, counting.evaluations());
         EXPECT_GT(stats.samples, 1000u);
