@@ -131,31 +131,32 @@ int runMeshBench(const MeshBenchOptions& opt) {
         const double h = d.finestCellSize(), r = 5.0 * h, tile = h * double(1u << d.tileSpan());
         const SourcePtr old = makeAdfSource(part);
         std::vector<double> ms, tiles;
-        // Two passes over the same dabs, the first untimed: a warm-up like medianMs's, so the
-        // figure is the steady state, not the first touch of the mesher's fresh memory (on a
-        // virtual machine that touch alone has cost more than the update; docs/PERFORMANCE.md).
-        for (int pass = 0; pass < 2; ++pass) {
-            for (std::size_t i = 0, dabs = 0; i < full.vertexCount() && dabs < 15; i += 997) {
-                const glm::dvec3 c(full.positions[i]);
-                const glm::dvec3 inTile = glm::mod(c - d.originWorld, tile);
-                const double margin = r + 10.0 * h;
-                if (glm::any(glm::lessThan(inTile, glm::dvec3(margin))) || glm::any(glm::greaterThan(inTile, glm::dvec3(tile - margin))))
-                    continue;
-                const BoxWorld region{c - glm::dvec3(r + 2 * h), c + glm::dvec3(r + 2 * h)};
-                const AdfPtr edited = regenerate(
-                    *part, *makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)), region),
-                    region, &pool);
+        std::vector<AdfPtr> dabs;
+        for (std::size_t i = 0; i < full.vertexCount() && dabs.size() < 15; i += 997) {
+            const glm::dvec3 c(full.positions[i]);
+            const glm::dvec3 inTile = glm::mod(c - d.originWorld, tile);
+            const double margin = r + 10.0 * h;
+            if (glm::any(glm::lessThan(inTile, glm::dvec3(margin))) || glm::any(glm::greaterThan(inTile, glm::dvec3(tile - margin))))
+                continue;
+            const BoxWorld region{c - glm::dvec3(r + 2 * h), c + glm::dvec3(r + 2 * h)};
+            dabs.push_back(regenerate(
+                *part, *makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)), region),
+                region, &pool));
+        }
+        // Two passes over the dabs, the first untimed: a warm-up like medianMs's, so the figure
+        // is the steady state, not the first touch of the mesher's fresh memory (on a virtual
+        // machine that touch alone has cost more than the update; docs/PERFORMANCE.md).
+        for (int pass = 0; pass < 2; ++pass)
+            for (const AdfPtr& edited : dabs) {
                 const double t0 = nowSeconds();
                 mesher.update(edited);
                 const double t1 = nowSeconds();
-                ++dabs;
                 if (pass == 1) {
                     ms.push_back((t1 - t0) * 1e3);
                     tiles.push_back(double(mesher.stats().tilesMeshed));
                 }
                 mesher.update(part);  // back to the base for the next dab
             }
-        }
         if (ms.empty()) {
             out.progress("no surface point lies well inside a tile at this level: no re-mesh figure");
         } else {

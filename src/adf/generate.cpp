@@ -383,7 +383,7 @@ public:
     }
 
     // ---- a tile generated in parts: its root here, its 8 children side by side, then joined ----
-    // (Run::generateSmall does it for small regenerations, where one tile holds most of a dab.)
+    // (Run::generateSmall does it for small runs, where one tile may hold most of the work.)
     // The arrays come out as build() makes them: a child's subtree is a contiguous, depth-first
     // run of nodes, leaves and bricks, so the parts are joined by moving their indices.
 
@@ -412,23 +412,16 @@ public:
 
     /// Child `c` of the tile root that `split` describes.
     Part buildChild(const TileJob& job, const Split& split, int c) {
-        begin(job);
-        const uint32_t half = mSpan / 2;
-        for (int g = 0; g < 27; ++g) set(index(gridOffset(g) * half), split.v[g]);  // the root's samples
-        child(0, glm::uvec3(0), half, mDomain.tileLevel() + 1, c, split);
+        beginBelowRoot(job, split);
+        child(0, glm::uvec3(0), mSpan / 2, mDomain.tileLevel() + 1, c, split);
         return {mNodes, mLeafCorners, mBrickValues, mLeafFrom, mBrickFrom};
     }
 
     /// The tile from the root's `split`, its children generated here one after another (what
     /// build() does after the root's decision).
     TilePtr buildChildren(const TileJob& job, const Split& split, uint64_t version) {
-        begin(job);
-        const uint32_t half = mSpan / 2;
-        for (int g = 0; g < 27; ++g) set(index(gridOffset(g) * half), split.v[g]);  // the root's samples
-        if (mDomain.tileLevel() + 1 < mDomain.maxLevel) prefetchChildren(glm::uvec3(0), half, mDomain.tileLevel() + 1, split.keep);
-        mNodes.resize(9);
-        for (int c = 0; c < 8; ++c) child(1 + uint32_t(c), glm::uvec3(0), half, mDomain.tileLevel() + 1, c, split);
-        finishParent(0, 1, 0, split);
+        beginBelowRoot(job, split);
+        children(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), split);
         return finish(version);
     }
 
@@ -474,6 +467,13 @@ private:
         mBrickValues.clear();
         mLeafFrom.clear();
         mBrickFrom.clear();
+    }
+
+    /// Starts a tile below its root: the root's 27 samples, taken by planRoot, are valid again.
+    void beginBelowRoot(const TileJob& job, const Split& split) {
+        begin(job);
+        const uint32_t half = mSpan / 2;
+        for (int g = 0; g < 27; ++g) set(index(gridOffset(g) * half), split.v[g]);
     }
 
     TilePtr finish(uint64_t version) const {
@@ -759,7 +759,12 @@ private:
     /// the copy failed).
     void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked = false) {
         Split split;
-        if (decide(nodeIndex, o, s, level, keepChecked, split)) return;
+        if (!decide(nodeIndex, o, s, level, keepChecked, split)) children(nodeIndex, o, s, level, split);
+    }
+
+    /// The children of the cell at `o` (node `nodeIndex`) that `split` describes, appended as
+    /// the next 8 nodes with their subtrees, then the cell finished (finishParent).
+    void children(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, const Split& split) {
         if (level + 1 < mDomain.maxLevel) prefetchChildren(o, s / 2, level + 1, split.keep);
         const auto first = uint32_t(mNodes.size());
         const std::size_t leafMark = mLeafCorners.size();
@@ -977,7 +982,7 @@ private:
         // A small run (a dab: a few tiles, often one per colour; a LOD's 2^3 tiles) would run its
         // colours one after another on one thread: generateSmall runs them all at once instead.
         const unsigned threads = mPool ? mPool->threadCount() : 1u;
-        if (threads > 1 && mJobs.size() < 8u * threads) return generateSmall();
+        if (threads > 1 && mJobs.size() < 8u * threads) return generateSmall(threads);
         FlatKeyMap<uint32_t> jobOfSlot;
         jobOfSlot.reserve(mJobs.size());
         bool inserted;
@@ -1045,7 +1050,7 @@ private:
     /// evaluate the points they share again: the values are the same (the source is a function
     /// of the point), and the tiles come out as build() makes them (tested: the same bits on 1,
     /// 2 and 3 threads); only the evaluation count depends on the thread count.
-    void generateSmall() {
+    void generateSmall(unsigned threads) {
         using Split = TileGenerator::Split;
         using Part = TileGenerator::Part;
         const std::size_t n = mJobs.size();
@@ -1067,7 +1072,6 @@ private:
             return tiles[j] ? 0 : std::size_t(std::count(splits[j].keep, splits[j].keep + 8, Keep::No));
         };
         for (std::size_t j = 0; j < n; ++j) toGenerate += childrenToGenerate(j);
-        const unsigned threads = mPool ? mPool->threadCount() : 1u;
         std::vector<std::size_t> split, whole;  // jobs whose root waits for its children
         for (std::size_t j = 0; j < n; ++j) {
             if (tiles[j]) continue;

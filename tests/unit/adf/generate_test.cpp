@@ -570,6 +570,19 @@ private:
     double mRadius, mSlack;
 };
 
+/// A dab carving a sphere of radius r at c from `old`, declaring where it leaves it alone,
+/// limited to the cube of half-width pad around c: what a sculptor's carve hands regenerate.
+struct DeclaredDab {
+    BoxWorld region;
+    SourcePtr edit;
+};
+DeclaredDab declaredDab(const SourcePtr& old, glm::dvec3 c, double r, double pad, double finestCell) {
+    const BoxWorld region{c - pad, c + pad};
+    const auto declaring = std::make_shared<DeclaredCarve>(makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)), c,
+                                                           r, 0.05 * finestCell);
+    return {region, makeRegionLimited(old, declaring, region)};
+}
+
 TEST(Generate, CellsAnEditLeavesUnchangedAreCopiedNotSampled) {
     // Inside the region, cells where the source declares the old field unchanged keep the old
     // tile's cells: far fewer samples, and there the field is the old one (up to quantisation).
@@ -624,11 +637,7 @@ TEST(Generate, SmallRegenerationsAreTheSameOnAnyNumberOfThreads) {
     std::mt19937 rng(12);
     for (const glm::dvec3& p : surface) dabs.emplace_back(p, std::uniform_real_distribution<double>(0.005, 0.05)(rng));
     for (const auto& [c, r] : dabs) {
-        const double pad = r + 10 * d.finestCellSize();
-        const BoxWorld region{c - pad, c + pad};
-        const auto declaring = std::make_shared<DeclaredCarve>(makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)),
-                                                               c, r, 0.05 * d.finestCellSize());
-        const SourcePtr edit = makeRegionLimited(old, declaring, region);
+        const auto [region, edit] = declaredDab(old, c, r, r + 10 * d.finestCellSize(), d.finestCellSize());
         GenerationStats stats;
         const AdfPtr serial = regenerate(*base, *edit, region, nullptr, &stats);
         EXPECT_LT(stats.tilesGenerated, 16u) << "small enough for one phase";
@@ -652,11 +661,8 @@ TEST(Generate, SmallRegenerationsOfSmallTilesAreTheSameOnAnyNumberOfThreads) {
             randomSurfacePoints(*makeTestPart(d), {d.originWorld, d.originWorld + d.sizeWorld}, 24, uint64_t(span), 0.25 * h);
         std::mt19937 rng{uint32_t(span)};
         for (const glm::dvec3& c : surface) {
-            const double r = std::uniform_real_distribution<double>(0.5, 3.0)(rng) * h, pad = r + 1.5 * h;
-            const BoxWorld region{c - pad, c + pad};
-            const auto declaring = std::make_shared<DeclaredCarve>(makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)),
-                                                                   c, r, 0.05 * h);
-            const SourcePtr edit = makeRegionLimited(old, declaring, region);
+            const double r = std::uniform_real_distribution<double>(0.5, 3.0)(rng) * h;
+            const auto [region, edit] = declaredDab(old, c, r, r + 1.5 * h, h);
             GenerationStats stats;
             const AdfPtr serial = regenerate(*base, *edit, region, nullptr, &stats);
             if (stats.tilesGenerated >= 16u) continue;  // not a small regeneration on two threads
