@@ -1077,15 +1077,30 @@ private:
             if (tiles[j]) continue;
             (2 * childrenToGenerate(j) * threads > toGenerate ? split : whole).push_back(j);
         }
-        // Parts first (the largest items), then the whole tiles.
+        // Parts first (the largest items), then the whole tiles; a tile's children by how much
+        // of the region they hold, most first (the crater's child takes longest: started last, it
+        // alone kept one thread busy after the other had run out of items).
         std::vector<Part> parts(8 * split.size());
-        util::parallelFor(mPool, parts.size() + whole.size(), [&](std::size_t i) {
+        std::vector<uint32_t> partOrder(parts.size());
+        {
+            const uint32_t half = mDomain.cellLattice(mDomain.tileLevel() + 1);
+            auto overlap = [&](uint32_t i) {
+                const glm::uvec3 lo = mJobs[split[i / 8]].slot * (2 * half) + childOffset(int(i % 8)) * half;
+                const glm::uvec3 a = glm::max(lo, mRegionMin), b = glm::min(lo + half, mRegionMax);
+                return glm::all(glm::lessThan(a, b)) ? uint64_t(b.x - a.x) * (b.y - a.y) * (b.z - a.z) : uint64_t(0);
+            };
+            for (uint32_t i = 0; i < partOrder.size(); ++i) partOrder[i] = i;
+            std::stable_sort(partOrder.begin(), partOrder.end(),
+                             [&](uint32_t l, uint32_t r) { return overlap(l) > overlap(r); });
+        }
+        util::parallelFor(mPool, parts.size() + whole.size(), [&](std::size_t item) {
             TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
-            if (i < parts.size()) {
+            if (item < parts.size()) {
+                const std::size_t i = partOrder[item];
                 const std::size_t j = split[i / 8];
                 parts[i] = g.buildChild(mJobs[j], splits[j], int(i % 8));
             } else {
-                const std::size_t j = whole[i - parts.size()];
+                const std::size_t j = whole[item - parts.size()];
                 tiles[j] = g.buildChildren(mJobs[j], splits[j], mVersion);
             }
             evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);

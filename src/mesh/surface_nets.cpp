@@ -843,6 +843,13 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         if (!(t.singleLeaf() && t.rootType() != adf::CellType::Boundary))
             scanTiles.push_back(ensureTile(packLattice(t.latticeOrigin())));
     });
+    // Largest tiles first in each phase, so that a thread's last items are small ones and the
+    // threads finish together (a LOD's 8 tiles ended a phase on one thread's tail: its mesh
+    // 7-10 % faster, docs/PERFORMANCE.md, "Thirteenth session"). Each tile's results are its
+    // own, so the order changes none of them.
+    std::stable_sort(scanTiles.begin(), scanTiles.end(), [](const TileMesh* l, const TileMesh* r) {
+        return l->tile->nodeCount() > r->tile->nodeCount();
+    });
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
     util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
@@ -879,7 +886,10 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     for (uint64_t k : owners) ensureTile(k);
     std::vector<TileMesh*> meshTiles;
     for (const auto& [key, tm] : mTiles) meshTiles.push_back(tm.get());
-    std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
+    std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) {
+        const std::size_t wl = l->crossings.size() + l->border.size(), wr = r->crossings.size() + r->border.size();
+        return wl != wr ? wl > wr : l->key < r->key;  // the crossings it reads, largest first
+    });
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
         std::vector<uint64_t>& nbrs = vertexScratch().nbrs;
@@ -939,9 +949,10 @@ void SurfaceMesher::dropEmptyTiles() {
 }
 
 void SurfaceMesher::totals(SurfaceNetsStats& st) const {
-    st.crossings = st.vertices = st.splitEdges = 0;
+    st.crossings = st.vertices = st.splitEdges = st.crossingSlots = 0;
     for (const auto& [key, tm] : mTiles) {
         st.crossings += tm->liveCrossings;
+        st.crossingSlots += tm->crossings.size();
         st.vertices += tm->liveVertices;
         st.splitEdges += tm->splits.size();
     }

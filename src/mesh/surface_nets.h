@@ -31,7 +31,8 @@
 /// tiles, O(nodes of the rebuilt tiles) to compare them, and otherwise work proportional to
 /// the changed cells (old crossings are reached through a per-tile cell index, never a scan).
 /// Threading: tiles in parallel on the pool; one SurfaceMesher is owned by one thread.
-/// Memory: 184 bytes per crossing, 112 per vertex (plus its incidences) and 16-21 per cell
+/// Memory: 184 bytes per crossing (a removed one's record is reused by a later update), 112 per
+/// vertex (plus its incidences) and 16-21 per cell
 /// index entry (a flat hash at most 3/4 full). A build also keeps, per pool thread, scratch
 /// the size of the largest tile's boundary leaves and incidences, reused by the next tile and
 /// the next build (growing them per tile cost most of a small LOD mesh's allocations).
@@ -64,6 +65,7 @@ struct SurfaceNetsStats {
     std::size_t signlessCells = 0;     ///< cells with a vertex but no sign change at their corners (figure 9B)
     std::size_t openCrossings = 0;     ///< crossings on the domain boundary (left open), scanned tiles
     std::size_t splitEdges = 0;        ///< doubled dual edges split by an extra vertex, whole mesh
+    std::size_t crossingSlots = 0;     ///< crossing records held, live or released for reuse, whole mesh
     std::size_t oddFaces = 0;          ///< faces with an odd crossing count (never expected)
     std::size_t changedCells = 0;      ///< update: cells where a rebuilt tile differs from the old one
     std::size_t crossingsComputed = 0;  ///< crossings computed (an update recomputes those at changed cells)

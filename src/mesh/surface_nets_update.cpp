@@ -303,6 +303,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     // Tiles whose closed box touches a changed cell, with the bounding box of those cells.
     struct Touched {
         glm::uvec3 lo{UINT32_MAX}, hi{0};
+        uint32_t cells = 0;  ///< changed cells touching it: how much it has to scan
     };
     std::unordered_map<uint64_t, Touched> touched;
     for (const std::vector<LatticeBox>& boxes : boxesOf)
@@ -319,6 +320,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                         Touched& t = touched[packLattice(a.tileAtSlot({x, y, z})->latticeOrigin())];
                         t.lo = glm::min(t.lo, b.lo);
                         t.hi = glm::max(t.hi, hi);
+                        ++t.cells;
                     }
         }
     // Gone tiles: every crossing and vertex they hold goes.
@@ -351,13 +353,22 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     }
 
     // 1. Crossings starting on a changed cell: recomputed by the tiles that can emit them.
+    int64_t slotDelta = 0;  // crossing records held: only these tiles' pools change
+    for (const TileMesh* tm : scanTiles) slotDelta -= int64_t(tm->crossings.size());
     struct ScanOut {
         std::vector<Crossing*> removed, added, kept;
         std::vector<uint32_t> released;
         SurfaceNetsStats st;
     };
     std::vector<ScanOut> scans(scanTiles.size());
-    util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
+    // Busiest tiles first (an edit's crater tile holds most of the work): then the other
+    // thread's share is the small ones and both finish together. Results do not depend on it.
+    std::vector<uint32_t> scanOrder(scanTiles.size());
+    for (uint32_t i = 0; i < scanOrder.size(); ++i) scanOrder[i] = i;
+    std::stable_sort(scanOrder.begin(), scanOrder.end(),
+                     [&](uint32_t l, uint32_t r) { return scanBox[l].cells > scanBox[r].cells; });
+    util::parallelFor(mPool, scanTiles.size(), [&](std::size_t item) {
+        const uint32_t i = scanOrder[item];
         TileMesh& tm = *scanTiles[i];
         ScanOut& out = scans[i];
         const ChangedCells::Query changedAt(changed);
@@ -425,7 +436,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             out.released.push_back(j);
         };
         auto add = [&](const Crossing& x) {
-            const uint32_t j = tm.crossings.append();  // never a slot released in this update
+            // A slot an earlier update released (its record is read by nobody since), else a new
+            // one; never one released in this update: removed records are read until its end.
+            const uint32_t j = tm.crossings.allocate();
             tm.crossings[j] = x;
             tm.crossings[j].slot = j;
             ++tm.liveCrossings;
@@ -451,6 +464,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         }
     });
     st.tilesScanned = scanTiles.size();
+    for (const TileMesh* tm : scanTiles) slotDelta += int64_t(tm->crossings.size());
     std::vector<CellTask> tasks;
     const ChangedCells::Query changedAt(changed);
     // Totals move by what changed (the tiles not visited hold what they held).
@@ -504,7 +518,13 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     for (const TileMesh* tm : meshTiles) vertexDelta -= tm->liveVertices;
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     std::vector<std::vector<VertexRef>> made(meshTiles.size());
-    util::parallelFor(mPool, meshTiles.size(), [&](std::size_t ti) {
+    std::vector<uint32_t> meshOrder(meshTiles.size());  // most cells first, as the scan
+    for (uint32_t i = 0; i < meshOrder.size(); ++i) meshOrder[i] = i;
+    std::stable_sort(meshOrder.begin(), meshOrder.end(), [&](uint32_t l, uint32_t r) {
+        return taskBegin[l + 1] - taskBegin[l] > taskBegin[r + 1] - taskBegin[r];
+    });
+    util::parallelFor(mPool, meshTiles.size(), [&](std::size_t item) {
+        const std::size_t ti = meshOrder[item];
         TileMesh& tm = *meshTiles[ti];
         SurfaceNetsStats& ms = meshStats[ti];
         // The re-meshed cells' multi-crossing faces are found again by meshCell.
@@ -641,6 +661,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     for (uint64_t k : emptied) {
         auto it = mTiles.find(k);
         splitDelta -= int64_t(it->second->splits.size());
+        slotDelta -= int64_t(it->second->crossings.size());
         mTiles.erase(it);
     }
     const auto tPhase3 = std::chrono::steady_clock::now();
@@ -651,6 +672,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.crossings = std::size_t(int64_t(mStats.crossings) + crossingDelta);
     st.vertices = std::size_t(int64_t(mStats.vertices) + vertexDelta);
     st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
+    st.crossingSlots = std::size_t(int64_t(mStats.crossingSlots) + slotDelta);
     mStats = st;
 }
 

@@ -274,6 +274,33 @@ std::size_t tilesWithNewScale(const Adf& a, const Adf& b) {
     return n;
 }
 
+/// `a` with a sphere of radius `r` at `c` carved (Difference) or added (Union).
+AdfPtr dabbed(const AdfPtr& a, CsgOp op, glm::dvec3 c, double r, util::ThreadPool& pool) {
+    const double cell = a->domain().finestCellSize();
+    const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
+    const SourcePtr old = makeAdfSource(a);
+    return regenerate(*a, *makeRegionLimited(old, makeCsg(op, old, makeTranslated(makeSphere(r), c)), region), region,
+                      &pool);
+}
+
+/// After `mesher` (on a pool) and `serial` were both updated to `a`: the spliced mesh is closed
+/// and manifold, equals a full mesh of `a` (counts, and canonically), and the two updates agree
+/// bit for bit.
+void expectSplicedEqualsFull(const SurfaceMesher& mesher, const SurfaceMesher& serial, const AdfPtr& a,
+                             util::ThreadPool& pool, int edit) {
+    SurfaceNetsStats full;
+    const MeshBuffers spliced = mesher.mesh(), fresh = mesh::meshAdf(a, &pool, &full);
+    ASSERT_TRUE(test::closedOrientedManifold(spliced)) << "edit " << edit;
+    EXPECT_EQ(mesher.stats().crossings, full.crossings) << "edit " << edit;
+    EXPECT_EQ(mesher.stats().vertices, full.vertices) << "edit " << edit;
+    EXPECT_EQ(mesher.stats().splitEdges, full.splitEdges) << "edit " << edit;
+    ASSERT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "edit " << edit;
+    const MeshBuffers s = serial.mesh();
+    ASSERT_EQ(s.positions, spliced.positions) << "edit " << edit;
+    ASSERT_EQ(s.normals, spliced.normals) << "edit " << edit;
+    ASSERT_EQ(s.indices, spliced.indices) << "edit " << edit;
+}
+
 TEST(SurfaceNets, RepeatedDabsAtTileCornersAndNewTileScalesEqualAFullMesh) {
     // The sub-tile update must not reuse anything stale: a rebuilt tile whose quantisation scale
     // changed decodes different floats in cells the edit never touched, and dabs repeated around
@@ -305,27 +332,69 @@ TEST(SurfaceNets, RepeatedDabsAtTileCornersAndNewTileScalesEqualAFullMesh) {
             c = glm::dvec3(corner + 1.5 * cell * u(rng), corner + 1.5 * cell * u(rng), 0.7 + cell * u(rng));
             r = 2.5 * cell + cell * u(rng);
         }
-        const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
-        const SourcePtr old = makeAdfSource(a);
-        const AdfPtr next =
-            regenerate(*a, *makeRegionLimited(old, makeCsg(op, old, makeTranslated(makeSphere(r), c)), region), region, &pool);
+        const AdfPtr next = dabbed(a, op, c, r, pool);
         rescaled += tilesWithNewScale(*a, *next);
         a = next;
         mesher.update(a);
         serial.update(a);
-        SurfaceNetsStats full;
-        const MeshBuffers spliced = mesher.mesh(), fresh = mesh::meshAdf(a, &pool, &full);
-        ASSERT_TRUE(test::closedOrientedManifold(spliced)) << "edit " << i;
-        EXPECT_EQ(mesher.stats().crossings, full.crossings) << "edit " << i;
-        EXPECT_EQ(mesher.stats().vertices, full.vertices) << "edit " << i;
-        EXPECT_EQ(mesher.stats().splitEdges, full.splitEdges) << "edit " << i;
-        ASSERT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "edit " << i;
-        const MeshBuffers s = serial.mesh();  // serial and parallel updates agree bit for bit
-        ASSERT_EQ(s.positions, spliced.positions) << "edit " << i;
-        ASSERT_EQ(s.normals, spliced.normals) << "edit " << i;
-        ASSERT_EQ(s.indices, spliced.indices) << "edit " << i;
+        ASSERT_NO_FATAL_FAILURE(expectSplicedEqualsFull(mesher, serial, a, pool, i));
     }
     EXPECT_GT(rescaled, 0u) << "no edit changed a tile's quantisation scale: the case is untested";
+}
+
+TEST(SurfaceNets, UpdatesEqualAFullMeshWhenTheBusiestTileIsNotTheFirst) {
+    // An update hands out its busiest tiles first (most changed cells, most cells to re-mesh),
+    // so tasks do not run in key order; each tile's results must stay its own (released crossing
+    // slots go back to their own tile's pool, and get reused by the next dabs). Each dab sits
+    // just inside the higher of two tiles across a face: the busier tile comes later by key.
+    const Domain d = unitDomain(7, 3);
+    util::ThreadPool pool(3);
+    const SourcePtr part = makeTranslated(makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5));
+    AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
+    SurfaceMesher mesher(&pool), serial;
+    mesher.build(a);
+    serial.build(a);
+    const double cell = d.finestCellSize(), tile = 8 * cell;
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (int i = 0; i < 16; ++i) {
+        const glm::dvec3 c(9 * tile + (1.5 + 0.5 * u(rng)) * cell, 0.45 + 0.1 * u(rng), 0.7 + cell * (u(rng) - 0.5));
+        a = dabbed(a, i % 4 == 3 ? CsgOp::Union : CsgOp::Difference, c, (2.0 + u(rng)) * cell, pool);
+        mesher.update(a);
+        serial.update(a);
+        ASSERT_NO_FATAL_FAILURE(expectSplicedEqualsFull(mesher, serial, a, pool, i));
+    }
+}
+
+TEST(SurfaceNets, UpdatesReuseTheCrossingRecordsEarlierUpdatesReleased) {
+    // A dab carved and filled again and again at one spot replaces the same crossings each
+    // time: their records must be reused (a session would otherwise hold every record it ever
+    // made), and reusing them must leave the mesh what a full build gives.
+    const Domain d = unitDomain(7, 3);
+    util::ThreadPool pool(2);
+    const SourcePtr part = makeTranslated(makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5));
+    AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
+    SurfaceMesher mesher(&pool), serial;
+    mesher.build(a);
+    serial.build(a);
+    EXPECT_EQ(mesher.stats().crossingSlots, mesher.stats().crossings);  // a build holds no spare record
+    const double cell = d.finestCellSize();
+    const glm::dvec3 spot(0.47, 0.52, 0.7);
+    std::size_t slotsAfterWarmUp = 0, mostComputed = 0;
+    for (int i = 0; i < 24; ++i) {
+        a = dabbed(a, i % 2 ? CsgOp::Union : CsgOp::Difference, spot, (3.0 + 0.25 * (i % 3)) * cell, pool);
+        mesher.update(a);
+        serial.update(a);
+        ASSERT_NO_FATAL_FAILURE(expectSplicedEqualsFull(mesher, serial, a, pool, i));
+        const SurfaceNetsStats& st = mesher.stats();
+        EXPECT_GE(st.crossingSlots, st.crossings) << "edit " << i;
+        mostComputed = std::max(mostComputed, st.crossingsComputed);
+        if (i == 3) slotsAfterWarmUp = st.crossingSlots;
+    }
+    ASSERT_GT(mostComputed, 50u) << "the dabs changed too little to test reuse";
+    // Without reuse every update adds the records it replaced (here 20 updates took 7,175 records
+    // to 9,350; with reuse, to 7,132).
+    EXPECT_LE(mesher.stats().crossingSlots, slotsAfterWarmUp + mostComputed);
 }
 
 TEST(SurfaceNets, ASmallDabInsideATileRecomputesFewOfItsVertices) {
