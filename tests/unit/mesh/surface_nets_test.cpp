@@ -301,18 +301,36 @@ void expectSplicedEqualsFull(const SurfaceMesher& mesher, const SurfaceMesher& s
     ASSERT_EQ(s.indices, spliced.indices) << "edit " << edit;
 }
 
+/// A rounded block in 8-cell tiles, meshed by a mesher on a pool and by a serial one; each dab
+/// edits it, updates both and checks the splice (expectSplicedEqualsFull).
+struct DabbedBlock {
+    explicit DabbedBlock(unsigned threads)
+        : pool(threads),
+          a(generate(*makeTranslated(makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5)), d, GenerationSettings{},
+                     &pool)),
+          mesher(&pool) {
+        mesher.build(a);
+        serial.build(a);
+    }
+    void dab(CsgOp op, glm::dvec3 c, double r, int edit) {
+        a = dabbed(a, op, c, r, pool);
+        mesher.update(a);
+        serial.update(a);
+        expectSplicedEqualsFull(mesher, serial, a, pool, edit);
+    }
+    const Domain d = unitDomain(7, 3);
+    const double cell = d.finestCellSize(), tile = 8 * cell;
+    util::ThreadPool pool;
+    AdfPtr a;
+    SurfaceMesher mesher, serial;
+};
+
 TEST(SurfaceNets, RepeatedDabsAtTileCornersAndNewTileScalesEqualAFullMesh) {
     // The sub-tile update must not reuse anything stale: a rebuilt tile whose quantisation scale
     // changed decodes different floats in cells the edit never touched, and dabs repeated around
     // one tile corner re-mesh the same cells over and over (released slots get reused).
-    const Domain d = unitDomain(7, 3);
-    util::ThreadPool pool(3);
-    const SourcePtr part = makeTranslated(makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5));
-    AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
-    SurfaceMesher mesher(&pool), serial;
-    mesher.build(a);
-    serial.build(a);
-    const double cell = d.finestCellSize(), tile = 8 * cell;
+    DabbedBlock b(3);
+    const double cell = b.cell, tile = b.tile;
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     std::size_t rescaled = 0;
@@ -332,12 +350,9 @@ TEST(SurfaceNets, RepeatedDabsAtTileCornersAndNewTileScalesEqualAFullMesh) {
             c = glm::dvec3(corner + 1.5 * cell * u(rng), corner + 1.5 * cell * u(rng), 0.7 + cell * u(rng));
             r = 2.5 * cell + cell * u(rng);
         }
-        const AdfPtr next = dabbed(a, op, c, r, pool);
-        rescaled += tilesWithNewScale(*a, *next);
-        a = next;
-        mesher.update(a);
-        serial.update(a);
-        ASSERT_NO_FATAL_FAILURE(expectSplicedEqualsFull(mesher, serial, a, pool, i));
+        const AdfPtr before = b.a;
+        ASSERT_NO_FATAL_FAILURE(b.dab(op, c, r, i));
+        rescaled += tilesWithNewScale(*before, *b.a);
     }
     EXPECT_GT(rescaled, 0u) << "no edit changed a tile's quantisation scale: the case is untested";
 }
@@ -347,22 +362,12 @@ TEST(SurfaceNets, UpdatesEqualAFullMeshWhenTheBusiestTileIsNotTheFirst) {
     // so tasks do not run in key order; each tile's results must stay its own (released crossing
     // slots go back to their own tile's pool, and get reused by the next dabs). Each dab sits
     // just inside the higher of two tiles across a face: the busier tile comes later by key.
-    const Domain d = unitDomain(7, 3);
-    util::ThreadPool pool(3);
-    const SourcePtr part = makeTranslated(makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5));
-    AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
-    SurfaceMesher mesher(&pool), serial;
-    mesher.build(a);
-    serial.build(a);
-    const double cell = d.finestCellSize(), tile = 8 * cell;
+    DabbedBlock b(3);
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (int i = 0; i < 16; ++i) {
-        const glm::dvec3 c(9 * tile + (1.5 + 0.5 * u(rng)) * cell, 0.45 + 0.1 * u(rng), 0.7 + cell * (u(rng) - 0.5));
-        a = dabbed(a, i % 4 == 3 ? CsgOp::Union : CsgOp::Difference, c, (2.0 + u(rng)) * cell, pool);
-        mesher.update(a);
-        serial.update(a);
-        ASSERT_NO_FATAL_FAILURE(expectSplicedEqualsFull(mesher, serial, a, pool, i));
+        const glm::dvec3 c(9 * b.tile + (1.5 + 0.5 * u(rng)) * b.cell, 0.45 + 0.1 * u(rng), 0.7 + b.cell * (u(rng) - 0.5));
+        ASSERT_NO_FATAL_FAILURE(b.dab(i % 4 == 3 ? CsgOp::Union : CsgOp::Difference, c, (2.0 + u(rng)) * b.cell, i));
     }
 }
 
@@ -370,23 +375,13 @@ TEST(SurfaceNets, UpdatesReuseTheCrossingRecordsEarlierUpdatesReleased) {
     // A dab carved and filled again and again at one spot replaces the same crossings each
     // time: their records must be reused (a session would otherwise hold every record it ever
     // made), and reusing them must leave the mesh what a full build gives.
-    const Domain d = unitDomain(7, 3);
-    util::ThreadPool pool(2);
-    const SourcePtr part = makeTranslated(makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5));
-    AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
-    SurfaceMesher mesher(&pool), serial;
-    mesher.build(a);
-    serial.build(a);
-    EXPECT_EQ(mesher.stats().crossingSlots, mesher.stats().crossings);  // a build holds no spare record
-    const double cell = d.finestCellSize();
+    DabbedBlock b(2);
+    EXPECT_EQ(b.mesher.stats().crossingSlots, b.mesher.stats().crossings);  // a build holds no spare record
     const glm::dvec3 spot(0.47, 0.52, 0.7);
     std::size_t slotsAfterWarmUp = 0, mostComputed = 0;
     for (int i = 0; i < 24; ++i) {
-        a = dabbed(a, i % 2 ? CsgOp::Union : CsgOp::Difference, spot, (3.0 + 0.25 * (i % 3)) * cell, pool);
-        mesher.update(a);
-        serial.update(a);
-        ASSERT_NO_FATAL_FAILURE(expectSplicedEqualsFull(mesher, serial, a, pool, i));
-        const SurfaceNetsStats& st = mesher.stats();
+        ASSERT_NO_FATAL_FAILURE(b.dab(i % 2 ? CsgOp::Union : CsgOp::Difference, spot, (3.0 + 0.25 * (i % 3)) * b.cell, i));
+        const SurfaceNetsStats& st = b.mesher.stats();
         EXPECT_GE(st.crossingSlots, st.crossings) << "edit " << i;
         mostComputed = std::max(mostComputed, st.crossingsComputed);
         if (i == 3) slotsAfterWarmUp = st.crossingSlots;
@@ -394,7 +389,7 @@ TEST(SurfaceNets, UpdatesReuseTheCrossingRecordsEarlierUpdatesReleased) {
     ASSERT_GT(mostComputed, 50u) << "the dabs changed too little to test reuse";
     // Without reuse every update adds the records it replaced (here 20 updates took 7,175 records
     // to 9,350; with reuse, to 7,132).
-    EXPECT_LE(mesher.stats().crossingSlots, slotsAfterWarmUp + mostComputed);
+    EXPECT_LE(b.mesher.stats().crossingSlots, slotsAfterWarmUp + mostComputed);
 }
 
 TEST(SurfaceNets, ASmallDabInsideATileRecomputesFewOfItsVertices) {
