@@ -73,8 +73,8 @@ float Adf::latticeDistance(glm::uvec3 p) const noexcept {
 
 void Adf::latticeDistances(std::span<const glm::uvec3> points, std::span<float> out) const noexcept {
     assert(points.size() == out.size() && "latticeDistances writes one value per point");
-    // A LOD's batches are 64 points (mesh/lod.cpp): all of them side by side overlap more loads
-    // than 16 at a time did (its coarsening 2-3 % faster, docs/PERFORMANCE.md, "Thirteenth session").
+    // As many as a LOD's batch (AdfSampler's kBatch, mesh/lod.cpp): all of its points side by
+    // side overlap more loads than 16 at a time did (docs/PERFORMANCE.md, "Thirteenth session").
     constexpr std::size_t kLanes = 64;
     const glm::uvec3 last(mDomain.latticeSize() - 1);
     for (std::size_t first = 0; first < points.size(); first += kLanes) {

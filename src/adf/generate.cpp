@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <numeric>
 #include <span>
 #include <stdexcept>
 #include <thread>
@@ -1077,22 +1078,21 @@ private:
             if (tiles[j]) continue;
             (2 * childrenToGenerate(j) * threads > toGenerate ? split : whole).push_back(j);
         }
-        // Parts first (the largest items), then the whole tiles; a tile's children by how much
-        // of the region they hold, most first (the crater's child takes longest: started last, it
-        // alone kept one thread busy after the other had run out of items).
+        // Parts first (the largest items), then the whole tiles; the parts by how much of the
+        // region their child holds, most first (the crater's child takes longest: handed out
+        // late, it alone kept one thread busy after the other had run out of items).
         std::vector<Part> parts(8 * split.size());
-        std::vector<uint32_t> partOrder(parts.size());
-        {
-            const uint32_t half = mDomain.cellLattice(mDomain.tileLevel() + 1);
-            auto overlap = [&](uint32_t i) {
-                const glm::uvec3 lo = mJobs[split[i / 8]].slot * (2 * half) + childOffset(int(i % 8)) * half;
-                const glm::uvec3 a = glm::max(lo, mRegionMin), b = glm::min(lo + half, mRegionMax);
-                return glm::all(glm::lessThan(a, b)) ? uint64_t(b.x - a.x) * (b.y - a.y) * (b.z - a.z) : uint64_t(0);
-            };
-            for (uint32_t i = 0; i < partOrder.size(); ++i) partOrder[i] = i;
-            std::stable_sort(partOrder.begin(), partOrder.end(),
-                             [&](uint32_t l, uint32_t r) { return overlap(l) > overlap(r); });
+        std::vector<uint64_t> overlap(parts.size());
+        const uint32_t half = mDomain.cellLattice(mDomain.tileLevel() + 1);
+        for (std::size_t i = 0; i < parts.size(); ++i) {
+            const glm::uvec3 lo = mJobs[split[i / 8]].slot * (2 * half) + childOffset(int(i % 8)) * half;
+            const glm::uvec3 a = glm::max(lo, mRegionMin), b = glm::min(lo + half, mRegionMax);
+            overlap[i] = glm::all(glm::lessThan(a, b)) ? uint64_t(b.x - a.x) * (b.y - a.y) * (b.z - a.z) : 0;
         }
+        std::vector<uint32_t> partOrder(parts.size());
+        std::iota(partOrder.begin(), partOrder.end(), 0u);
+        std::stable_sort(partOrder.begin(), partOrder.end(),
+                         [&](uint32_t l, uint32_t r) { return overlap[l] > overlap[r]; });
         util::parallelFor(mPool, parts.size() + whole.size(), [&](std::size_t item) {
             TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
             if (item < parts.size()) {

@@ -844,9 +844,9 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
             scanTiles.push_back(ensureTile(packLattice(t.latticeOrigin())));
     });
     // Largest tiles first in each phase, so that a thread's last items are small ones and the
-    // threads finish together (a LOD's 8 tiles ended a phase on one thread's tail: its mesh
-    // 7-10 % faster, docs/PERFORMANCE.md, "Thirteenth session"). Each tile's results are its
-    // own, so the order changes none of them.
+    // threads finish together (one of a LOD's 8 tiles had ended phases alone; docs/PERFORMANCE.md,
+    // "Thirteenth session"). A task writes only its tile's records and its own quadrants of
+    // other tiles' crossings, so the order changes no result.
     std::stable_sort(scanTiles.begin(), scanTiles.end(), [](const TileMesh* l, const TileMesh* r) {
         return l->tile->nodeCount() > r->tile->nodeCount();
     });
@@ -887,8 +887,8 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     std::vector<TileMesh*> meshTiles;
     for (const auto& [key, tm] : mTiles) meshTiles.push_back(tm.get());
     std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) {
-        const std::size_t wl = l->crossings.size() + l->border.size(), wr = r->crossings.size() + r->border.size();
-        return wl != wr ? wl > wr : l->key < r->key;  // the crossings it reads, largest first
+        // Its boundary leaves: about its cells, so its vertices (most first).
+        return l->leaves.size() != r->leaves.size() ? l->leaves.size() > r->leaves.size() : l->key < r->key;
     });
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {

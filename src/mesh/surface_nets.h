@@ -32,8 +32,8 @@
 /// the changed cells (old crossings are reached through a per-tile cell index, never a scan).
 /// Threading: tiles in parallel on the pool; one SurfaceMesher is owned by one thread.
 /// Memory: 184 bytes per crossing (a removed one's record is reused by a later update), 112 per
-/// vertex (plus its incidences) and 16-21 per cell
-/// index entry (a flat hash at most 3/4 full). A build also keeps, per pool thread, scratch
+/// vertex (plus its incidences) and 16-21 per cell index entry (a flat hash at most 3/4 full).
+/// A build also keeps, per pool thread, scratch
 /// the size of the largest tile's boundary leaves and incidences, reused by the next tile and
 /// the next build (growing them per tile cost most of a small LOD mesh's allocations).
 #pragma once

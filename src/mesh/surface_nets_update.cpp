@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
+#include <numeric>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -329,7 +330,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         if (it == mTiles.end()) continue;
         const Tile* now = tileOfKey(a, k);
         if (!now) {
-            touched[k] = {glm::uvec3(0), glm::uvec3(UINT32_MAX)};
+            Touched& t = touched[k];  // (its changed-cell count kept: it orders the scan)
+            t.lo = glm::uvec3(0);
+            t.hi = glm::uvec3(UINT32_MAX);
         } else if (now != it->second->tile) {
             it->second->tile = now;
             slotBox(a, *now, it->second->slotMin, it->second->slotEnd);
@@ -353,8 +356,6 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     }
 
     // 1. Crossings starting on a changed cell: recomputed by the tiles that can emit them.
-    int64_t slotDelta = 0;  // crossing records held: only these tiles' pools change
-    for (const TileMesh* tm : scanTiles) slotDelta -= int64_t(tm->crossings.size());
     struct ScanOut {
         std::vector<Crossing*> removed, added, kept;
         std::vector<uint32_t> released;
@@ -364,7 +365,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     // Busiest tiles first (an edit's crater tile holds most of the work): then the other
     // thread's share is the small ones and both finish together. Results do not depend on it.
     std::vector<uint32_t> scanOrder(scanTiles.size());
-    for (uint32_t i = 0; i < scanOrder.size(); ++i) scanOrder[i] = i;
+    std::iota(scanOrder.begin(), scanOrder.end(), 0u);
     std::stable_sort(scanOrder.begin(), scanOrder.end(),
                      [&](uint32_t l, uint32_t r) { return scanBox[l].cells > scanBox[r].cells; });
     util::parallelFor(mPool, scanTiles.size(), [&](std::size_t item) {
@@ -464,7 +465,6 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         }
     });
     st.tilesScanned = scanTiles.size();
-    for (const TileMesh* tm : scanTiles) slotDelta += int64_t(tm->crossings.size());
     std::vector<CellTask> tasks;
     const ChangedCells::Query changedAt(changed);
     // Totals move by what changed (the tiles not visited hold what they held).
@@ -519,12 +519,12 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     std::vector<std::vector<VertexRef>> made(meshTiles.size());
     std::vector<uint32_t> meshOrder(meshTiles.size());  // most cells first, as the scan
-    for (uint32_t i = 0; i < meshOrder.size(); ++i) meshOrder[i] = i;
+    std::iota(meshOrder.begin(), meshOrder.end(), 0u);
     std::stable_sort(meshOrder.begin(), meshOrder.end(), [&](uint32_t l, uint32_t r) {
         return taskBegin[l + 1] - taskBegin[l] > taskBegin[r + 1] - taskBegin[r];
     });
     util::parallelFor(mPool, meshTiles.size(), [&](std::size_t item) {
-        const std::size_t ti = meshOrder[item];
+        const uint32_t ti = meshOrder[item];
         TileMesh& tm = *meshTiles[ti];
         SurfaceNetsStats& ms = meshStats[ti];
         // The re-meshed cells' multi-crossing faces are found again by meshCell.
@@ -661,7 +661,6 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     for (uint64_t k : emptied) {
         auto it = mTiles.find(k);
         splitDelta -= int64_t(it->second->splits.size());
-        slotDelta -= int64_t(it->second->crossings.size());
         mTiles.erase(it);
     }
     const auto tPhase3 = std::chrono::steady_clock::now();
@@ -672,7 +671,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.crossings = std::size_t(int64_t(mStats.crossings) + crossingDelta);
     st.vertices = std::size_t(int64_t(mStats.vertices) + vertexDelta);
     st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
-    st.crossingSlots = std::size_t(int64_t(mStats.crossingSlots) + slotDelta);
+    for (const auto& [key, tm] : mTiles) st.crossingSlots += tm->crossings.size();  // O(tiles) < O(slots)
     mStats = st;
 }
 

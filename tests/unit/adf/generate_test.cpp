@@ -339,8 +339,9 @@ TEST(Generate, LatticeDistanceReadsTheStoredCornersAndInterpolatesBetweenThem) {
 }
 
 TEST(Generate, LatticeDistancesInBatchesEqualOneByOne) {
-    // Batches of every size up to past one group of lanes, over random lattice points (the far
-    // faces included) and the corners and centres of leaves: the same bits as latticeDistance.
+    // Batches of every size up to past two groups of lanes (64 each), over random lattice points
+    // (the far faces included) and the corners and centres of leaves: the same bits as
+    // latticeDistance.
     const Domain d = testPartDomain(8);
     const AdfPtr adf = generate(*makeTestPart(d), d, testPartSettings());
     const uint32_t top = d.latticeSize();
@@ -358,7 +359,7 @@ TEST(Generate, LatticeDistancesInBatchesEqualOneByOne) {
     });
     points.push_back(glm::uvec3(top));
     std::size_t at = 0;
-    for (std::size_t batch = 1; at < points.size(); batch = batch % 40 + 1) {
+    for (std::size_t batch = 1; at < points.size(); batch = batch % 140 + 1) {
         const std::size_t n = std::min(batch, points.size() - at);
         std::vector<float> out(n, std::numeric_limits<float>::quiet_NaN());
         adf->latticeDistances({points.data() + at, n}, out);

@@ -357,20 +357,6 @@ TEST(SurfaceNets, RepeatedDabsAtTileCornersAndNewTileScalesEqualAFullMesh) {
     EXPECT_GT(rescaled, 0u) << "no edit changed a tile's quantisation scale: the case is untested";
 }
 
-TEST(SurfaceNets, UpdatesEqualAFullMeshWhenTheBusiestTileIsNotTheFirst) {
-    // An update hands out its busiest tiles first (most changed cells, most cells to re-mesh),
-    // so tasks do not run in key order; each tile's results must stay its own (released crossing
-    // slots go back to their own tile's pool, and get reused by the next dabs). Each dab sits
-    // just inside the higher of two tiles across a face: the busier tile comes later by key.
-    DabbedBlock b(3);
-    std::mt19937_64 rng(11);
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    for (int i = 0; i < 16; ++i) {
-        const glm::dvec3 c(9 * b.tile + (1.5 + 0.5 * u(rng)) * b.cell, 0.45 + 0.1 * u(rng), 0.7 + b.cell * (u(rng) - 0.5));
-        ASSERT_NO_FATAL_FAILURE(b.dab(i % 4 == 3 ? CsgOp::Union : CsgOp::Difference, c, (2.0 + u(rng)) * b.cell, i));
-    }
-}
-
 TEST(SurfaceNets, UpdatesReuseTheCrossingRecordsEarlierUpdatesReleased) {
     // A dab carved and filled again and again at one spot replaces the same crossings each
     // time: their records must be reused (a session would otherwise hold every record it ever
