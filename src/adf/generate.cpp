@@ -15,7 +15,6 @@
 #include <limits>
 #include <memory>
 #include <mutex>
-#include <numeric>
 #include <span>
 #include <stdexcept>
 #include <thread>
@@ -1082,23 +1081,18 @@ private:
         // region their child holds, most first (the crater's child takes longest: handed out
         // late, it alone kept one thread busy after the other had run out of items).
         std::vector<Part> parts(8 * split.size());
-        std::vector<uint64_t> overlap(parts.size());
         const uint32_t half = mDomain.cellLattice(mDomain.tileLevel() + 1);
-        for (std::size_t i = 0; i < parts.size(); ++i) {
+        auto overlap = [&](std::size_t i) -> uint64_t {
+            if (i >= parts.size()) return 0;  // a whole tile: after every part (ties keep the order)
             const glm::uvec3 lo = mJobs[split[i / 8]].slot * (2 * half) + childOffset(int(i % 8)) * half;
             const glm::uvec3 a = glm::max(lo, mRegionMin), b = glm::min(lo + half, mRegionMax);
-            overlap[i] = glm::all(glm::lessThan(a, b)) ? uint64_t(b.x - a.x) * (b.y - a.y) * (b.z - a.z) : 0;
-        }
-        std::vector<uint32_t> partOrder(parts.size());
-        std::iota(partOrder.begin(), partOrder.end(), 0u);
-        std::stable_sort(partOrder.begin(), partOrder.end(),
-                         [&](uint32_t l, uint32_t r) { return overlap[l] > overlap[r]; });
-        util::parallelFor(mPool, parts.size() + whole.size(), [&](std::size_t item) {
+            return glm::all(glm::lessThan(a, b)) ? uint64_t(b.x - a.x) * (b.y - a.y) * (b.z - a.z) : 0;
+        };
+        util::parallelForHeaviestFirst(mPool, parts.size() + whole.size(), overlap, [&](std::size_t item) {
             TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
             if (item < parts.size()) {
-                const std::size_t i = partOrder[item];
-                const std::size_t j = split[i / 8];
-                parts[i] = g.buildChild(mJobs[j], splits[j], int(i % 8));
+                const std::size_t j = split[item / 8];
+                parts[item] = g.buildChild(mJobs[j], splits[j], int(item % 8));
             } else {
                 const std::size_t j = whole[item - parts.size()];
                 tiles[j] = g.buildChildren(mJobs[j], splits[j], mVersion);

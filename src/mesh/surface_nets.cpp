@@ -843,15 +843,13 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         if (!(t.singleLeaf() && t.rootType() != adf::CellType::Boundary))
             scanTiles.push_back(ensureTile(packLattice(t.latticeOrigin())));
     });
-    // Largest tiles first in each phase, so that a thread's last items are small ones and the
-    // threads finish together (one of a LOD's 8 tiles had ended phases alone; docs/PERFORMANCE.md,
-    // "Thirteenth session"). A task writes only its tile's records and its own quadrants of
-    // other tiles' crossings, so the order changes no result.
-    std::stable_sort(scanTiles.begin(), scanTiles.end(), [](const TileMesh* l, const TileMesh* r) {
-        return l->tile->nodeCount() > r->tile->nodeCount();
-    });
+    // Each phase hands out its largest tiles first (one of a LOD's 8 tiles had ended phases
+    // alone; docs/PERFORMANCE.md, "Thirteenth session"): the scan by nodes, the others by
+    // boundary leaves. A task writes only its tile's records and its own quadrants of other
+    // tiles' crossings, so the order changes no result.
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
-    util::parallelFor(mPool, scanTiles.size(), [&](std::size_t i) {
+    auto nodes = [&](std::size_t i) { return scanTiles[i]->tile->nodeCount(); };
+    util::parallelForHeaviestFirst(mPool, scanTiles.size(), nodes, [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
         thread_local std::vector<BoundaryCell> walk;  // reused across tiles and builds
         thread_local std::vector<uint64_t> keys;
@@ -886,12 +884,13 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     for (uint64_t k : owners) ensureTile(k);
     std::vector<TileMesh*> meshTiles;
     for (const auto& [key, tm] : mTiles) meshTiles.push_back(tm.get());
-    std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) {
-        // Its boundary leaves: about its cells, so its vertices (most first).
-        return l->leaves.size() != r->leaves.size() ? l->leaves.size() > r->leaves.size() : l->key < r->key;
-    });
+    std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
+    // A tile's boundary leaves: about its cells, so its vertices (taken now: relaxation drops them).
+    std::vector<std::size_t> leaves(meshTiles.size());
+    for (std::size_t i = 0; i < meshTiles.size(); ++i) leaves[i] = meshTiles[i]->leaves.size();
+    auto byLeaves = [&](std::size_t i) { return leaves[i]; };
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
-    util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
+    util::parallelForHeaviestFirst(mPool, meshTiles.size(), byLeaves, [&](std::size_t i) {
         std::vector<uint64_t>& nbrs = vertexScratch().nbrs;
         nbrs.clear();
         neighbourKeys(a, meshTiles[i]->slotMin, meshTiles[i]->slotEnd, nbrs);
@@ -903,7 +902,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
 
     const auto tPhase2 = std::chrono::steady_clock::now();
     // 3. Relaxation reads neighbours' projected vertices.
-    util::parallelFor(mPool, meshTiles.size(), [&](std::size_t i) {
+    util::parallelForHeaviestFirst(mPool, meshTiles.size(), byLeaves, [&](std::size_t i) {
         TileMesh& tm = *meshTiles[i];
         splitFaces(tm);
         relaxInOrder(tm.vertices.size(), [&](std::size_t k) { return VertexRef{&tm, uint32_t(k)}; });

@@ -21,7 +21,6 @@
 #include <algorithm>
 #include <bit>
 #include <chrono>
-#include <numeric>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -364,12 +363,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     std::vector<ScanOut> scans(scanTiles.size());
     // Busiest tiles first (an edit's crater tile holds most of the work): then the other
     // thread's share is the small ones and both finish together. Results do not depend on it.
-    std::vector<uint32_t> scanOrder(scanTiles.size());
-    std::iota(scanOrder.begin(), scanOrder.end(), 0u);
-    std::stable_sort(scanOrder.begin(), scanOrder.end(),
-                     [&](uint32_t l, uint32_t r) { return scanBox[l].cells > scanBox[r].cells; });
-    util::parallelFor(mPool, scanTiles.size(), [&](std::size_t item) {
-        const uint32_t i = scanOrder[item];
+    auto changedCells = [&](std::size_t i) { return scanBox[i].cells; };
+    util::parallelForHeaviestFirst(mPool, scanTiles.size(), changedCells, [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
         ScanOut& out = scans[i];
         const ChangedCells::Query changedAt(changed);
@@ -518,13 +513,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     for (const TileMesh* tm : meshTiles) vertexDelta -= tm->liveVertices;
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     std::vector<std::vector<VertexRef>> made(meshTiles.size());
-    std::vector<uint32_t> meshOrder(meshTiles.size());  // most cells first, as the scan
-    std::iota(meshOrder.begin(), meshOrder.end(), 0u);
-    std::stable_sort(meshOrder.begin(), meshOrder.end(), [&](uint32_t l, uint32_t r) {
-        return taskBegin[l + 1] - taskBegin[l] > taskBegin[r + 1] - taskBegin[r];
-    });
-    util::parallelFor(mPool, meshTiles.size(), [&](std::size_t item) {
-        const uint32_t ti = meshOrder[item];
+    auto cellsToMesh = [&](std::size_t ti) { return taskBegin[ti + 1] - taskBegin[ti]; };  // most first, as the scan
+    util::parallelForHeaviestFirst(mPool, meshTiles.size(), cellsToMesh, [&](std::size_t ti) {
         TileMesh& tm = *meshTiles[ti];
         SurfaceNetsStats& ms = meshStats[ti];
         // The re-meshed cells' multi-crossing faces are found again by meshCell.

@@ -7,6 +7,7 @@
 /// sees plain std::thread/mutex synchronisation. Never used by the haptic thread.
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
@@ -15,6 +16,7 @@
 #include <cstddef>
 #include <functional>
 #include <mutex>
+#include <numeric>
 #include <thread>
 #include <vector>
 
@@ -81,6 +83,22 @@ inline void parallelFor(ThreadPool* pool, std::size_t n, const std::function<voi
     } else {
         for (std::size_t i = 0; i < n; ++i) fn(i);
     }
+}
+
+/// parallelFor with the items handed out heaviest first by `weight(i)` (an estimate of the
+/// work, any unsigned number; ties in index order). When a few items hold most of the work (a
+/// dab's crater tile, one of a LOD's 8 tiles), one started last keeps a thread busy alone
+/// after the others ran out. fn still gets the item's own index; serially the plain order.
+template <class Weight>
+void parallelForHeaviestFirst(ThreadPool* pool, std::size_t n, Weight weight,
+                              const std::function<void(std::size_t)>& fn) {
+    if (!pool || pool->threadCount() < 2 || n < 2) return parallelFor(pool, n, fn);
+    std::vector<uint64_t> w(n);
+    for (std::size_t i = 0; i < n; ++i) w[i] = uint64_t(weight(i));
+    std::vector<std::size_t> order(n);
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t l, std::size_t r) { return w[l] > w[r]; });
+    pool->parallelFor(n, [&](std::size_t k) { fn(order[k]); });
 }
 
 }  // namespace kizamu::util

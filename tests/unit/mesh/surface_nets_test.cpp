@@ -275,12 +275,11 @@ std::size_t tilesWithNewScale(const Adf& a, const Adf& b) {
 }
 
 /// `a` with a sphere of radius `r` at `c` carved (Difference) or added (Union).
-AdfPtr dabbed(const AdfPtr& a, CsgOp op, glm::dvec3 c, double r, util::ThreadPool& pool) {
+AdfPtr dabbed(const AdfPtr& a, CsgOp op, glm::dvec3 c, double r, util::ThreadPool* pool = nullptr) {
     const double cell = a->domain().finestCellSize();
     const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
     const SourcePtr old = makeAdfSource(a);
-    return regenerate(*a, *makeRegionLimited(old, makeCsg(op, old, makeTranslated(makeSphere(r), c)), region), region,
-                      &pool);
+    return regenerate(*a, *makeRegionLimited(old, makeCsg(op, old, makeTranslated(makeSphere(r), c)), region), region, pool);
 }
 
 /// After `mesher` (on a pool) and `serial` were both updated to `a`: the spliced mesh is closed
@@ -313,7 +312,7 @@ struct DabbedBlock {
         serial.build(a);
     }
     void dab(CsgOp op, glm::dvec3 c, double r, int edit) {
-        a = dabbed(a, op, c, r, pool);
+        a = dabbed(a, op, c, r, &pool);
         mesher.update(a);
         serial.update(a);
         expectSplicedEqualsFull(mesher, serial, a, pool, edit);
@@ -403,11 +402,7 @@ TEST(SurfaceNets, ASmallDabInsideATileRecomputesFewOfItsVertices) {
         if (slotOf(surface.positions[k]) != densest || glm::any(glm::lessThan(inTileAt, glm::dvec3(0.3))) ||
             glm::any(glm::greaterThan(inTileAt, glm::dvec3(0.7))))
             continue;
-        const double r = 2 * cell;
-        const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
-        const SourcePtr old = makeAdfSource(base);
-        const AdfPtr a = regenerate(
-            *base, *makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)), region), region);
+        const AdfPtr a = dabbed(base, CsgOp::Difference, c, 2 * cell);
         if (tilesWithNewScale(*base, *a) > 0) continue;
         SurfaceMesher mesher;
         mesher.build(base);
