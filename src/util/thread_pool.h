@@ -85,19 +85,26 @@ inline void parallelFor(ThreadPool* pool, std::size_t n, const std::function<voi
     }
 }
 
-/// parallelFor with the items handed out heaviest first by `weight(i)` (an estimate of the
-/// work, any unsigned number; ties in index order). When a few items hold most of the work (a
-/// dab's crater tile, one of a LOD's 8 tiles), one started last keeps a thread busy alone
-/// after the others ran out. fn still gets the item's own index; serially the plain order.
+/// Indices 0..n-1 by `weight(i)` (an estimate of item i's work, any unsigned number), heaviest
+/// first; ties keep index order.
 template <class Weight>
-void parallelForHeaviestFirst(ThreadPool* pool, std::size_t n, Weight weight,
-                              const std::function<void(std::size_t)>& fn) {
-    if (!pool || pool->threadCount() < 2 || n < 2) return parallelFor(pool, n, fn);
+std::vector<std::size_t> heaviestFirst(std::size_t n, Weight weight) {
     std::vector<uint64_t> w(n);
     for (std::size_t i = 0; i < n; ++i) w[i] = uint64_t(weight(i));
     std::vector<std::size_t> order(n);
     std::iota(order.begin(), order.end(), std::size_t(0));
     std::stable_sort(order.begin(), order.end(), [&](std::size_t l, std::size_t r) { return w[l] > w[r]; });
+    return order;
+}
+
+/// parallelFor with the items handed out in heaviestFirst order. When a few items hold most of
+/// the work (a dab's crater tile, one of a LOD's 8 tiles), one started last keeps a thread busy
+/// alone after the others ran out. fn still gets the item's own index; serially the plain order.
+template <class Weight>
+void parallelForHeaviestFirst(ThreadPool* pool, std::size_t n, Weight weight,
+                              const std::function<void(std::size_t)>& fn) {
+    if (!pool || pool->threadCount() < 2 || n < 2) return parallelFor(pool, n, fn);
+    const std::vector<std::size_t> order = heaviestFirst(n, weight);
     pool->parallelFor(n, [&](std::size_t k) { fn(order[k]); });
 }
 

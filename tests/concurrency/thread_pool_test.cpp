@@ -124,6 +124,35 @@ TEST(ThreadPool, PoolsEndWhileWorkersPollOrSleep) {
     }
 }
 
+TEST(ThreadPool, HeaviestFirstRunsEveryItemOnceUnderItsOwnIndex) {
+    // Items handed out heaviest first still reach fn under their own index, once each; serially
+    // (no pool) they run in plain order.
+    ThreadPool pool(3);
+    auto weight = [](std::size_t i) { return (i * 7919) % 13; };
+    for (std::size_t n : {0, 1, 2, 5, 64, 1000}) {
+        std::vector<std::atomic<int>> runs(n);
+        std::vector<std::atomic<std::size_t>> seen(n);
+        kizamu::util::parallelForHeaviestFirst(&pool, n, weight, [&](std::size_t i) {
+            runs[i].fetch_add(1, std::memory_order_relaxed);
+            seen[i].store(weight(i), std::memory_order_relaxed);
+        });
+        for (std::size_t i = 0; i < n; ++i) {
+            ASSERT_EQ(runs[i].load(), 1) << "n " << n << " index " << i;
+            ASSERT_EQ(seen[i].load(), weight(i)) << "n " << n << " index " << i;
+        }
+    }
+    std::vector<std::size_t> order;
+    kizamu::util::parallelForHeaviestFirst(nullptr, 6, weight, [&](std::size_t i) { order.push_back(i); });
+    EXPECT_EQ(order, (std::vector<std::size_t>{0, 1, 2, 3, 4, 5}));
+}
+
+TEST(ThreadPool, HeaviestFirstOrdersByWeightAndTiesByIndex) {
+    const std::vector<unsigned> w{3, 9, 0, 9, 5, 3};
+    EXPECT_EQ(kizamu::util::heaviestFirst(w.size(), [&](std::size_t i) { return w[i]; }),
+              (std::vector<std::size_t>{1, 3, 4, 0, 5, 2}));
+    EXPECT_TRUE(kizamu::util::heaviestFirst(0, [](std::size_t) { return 1u; }).empty());
+}
+
 TEST(ThreadPool, EmptyAndSingleLoops) {
     ThreadPool pool(2);
     int calls = 0;
