@@ -20,6 +20,20 @@ void DistanceSource::distances(std::span<const glm::dvec3> pWorld, std::span<dou
     for (std::size_t i = 0; i < pWorld.size(); ++i) out[i] = distance(pWorld[i]);
 }
 
+void DistanceSource::latticeDistances(const Domain& domain, std::span<const glm::uvec3> lattice,
+                                      std::span<double> out) const {
+    assert(lattice.size() == out.size());
+    glm::dvec3 world[kSourceBatch];
+    for (std::size_t first = 0; first < lattice.size(); first += kSourceBatch) {
+        const std::size_t n = std::min(kSourceBatch, lattice.size() - first);
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::uvec3 p = lattice[first + i];
+            world[i] = domain.latticeToWorld(p.x, p.y, p.z);
+        }
+        distances({world, n}, out.subspan(first, n));
+    }
+}
+
 double DistanceSource::featureSize(const glm::dvec3&, double) const {
     return std::numeric_limits<double>::infinity();
 }

@@ -10,6 +10,8 @@
 /// Follows Kizamu (Perry & Frisken 2001) section 5 and the usual closed forms for primitives.
 #pragma once
 
+#include "adf/domain.h"
+
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
@@ -37,6 +39,14 @@ public:
     /// Batch form: `out[i] = distance(pWorld[i])`; spans have equal length.
     /// Complexity: O(n * tree size), one virtual call per node per 64 points. Memory: stack only.
     virtual void distances(std::span<const glm::dvec3> pWorld, std::span<double> out) const;
+
+    /// Batch form at lattice points of `domain`: `out[i] = distance(domain.latticeToWorld(
+    /// lattice[i]))`; what generation asks. The default goes through world space; a source that
+    /// is itself a lattice (a snapshot's field sampled for a LOD, mesh/lod.cpp) answers
+    /// directly, without rounding each world point back to its lattice point.
+    /// Complexity: as distances(). Memory: stack only.
+    virtual void latticeDistances(const Domain& domain, std::span<const glm::uvec3> lattice,
+                                  std::span<double> out) const;
 
     /// Size (m) of the smallest feature whose surface may pass within `radius` of `centreWorld`
     /// (a sphere's radius, a cylinder's radius or half height, ...), or +infinity. Generation

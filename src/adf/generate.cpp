@@ -168,6 +168,10 @@ float checkedDistance(double d, const glm::dvec3& p) {
                                 std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
     return float(d);
 }
+/// The same, for a value at a lattice point of `d`.
+float checkedDistance(double v, const Domain& d, glm::uvec3 p) {
+    return std::isfinite(v) ? float(v) : checkedDistance(v, d.latticeToWorld(p.x, p.y, p.z));
+}
 
 TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version, double finestCell) {
     const CellType t = cellTypeOf(std::span<const float, 8>(corners, 8));
@@ -567,16 +571,16 @@ private:
     /// batches of up to 64. `at`, if given, receives each point's index in the volume.
     void evaluate(const glm::uvec3* local, int n, uint32_t* at = nullptr) {
         constexpr int kBatch = 64;
-        glm::dvec3 pts[kBatch];
+        glm::uvec3 pts[kBatch];  // lattice
         double out[kBatch];
         glm::uvec3 todo[kBatch];
         uint32_t todoAt[kBatch];
         int m = 0;
         auto flush = [&] {
-            mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
+            mSource.latticeDistances(mDomain, {pts, std::size_t(m)}, {out, std::size_t(m)});
             mEvaluations += uint64_t(m);
             for (int k = 0; k < m; ++k) {
-                const float value = checkedDistance(out[k], pts[k]);
+                const float value = checkedDistance(out[k], mDomain, pts[k]);
                 mValues[todoAt[k]] = value;
                 if (onTileFace(todo[k])) recordBorder(todo[k], value);
             }
@@ -587,8 +591,7 @@ private:
             if (at) at[k] = i;
             if (valid(i)) continue;
             mStamp[i] = mCurrent;  // claims it, so a duplicate in this list is skipped
-            const glm::uvec3 p = mBase + local[k];
-            pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
+            pts[m] = mBase + local[k];
             todo[m] = local[k];
             todoAt[m++] = i;
             if (m == kBatch) flush();

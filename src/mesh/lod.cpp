@@ -47,6 +47,25 @@ public:
         }
     }
 
+    /// A coarse domain's lattice (the fine one's, fewer levels) is the fine lattice's every
+    /// 2^k-th point: no world coordinates, no rounding.
+    void latticeDistances(const adf::Domain& d, std::span<const glm::uvec3> lattice,
+                          std::span<double> out) const override {
+        const adf::Domain& fine = mAdf->domain();
+        if (d.originWorld != fine.originWorld || d.sizeWorld != fine.sizeWorld || d.maxLevel > fine.maxLevel)
+            return DistanceSource::latticeDistances(d, lattice, out);
+        const auto shift = uint32_t(fine.maxLevel - d.maxLevel);
+        constexpr std::size_t kBatch = 64;
+        glm::uvec3 at[kBatch];
+        float values[kBatch];
+        for (std::size_t first = 0; first < lattice.size(); first += kBatch) {
+            const std::size_t n = std::min(kBatch, lattice.size() - first);
+            for (std::size_t i = 0; i < n; ++i) at[i] = lattice[first + i] << shift;
+            mAdf->latticeDistances({at, n}, {values, n});
+            for (std::size_t i = 0; i < n; ++i) out[first + i] = values[i];
+        }
+    }
+
 private:
     adf::AdfPtr mAdf;
     adf::LatticeRounding mRounding;

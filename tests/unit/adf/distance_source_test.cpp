@@ -110,4 +110,20 @@ TEST(DistanceSource, BatchMatchesScalarAndIsLipschitz) {
     }
 }
 
+TEST(DistanceSource, LatticeBatchIsTheFieldAtTheLatticePointsWorldPositions) {
+    // What generation asks: 150 points (past two batches of kSourceBatch) of a level-7 lattice.
+    const auto part = makeCsg(CsgOp::Union, makeSphere(0.3), makeTranslated(makeBox({0.1, 0.2, 0.1}), {0.25, 0, 0}));
+    Domain d;
+    d.originWorld = glm::dvec3(-0.5);
+    d.maxLevel = 7;
+    std::mt19937_64 rng(11);
+    std::uniform_int_distribution<uint32_t> u(0, d.latticeSize());
+    std::vector<glm::uvec3> lattice(150);
+    for (auto& p : lattice) p = {u(rng), u(rng), u(rng)};
+    std::vector<double> out(lattice.size());
+    part->latticeDistances(d, lattice, out);
+    for (std::size_t i = 0; i < lattice.size(); ++i)
+        EXPECT_EQ(out[i], part->distance(d.latticeToWorld(lattice[i].x, lattice[i].y, lattice[i].z))) << i;
+}
+
 }  // namespace

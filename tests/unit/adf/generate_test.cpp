@@ -20,6 +20,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 
 using namespace kizamu;
 using namespace kizamu::adf;
@@ -710,6 +711,18 @@ TEST(Generate, ANonFiniteSourceIsAnErrorNotAnAdf) {
     };
     util::ThreadPool pool(2);
     EXPECT_THROW(generate(NanSource{}, unitDomain(6), GenerationSettings{}, &pool), std::domain_error);
+    // The error names a point where the source failed, in world coordinates.
+    bool named = false;
+    try {
+        generate(NanSource{}, unitDomain(6), GenerationSettings{});
+    } catch (const std::domain_error& e) {
+        named = true;
+        const std::string what = e.what();
+        const std::size_t open = what.find('(');
+        ASSERT_NE(open, std::string::npos) << what;
+        EXPECT_GT(std::stod(what.substr(open + 1)), 0.2) << what;
+    }
+    EXPECT_TRUE(named);
 }
 
 TEST(Generate, ATileThatFailsStopsTheTilesWaitingForIt) {
