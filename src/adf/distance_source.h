@@ -27,7 +27,9 @@ namespace kizamu::adf {
 /// A signed distance function of world position (m), negative inside.
 ///
 /// Requirements for implementers: `distance` is pure (same input, same bits on every x86-64
-/// machine), thread-safe, and 1-Lipschitz; `distances` equals `distance` element by element.
+/// machine), thread-safe, and 1-Lipschitz; `distances` equals `distance` element by element, and
+/// `latticeDistances` equals it at each point's `Domain::latticeToWorld` (generation asks for
+/// lattice points, and tiles agree on the signs of the points they share only if it does).
 class DistanceSource {
 public:
     virtual ~DistanceSource() = default;

@@ -161,16 +161,15 @@ struct CellRule {
     }
 };
 
-/// A source's value as stored, or a domain_error naming the point if it is NaN or infinite.
-float checkedDistance(double d, const glm::dvec3& p) {
-    if (!std::isfinite(d))
-        throw std::domain_error("the distance source returned a non-finite value at (" + std::to_string(p.x) + ", " +
-                                std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
-    return float(d);
-}
-/// The same, for a value at a lattice point of `d`.
+/// A source's value at lattice point `p` of `d` as stored, or a domain_error naming the point
+/// (world coordinates) if it is NaN or infinite.
 float checkedDistance(double v, const Domain& d, glm::uvec3 p) {
-    return std::isfinite(v) ? float(v) : checkedDistance(v, d.latticeToWorld(p.x, p.y, p.z));
+    if (!std::isfinite(v)) {
+        const glm::dvec3 w = d.latticeToWorld(p.x, p.y, p.z);
+        throw std::domain_error("the distance source returned a non-finite value at (" + std::to_string(w.x) + ", " +
+                                std::to_string(w.y) + ", " + std::to_string(w.z) + ")");
+    }
+    return float(v);
 }
 
 TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version, double finestCell) {
@@ -929,8 +928,9 @@ private:
         bool fresh;
         float* v = mUpperSamples.findOrInsert(latticeKey(p), 0.0f, fresh);
         if (fresh) {
-            const glm::dvec3 w = mDomain.latticeToWorld(p.x, p.y, p.z);
-            *v = checkedDistance(mSource.distance(w), w);
+            double value;
+            mSource.latticeDistances(mDomain, {&p, 1}, {&value, 1});
+            *v = checkedDistance(value, mDomain, p);
             ++mEvaluations;
         }
         return *v;

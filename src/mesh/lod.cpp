@@ -52,8 +52,9 @@ public:
     void latticeDistances(const adf::Domain& d, std::span<const glm::uvec3> lattice,
                           std::span<double> out) const override {
         const adf::Domain& fine = mAdf->domain();
-        if (d.originWorld != fine.originWorld || d.sizeWorld != fine.sizeWorld || d.maxLevel > fine.maxLevel)
-            return DistanceSource::latticeDistances(d, lattice, out);
+        const bool subLattice = d.originWorld == fine.originWorld && d.sizeWorld == fine.sizeWorld &&
+                                d.maxLevel <= fine.maxLevel;
+        if (!subLattice) return DistanceSource::latticeDistances(d, lattice, out);
         const auto shift = uint32_t(fine.maxLevel - d.maxLevel);
         constexpr std::size_t kBatch = 64;
         glm::uvec3 at[kBatch];

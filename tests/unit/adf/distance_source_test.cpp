@@ -111,10 +111,14 @@ TEST(DistanceSource, BatchMatchesScalarAndIsLipschitz) {
 }
 
 TEST(DistanceSource, LatticeBatchIsTheFieldAtTheLatticePointsWorldPositions) {
-    // What generation asks: 150 points (past two batches of kSourceBatch) of a level-7 lattice.
-    const auto part = makeCsg(CsgOp::Union, makeSphere(0.3), makeTranslated(makeBox({0.1, 0.2, 0.1}), {0.25, 0, 0}));
+    // What generation asks: 150 points (past two batches of kSourceBatch) of a level-7 lattice
+    // whose origin and size are not powers of two, so world points computed with less precision
+    // (in float, say) give other values.
+    const auto box = makeTranslated(makeBox({0.1, 0.2, 0.1}), {0.25, 0, 0});
+    const auto part = makeCsg(CsgOp::Union, makeSphere(0.3), box);
     Domain d;
-    d.originWorld = glm::dvec3(-0.5);
+    d.originWorld = glm::dvec3(-0.2466, -0.2, 0.1234 - 0.37);
+    d.sizeWorld = 0.37 * 1.7;
     d.maxLevel = 7;
     std::mt19937_64 rng(11);
     std::uniform_int_distribution<uint32_t> u(0, d.latticeSize());
