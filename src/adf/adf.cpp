@@ -92,14 +92,20 @@ void Adf::latticeDistances(std::span<const glm::uvec3> points, std::span<float> 
             w[i] = tile[i]->node(0);
         }
         // A level of every lane's descent at a time: the loads of different lanes are
-        // independent, so the core overlaps them.
-        for (bool deeper = true; deeper;) {
-            deeper = false;
-            for (std::size_t i = 0; i < n; ++i)
-                if (node::isInternal(w[i])) {
-                    w[i] = tile[i]->node(w[i] + uint32_t(childAt(q[i], shift[i]--)));
-                    deeper = true;
-                }
+        // independent, so the core overlaps them. Each pass visits only the lanes still
+        // descending (they end at depths up to a tile's span apart).
+        uint8_t active[kLanes];
+        std::size_t m = 0;
+        for (std::size_t i = 0; i < n; ++i)
+            if (node::isInternal(w[i])) active[m++] = uint8_t(i);
+        while (m > 0) {
+            std::size_t still = 0;
+            for (std::size_t j = 0; j < m; ++j) {
+                const std::size_t i = active[j];
+                w[i] = tile[i]->node(w[i] + uint32_t(childAt(q[i], shift[i]--)));
+                if (node::isInternal(w[i])) active[still++] = uint8_t(i);
+            }
+            m = still;
         }
         for (std::size_t i = 0; i < n; ++i) out[first + i] = latticeValue(leafOfWord(tile[i], w[i], shift[i], q[i]), points[first + i]);
     }

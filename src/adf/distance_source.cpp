@@ -20,6 +20,8 @@ void DistanceSource::distances(std::span<const glm::dvec3> pWorld, std::span<dou
     for (std::size_t i = 0; i < pWorld.size(); ++i) out[i] = distance(pWorld[i]);
 }
 
+bool DistanceSource::answersLattice(const Domain&) const { return false; }
+
 void DistanceSource::latticeDistances(const Domain& domain, std::span<const glm::uvec3> lattice,
                                       std::span<double> out) const {
     assert(lattice.size() == out.size());

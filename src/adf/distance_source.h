@@ -28,8 +28,8 @@ namespace kizamu::adf {
 ///
 /// Requirements for implementers: `distance` is pure (same input, same bits on every x86-64
 /// machine), thread-safe, and 1-Lipschitz; `distances` equals `distance` element by element, and
-/// `latticeDistances` equals it at each point's `Domain::latticeToWorld` (generation asks for
-/// lattice points, and tiles agree on the signs of the points they share only if it does).
+/// `latticeDistances` equals it at each point's `Domain::latticeToWorld` (generation may ask
+/// either way, and tiles agree on the signs of the points they share only if they agree).
 class DistanceSource {
 public:
     virtual ~DistanceSource() = default;
@@ -42,10 +42,14 @@ public:
     /// Complexity: O(n * tree size), one virtual call per node per 64 points. Memory: stack only.
     virtual void distances(std::span<const glm::dvec3> pWorld, std::span<double> out) const;
 
+    /// Whether latticeDistances answers lattice points of `domain` more cheaply than distances()
+    /// their world positions: true for a source that is itself a lattice (a snapshot's field
+    /// sampled for a LOD, mesh/lod.cpp, which need not round each point back to its lattice
+    /// point). Generation then asks it that way. Default: false.
+    virtual bool answersLattice(const Domain& domain) const;
+
     /// Batch form at lattice points of `domain`: `out[i] = distance(domain.latticeToWorld(
-    /// lattice[i]))`; what generation asks. The default goes through world space; a source that
-    /// is itself a lattice (a snapshot's field sampled for a LOD, mesh/lod.cpp) answers
-    /// directly, without rounding each world point back to its lattice point.
+    /// lattice[i]))`. The default goes through world space.
     /// Complexity: as distances(). Memory: stack only.
     virtual void latticeDistances(const Domain& domain, std::span<const glm::uvec3> lattice,
                                   std::span<double> out) const;

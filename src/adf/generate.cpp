@@ -17,6 +17,7 @@
 #include <mutex>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 #include <thread>
 #include <utility>
 #include <vector>
@@ -161,15 +162,16 @@ struct CellRule {
     }
 };
 
-/// A source's value at lattice point `p` of `d` as stored, or a domain_error naming the point
-/// (world coordinates) if it is NaN or infinite.
-float checkedDistance(double v, const Domain& d, glm::uvec3 p) {
-    if (!std::isfinite(v)) {
-        const glm::dvec3 w = d.latticeToWorld(p.x, p.y, p.z);
-        throw std::domain_error("the distance source returned a non-finite value at (" + std::to_string(w.x) + ", " +
-                                std::to_string(w.y) + ", " + std::to_string(w.z) + ")");
-    }
-    return float(v);
+/// A source's value as stored, or a domain_error naming the point if it is NaN or infinite.
+float checkedDistance(double d, const glm::dvec3& p) {
+    if (!std::isfinite(d))
+        throw std::domain_error("the distance source returned a non-finite value at (" + std::to_string(p.x) + ", " +
+                                std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
+    return float(d);
+}
+/// The same at lattice point `p` of `d` (its world position is only needed for the message).
+inline float checkedDistance(double v, const Domain& d, glm::uvec3 p) {
+    return std::isfinite(v) ? float(v) : checkedDistance(v, d.latticeToWorld(p.x, p.y, p.z));
 }
 
 TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, uint64_t version, double finestCell) {
@@ -364,7 +366,8 @@ public:
     /// lie outside it are copied rather than generated.
     TileGenerator(const Domain& d, const GenerationSettings& s, const DistanceSource& src, glm::uvec3 regionMin,
                   glm::uvec3 regionMax)
-        : mDomain(d), mRule(d, s, src), mSource(src), mRegionMin(regionMin), mRegionMax(regionMax),
+        : mDomain(d), mRule(d, s, src), mSource(src), mLatticeSource(src.answersLattice(d)),
+          mRegionMin(regionMin), mRegionMax(regionMax),
           mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
           mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
           mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
@@ -569,17 +572,37 @@ private:
     /// Evaluates the listed local points that are not valid yet (duplicates allowed), in
     /// batches of up to 64. `at`, if given, receives each point's index in the volume.
     void evaluate(const glm::uvec3* local, int n, uint32_t* at = nullptr) {
+        // One loop per way of asking: a branch per point cost a full generation 1.7 % more
+        // instructions.
+        if (mLatticeSource)
+            evaluateAt<glm::uvec3>(local, n, at);
+        else
+            evaluateAt<glm::dvec3>(local, n, at);
+    }
+
+    /// evaluate() asking the source at lattice points (Point = glm::uvec3) or at their world
+    /// positions (glm::dvec3).
+    template <class Point>
+    void evaluateAt(const glm::uvec3* local, int n, uint32_t* at) {
+        constexpr bool kLattice = std::is_same_v<Point, glm::uvec3>;
         constexpr int kBatch = 64;
-        glm::uvec3 pts[kBatch];  // lattice
+        Point pts[kBatch];
         double out[kBatch];
         glm::uvec3 todo[kBatch];
         uint32_t todoAt[kBatch];
         int m = 0;
         auto flush = [&] {
-            mSource.latticeDistances(mDomain, {pts, std::size_t(m)}, {out, std::size_t(m)});
+            if constexpr (kLattice)
+                mSource.latticeDistances(mDomain, {pts, std::size_t(m)}, {out, std::size_t(m)});
+            else
+                mSource.distances({pts, std::size_t(m)}, {out, std::size_t(m)});
             mEvaluations += uint64_t(m);
             for (int k = 0; k < m; ++k) {
-                const float value = checkedDistance(out[k], mDomain, pts[k]);
+                float value;
+                if constexpr (kLattice)
+                    value = checkedDistance(out[k], mDomain, pts[k]);
+                else
+                    value = checkedDistance(out[k], pts[k]);
                 mValues[todoAt[k]] = value;
                 if (onTileFace(todo[k])) recordBorder(todo[k], value);
             }
@@ -590,7 +613,11 @@ private:
             if (at) at[k] = i;
             if (valid(i)) continue;
             mStamp[i] = mCurrent;  // claims it, so a duplicate in this list is skipped
-            pts[m] = mBase + local[k];
+            const glm::uvec3 p = mBase + local[k];
+            if constexpr (kLattice)
+                pts[m] = p;
+            else
+                pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
             todo[m] = local[k];
             todoAt[m++] = i;
             if (m == kBatch) flush();
@@ -883,6 +910,7 @@ private:
     const Domain& mDomain;
     CellRule mRule;
     const DistanceSource& mSource;
+    bool mLatticeSource;  ///< ask it for lattice points (DistanceSource::answersLattice)
     glm::uvec3 mRegionMin, mRegionMax;
     const Tile* mOld = nullptr;
     uint32_t mSpan, mDim;
@@ -928,9 +956,8 @@ private:
         bool fresh;
         float* v = mUpperSamples.findOrInsert(latticeKey(p), 0.0f, fresh);
         if (fresh) {
-            double value;
-            mSource.latticeDistances(mDomain, {&p, 1}, {&value, 1});
-            *v = checkedDistance(value, mDomain, p);
+            const glm::dvec3 w = mDomain.latticeToWorld(p.x, p.y, p.z);
+            *v = checkedDistance(mSource.distance(w), w);
             ++mEvaluations;
         }
         return *v;

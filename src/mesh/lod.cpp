@@ -49,12 +49,14 @@ public:
 
     /// A coarse domain's lattice (the fine one's, fewer levels) is the fine lattice's every
     /// 2^k-th point: no world coordinates, no rounding.
+    bool answersLattice(const adf::Domain& d) const override {
+        const adf::Domain& fine = mAdf->domain();
+        return d.originWorld == fine.originWorld && d.sizeWorld == fine.sizeWorld && d.maxLevel <= fine.maxLevel;
+    }
     void latticeDistances(const adf::Domain& d, std::span<const glm::uvec3> lattice,
                           std::span<double> out) const override {
+        if (!answersLattice(d)) return DistanceSource::latticeDistances(d, lattice, out);
         const adf::Domain& fine = mAdf->domain();
-        const bool subLattice = d.originWorld == fine.originWorld && d.sizeWorld == fine.sizeWorld &&
-                                d.maxLevel <= fine.maxLevel;
-        if (!subLattice) return DistanceSource::latticeDistances(d, lattice, out);
         const auto shift = uint32_t(fine.maxLevel - d.maxLevel);
         constexpr std::size_t kBatch = 64;
         glm::uvec3 at[kBatch];

@@ -16,6 +16,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <bit>
 #include <cmath>
 #include <limits>
@@ -726,6 +727,64 @@ TEST(Generate, ANonFiniteSourceIsAnErrorNotAnAdf) {
         EXPECT_LT(x, 0.3) << what;
     }
     EXPECT_TRUE(named);
+}
+
+namespace {
+/// A source answering lattice points itself (as a LOD's sampler of a snapshot does): `inner`
+/// through the default lattice path, or NaN inside the slab 0.2 < x < 0.3 when `nanSlab`.
+class LatticeAnswering final : public DistanceSource {
+public:
+    LatticeAnswering(SourcePtr inner, bool nanSlab) : mInner(std::move(inner)), mNanSlab(nanSlab) {
+        mSmallestFeature = mInner->smallestFeature();
+    }
+    double distance(const glm::dvec3& p) const override {
+        return mNanSlab && p.x > 0.2 && p.x < 0.3 ? std::numeric_limits<double>::quiet_NaN() : mInner->distance(p);
+    }
+    double featureSize(const glm::dvec3& c, double radius) const override { return mInner->featureSize(c, radius); }
+    bool answersLattice(const Domain&) const override { return true; }
+    void latticeDistances(const Domain& d, std::span<const glm::uvec3> lattice, std::span<double> out) const override {
+        ++mAsked;
+        DistanceSource::latticeDistances(d, lattice, out);
+    }
+    mutable std::atomic<int> mAsked{0};
+
+private:
+    SourcePtr mInner;
+    bool mNanSlab;
+};
+}  // namespace
+
+TEST(Generate, ASourceAnsweringLatticePointsGivesTheSameAdf) {
+    // Asked for lattice points or for their world positions, a source gives the same values,
+    // so the same ADF, byte for byte, on one thread and on two.
+    const Domain d = testPartDomain(7);
+    const SourcePtr part = makeTestPart(d);
+    const LatticeAnswering answering(part, false);
+    util::ThreadPool pool(2);
+    for (util::ThreadPool* p : {static_cast<util::ThreadPool*>(nullptr), &pool}) {
+        const AdfPtr viaWorld = generate(*part, d, testPartSettings(), p);
+        const AdfPtr viaLattice = generate(answering, d, testPartSettings(), p);
+        EXPECT_TRUE(test::sameAdf(*viaWorld, *viaLattice));
+    }
+    EXPECT_GT(answering.mAsked.load(), 0) << "generation never took the lattice path";
+}
+
+TEST(Generate, ANonFiniteValueAtALatticePointNamesItsWorldPosition) {
+    const LatticeAnswering nan(makeSphere(0.3), true);
+    bool named = false;
+    try {
+        generate(nan, unitDomain(6), GenerationSettings{});
+    } catch (const std::domain_error& e) {
+        named = true;
+        const std::string what = e.what();
+        const std::size_t open = what.find('(');
+        ASSERT_NE(open, std::string::npos) << what;
+        const double x = std::stod(what.substr(open + 1));
+        EXPECT_GT(x, 0.2) << what;
+        EXPECT_LT(x, 0.3) << what;
+    }
+    EXPECT_TRUE(named);
+    EXPECT_GT(nan.mAsked.load(), 0);
 }
 
 TEST(Generate, ATileThatFailsStopsTheTilesWaitingForIt) {
