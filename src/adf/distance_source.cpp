@@ -3,6 +3,8 @@
 /// @brief Closed-form primitive distances, rigid transforms and (smooth) CSG nodes.
 #include "adf/distance_source.h"
 
+#include "adf/domain.h"
+
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 

@@ -10,8 +10,6 @@
 /// Follows Kizamu (Perry & Frisken 2001) section 5 and the usual closed forms for primitives.
 #pragma once
 
-#include "adf/domain.h"
-
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
@@ -23,6 +21,8 @@
 #include <vector>
 
 namespace kizamu::adf {
+
+struct Domain;
 
 /// A signed distance function of world position (m), negative inside.
 ///

@@ -17,8 +17,8 @@
 #include <mutex>
 #include <span>
 #include <stdexcept>
-#include <type_traits>
 #include <thread>
+#include <type_traits>
 #include <utility>
 #include <vector>
 

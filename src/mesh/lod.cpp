@@ -53,9 +53,13 @@ public:
         const adf::Domain& fine = mAdf->domain();
         return d.originWorld == fine.originWorld && d.sizeWorld == fine.sizeWorld && d.maxLevel <= fine.maxLevel;
     }
+    /// Such a point read as the fine lattice point it is; any other domain's through world space.
     void latticeDistances(const adf::Domain& d, std::span<const glm::uvec3> lattice,
                           std::span<double> out) const override {
-        if (!answersLattice(d)) return DistanceSource::latticeDistances(d, lattice, out);
+        if (!answersLattice(d)) {
+            DistanceSource::latticeDistances(d, lattice, out);
+            return;
+        }
         const adf::Domain& fine = mAdf->domain();
         const auto shift = uint32_t(fine.maxLevel - d.maxLevel);
         constexpr std::size_t kBatch = 64;
@@ -76,6 +80,11 @@ private:
 
 }  // namespace
 
+adf::SourcePtr makeFineFieldSource(adf::AdfPtr fine) {
+    if (!fine) throw std::invalid_argument("LOD needs a snapshot");
+    return std::make_shared<AdfSampler>(std::move(fine));
+}
+
 adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool) {
     if (!fine) throw std::invalid_argument("LOD needs a snapshot");
     if (!(errorWorld > 0.0) || !std::isfinite(errorWorld)) throw std::invalid_argument("LOD error must be positive");
@@ -92,7 +101,7 @@ adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadP
     adf::GenerationSettings s = fine->settings();
     s.epsilonCells = errorWorld / d.finestCellSize();
     s.bandCells = 0.0;  // surface only: a mesh needs nothing else
-    return adf::generate(AdfSampler(fine), d, s, pool);
+    return adf::generate(*makeFineFieldSource(fine), d, s, pool);
 }
 
 MeshBuffers meshLod(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool* pool, SurfaceNetsStats* stats) {

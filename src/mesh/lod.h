@@ -12,6 +12,7 @@
 #pragma once
 
 #include "adf/adf.h"
+#include "adf/distance_source.h"
 #include "mesh/mesh_buffers.h"
 #include "mesh/surface_nets.h"
 
@@ -22,6 +23,13 @@ class ThreadPool;
 }
 
 namespace kizamu::mesh {
+
+/// The fine field as the source coarsenAdf re-samples: trilinear reconstruction, which at a
+/// lattice point of `fine` is the value stored there. It answers the lattice points of any
+/// domain whose lattice is a sub-lattice of fine's (the same cube, no more levels) directly
+/// (adf::DistanceSource::answersLattice), the same values as at their world positions.
+/// @throw std::invalid_argument for a null snapshot.
+adf::SourcePtr makeFineFieldSource(adf::AdfPtr fine);
 
 /// The coarse ADF: `fine` re-sampled with error bound `errorWorld` (m) at the surface.
 /// @throw std::invalid_argument if errorWorld is not positive and finite.

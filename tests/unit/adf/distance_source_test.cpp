@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // Exact values of every primitive, transforms, CSG, and the 1-Lipschitz property.
 #include "adf/distance_source.h"
+#include "adf/domain.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>

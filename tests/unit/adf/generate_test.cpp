@@ -703,6 +703,23 @@ TEST(Generate, ChainsOfEditsStayLinear) {
     EXPECT_GT(adf->distance(glm::vec3(c)), 0.0f) << "the carve is missing";
 }
 
+/// Generating `source`, NaN in the slab 0.2 < x < 0.3 of the unit domain (which only tiles
+/// sample), fails with an error naming a point of the slab in world coordinates.
+void expectErrorNamesAPointOfTheNanSlab(const DistanceSource& source) {
+    try {
+        generate(source, unitDomain(6), GenerationSettings{});
+    } catch (const std::domain_error& e) {
+        const std::string what = e.what();
+        const std::size_t open = what.find('(');
+        ASSERT_NE(open, std::string::npos) << what;
+        const double x = std::stod(what.substr(open + 1));
+        EXPECT_GT(x, 0.2) << what;
+        EXPECT_LT(x, 0.3) << what;
+        return;
+    }
+    ADD_FAILURE() << "no error";
+}
+
 TEST(Generate, ANonFiniteSourceIsAnErrorNotAnAdf) {
     // NaN in a slab that only the tiles sample (the pass above them samples x = -0.5, 0, 0.5).
     class NanSource final : public DistanceSource {
@@ -713,23 +730,9 @@ TEST(Generate, ANonFiniteSourceIsAnErrorNotAnAdf) {
     };
     util::ThreadPool pool(2);
     EXPECT_THROW(generate(NanSource{}, unitDomain(6), GenerationSettings{}, &pool), std::domain_error);
-    // The error names a point where the source failed, in world coordinates.
-    bool named = false;
-    try {
-        generate(NanSource{}, unitDomain(6), GenerationSettings{});
-    } catch (const std::domain_error& e) {
-        named = true;
-        const std::string what = e.what();
-        const std::size_t open = what.find('(');
-        ASSERT_NE(open, std::string::npos) << what;
-        const double x = std::stod(what.substr(open + 1));
-        EXPECT_GT(x, 0.2) << what;
-        EXPECT_LT(x, 0.3) << what;
-    }
-    EXPECT_TRUE(named);
+    expectErrorNamesAPointOfTheNanSlab(NanSource{});
 }
 
-namespace {
 /// A source answering lattice points itself (as a LOD's sampler of a snapshot does): `inner`
 /// through the default lattice path, or NaN inside the slab 0.2 < x < 0.3 when `nanSlab`.
 class LatticeAnswering final : public DistanceSource {
@@ -743,16 +746,15 @@ public:
     double featureSize(const glm::dvec3& c, double radius) const override { return mInner->featureSize(c, radius); }
     bool answersLattice(const Domain&) const override { return true; }
     void latticeDistances(const Domain& d, std::span<const glm::uvec3> lattice, std::span<double> out) const override {
-        ++mAsked;
+        ++asked;
         DistanceSource::latticeDistances(d, lattice, out);
     }
-    mutable std::atomic<int> mAsked{0};
+    mutable std::atomic<int> asked{0};  ///< latticeDistances calls
 
 private:
     SourcePtr mInner;
     bool mNanSlab;
 };
-}  // namespace
 
 TEST(Generate, ASourceAnsweringLatticePointsGivesTheSameAdf) {
     // Asked for lattice points or for their world positions, a source gives the same values,
@@ -762,29 +764,19 @@ TEST(Generate, ASourceAnsweringLatticePointsGivesTheSameAdf) {
     const LatticeAnswering answering(part, false);
     util::ThreadPool pool(2);
     for (util::ThreadPool* p : {static_cast<util::ThreadPool*>(nullptr), &pool}) {
-        const AdfPtr viaWorld = generate(*part, d, testPartSettings(), p);
-        const AdfPtr viaLattice = generate(answering, d, testPartSettings(), p);
+        GenerationStats world, lattice;
+        const AdfPtr viaWorld = generate(*part, d, testPartSettings(), p, &world);
+        const AdfPtr viaLattice = generate(answering, d, testPartSettings(), p, &lattice);
         EXPECT_TRUE(test::sameAdf(*viaWorld, *viaLattice));
+        EXPECT_EQ(lattice.samples, world.samples) << "each point evaluated once, shared as before";
     }
-    EXPECT_GT(answering.mAsked.load(), 0) << "generation never took the lattice path";
+    EXPECT_GT(answering.asked.load(), 0) << "generation never took the lattice path";
 }
 
 TEST(Generate, ANonFiniteValueAtALatticePointNamesItsWorldPosition) {
     const LatticeAnswering nan(makeSphere(0.3), true);
-    bool named = false;
-    try {
-        generate(nan, unitDomain(6), GenerationSettings{});
-    } catch (const std::domain_error& e) {
-        named = true;
-        const std::string what = e.what();
-        const std::size_t open = what.find('(');
-        ASSERT_NE(open, std::string::npos) << what;
-        const double x = std::stod(what.substr(open + 1));
-        EXPECT_GT(x, 0.2) << what;
-        EXPECT_LT(x, 0.3) << what;
-    }
-    EXPECT_TRUE(named);
-    EXPECT_GT(nan.mAsked.load(), 0);
+    expectErrorNamesAPointOfTheNanSlab(nan);
+    EXPECT_GT(nan.asked.load(), 0);
 }
 
 TEST(Generate, ATileThatFailsStopsTheTilesWaitingForIt) {

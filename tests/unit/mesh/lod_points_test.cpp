@@ -4,12 +4,17 @@
 
 #include "adf/generate.h"
 #include "adf/test_part.h"
+#include "tests/util/adf_compare.h"
 #include "tests/util/mesh_check.h"
 #include "tests/util/painted.h"
 #include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+
+#include <random>
+#include <span>
+#include <vector>
 
 namespace kizamu {
 namespace {
@@ -64,6 +69,45 @@ TEST(Lod, CoarseCornersAreTheFineFieldAtTheSameLatticePoints) {
         });
     });
     EXPECT_GT(leaves, 500u);
+}
+
+TEST(Lod, TheFineFieldAnswersLatticePointsAsAtTheirWorldPositions) {
+    const Domain d = testPartDomain(8);
+    const AdfPtr fine = generate(*makeTestPart(d), d, testPartSettings());
+    const SourcePtr sampler = mesh::makeFineFieldSource(fine);
+    Domain coarse = d;
+    coarse.maxLevel = 6;
+    coarse.tileSpanLevels = 4;
+    ASSERT_TRUE(sampler->answersLattice(coarse));
+    Domain shifted = coarse;
+    shifted.originWorld.x += 0.25 * d.sizeWorld;
+    EXPECT_FALSE(sampler->answersLattice(shifted)) << "another lattice";
+    // Random points and the far corner, past two batches.
+    std::mt19937 rng(5);
+    std::uniform_int_distribution<uint32_t> u(0, coarse.latticeSize());
+    std::vector<glm::uvec3> points(150, glm::uvec3(coarse.latticeSize()));
+    for (std::size_t i = 1; i < points.size(); ++i) points[i] = {u(rng), u(rng), u(rng)};
+    std::vector<double> out(points.size());
+    sampler->latticeDistances(coarse, points, out);
+    for (std::size_t i = 0; i < points.size(); ++i)
+        ASSERT_EQ(out[i], sampler->distance(coarse.latticeToWorld(points[i].x, points[i].y, points[i].z))) << i;
+    // So a coarse generation asked at lattice points is the one asked at world positions, byte
+    // for byte.
+    class WorldOnly final : public DistanceSource {
+    public:
+        explicit WorldOnly(SourcePtr s) : mS(std::move(s)) {}
+        double distance(const glm::dvec3& p) const override { return mS->distance(p); }
+        void distances(std::span<const glm::dvec3> p, std::span<double> v) const override { mS->distances(p, v); }
+
+    private:
+        SourcePtr mS;
+    };
+    GenerationSettings s = testPartSettings();
+    s.bandCells = 0.0;
+    s.epsilonCells = 0.6;
+    const AdfPtr viaLattice = generate(*sampler, coarse, s);
+    const AdfPtr viaWorld = generate(WorldOnly(sampler), coarse, s);
+    EXPECT_TRUE(test::sameAdf(*viaLattice, *viaWorld));
 }
 
 TEST(Lod, SameBytesOnAnyThreadCount) {
