@@ -51,7 +51,7 @@ constexpr std::array<int, 18> kFaceEdgePoints = [] {
     return out;
 }();
 
-/// (i, j, k) of half-grid point g, by table: ensure() looks it up for every point it touches.
+/// (i, j, k) of half-grid point g, by table: the generator turns it into the points it lists.
 constexpr std::array<glm::uvec3, 27> kGridOffset = [] {
     std::array<glm::uvec3, 27> t{};
     for (int g = 0; g < 27; ++g) t[g] = {uint32_t(g % 3), uint32_t((g / 3) % 3), uint32_t(g / 9)};
