@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <bit>
+#include <cassert>
 #include <chrono>
 #include <stdexcept>
 
@@ -361,6 +362,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         SurfaceNetsStats st;
     };
     std::vector<ScanOut> scans(scanTiles.size());
+    // Only a scanned tile's pool can grow, and only a dropped tile's records go: the record
+    // count moves by those, as the other totals do (not a pass over every tile per update).
+    int64_t slotDelta = 0;
+    for (const TileMesh* tm : scanTiles) slotDelta -= int64_t(tm->crossings.size());
     // Busiest tiles first (an edit's crater tile holds most of the work): then the other
     // thread's share is the small ones and both finish together. Results do not depend on it.
     auto changedCells = [&](std::size_t i) { return scanBox[i].cells; };
@@ -634,8 +639,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
 
     // Released crossings can be reused from the next update on. Gone tiles must be empty; they
     // and tiles left empty (only a visited tile can become empty) are dropped.
-    for (std::size_t i = 0; i < scanTiles.size(); ++i)
+    for (std::size_t i = 0; i < scanTiles.size(); ++i) {
         for (uint32_t j : scans[i].released) scanTiles[i]->crossings.release(j);
+        slotDelta += int64_t(scanTiles[i]->crossings.size());
+    }
     std::vector<uint64_t> emptied;
     for (uint64_t k : dirty) {
         auto it = mTiles.find(k);
@@ -651,6 +658,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     for (uint64_t k : emptied) {
         auto it = mTiles.find(k);
         splitDelta -= int64_t(it->second->splits.size());
+        slotDelta -= int64_t(it->second->crossings.size());
         mTiles.erase(it);
     }
     const auto tPhase3 = std::chrono::steady_clock::now();
@@ -661,7 +669,12 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.crossings = std::size_t(int64_t(mStats.crossings) + crossingDelta);
     st.vertices = std::size_t(int64_t(mStats.vertices) + vertexDelta);
     st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
-    for (const auto& [key, tm] : mTiles) st.crossingSlots += tm->crossings.size();  // O(tiles) < O(slots)
+    st.crossingSlots = std::size_t(int64_t(mStats.crossingSlots) + slotDelta);
+#ifndef NDEBUG
+    SurfaceNetsStats recount;
+    totals(recount);
+    assert(recount.crossingSlots == st.crossingSlots && "surface nets: the record count drifted");
+#endif
     mStats = st;
 }
 
