@@ -15,8 +15,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <regex>
 #include <string>
 
 using namespace kizamu;
@@ -62,10 +62,18 @@ std::string run(const std::string& command) {
     return out;
 }
 
-double field(const std::string& text, const std::string& pattern) {
-    std::smatch m;
-    if (!std::regex_search(text, m, std::regex(pattern))) return std::nan("");
-    return std::stod(m[1].str());
+/// The number after the first `label` in `text`, past spaces, colons and an opening parenthesis
+/// (what assimp and admesh print), or NaN. Plain string search: GCC 12 warns inside std::regex
+/// under the sanitizers, and -Werror stopped the ASan build of this file.
+double field(const std::string& text, const std::string& label) {
+    std::size_t at = text.find(label);
+    if (at == std::string::npos) return std::nan("");
+    at = text.find_first_not_of(" \t:(", at + label.size());
+    if (at == std::string::npos) return std::nan("");
+    const char* begin = text.c_str() + at;
+    char* end = nullptr;
+    const double value = std::strtod(begin, &end);
+    return end == begin ? std::nan("") : value;
 }
 
 class MeshExport : public ::testing::TestWithParam<const char*> {
@@ -88,12 +96,12 @@ void expectAssimpReadsBack(const MeshBuffers& mesh, const std::string& path, con
     // -ptv etc. off: plain import, so counts are the file's own.
     const std::string info = run("assimp info '" + path + "' --raw");
     ASSERT_NE(info.find("Importing file ...                   OK"), std::string::npos) << info;
-    EXPECT_EQ(field(info, R"(Faces:\s+(\d+))"), double(mesh.triangleCount())) << info;
+    EXPECT_EQ(field(info, "Faces:"), double(mesh.triangleCount())) << info;
     if (format == "ply" || format == "glb") {
-        EXPECT_EQ(field(info, R"(Vertices:\s+(\d+))"), double(mesh.vertexCount())) << info;
+        EXPECT_EQ(field(info, "Vertices:"), double(mesh.vertexCount())) << info;
     }
-    EXPECT_NEAR(field(info, R"(Minimum point\s+\(([-0-9.e]+))"), minX, 1e-5) << info;
-    EXPECT_NEAR(field(info, R"(Maximum point\s+\(([-0-9.e]+))"), maxX, 1e-5) << info;
+    EXPECT_NEAR(field(info, "Minimum point"), minX, 1e-5) << info;
+    EXPECT_NEAR(field(info, "Maximum point"), maxX, 1e-5) << info;
 }
 
 /// Exports `mesh` as STL and checks that admesh finds it closed and consistently oriented.
@@ -101,9 +109,9 @@ void expectAdmeshFindsItClosed(const MeshBuffers& mesh, const std::string& path)
     ASSERT_EQ(std::system("command -v admesh >/dev/null 2>&1"), 0) << "admesh is required";
     exportMesh(mesh, path);
     const std::string report = run("admesh '" + path + "'");
-    EXPECT_EQ(field(report, R"(Number of facets\s*:\s*(\d+))"), double(mesh.triangleCount())) << report;
-    EXPECT_EQ(field(report, R"(Edges fixed\s*:\s*(\d+))"), 0.0) << report;
-    EXPECT_EQ(field(report, R"(Backwards edges\s*:\s*(\d+))"), 0.0) << report;
+    EXPECT_EQ(field(report, "Number of facets"), double(mesh.triangleCount())) << report;
+    EXPECT_EQ(field(report, "Edges fixed"), 0.0) << report;
+    EXPECT_EQ(field(report, "Backwards edges"), 0.0) << report;
 }
 
 TEST_P(MeshExport, AssimpReadsBackTheSameMesh) {
@@ -132,7 +140,7 @@ TEST_F(MeshExport, AdmeshFindsTheSurfaceNetsStlClosed) {
     const MeshBuffers mesh = testPartMesh();
     const std::string path = (mDir / "part.stl").string();
     expectAdmeshFindsItClosed(mesh, path);
-    EXPECT_EQ(field(run("admesh '" + path + "'"), R"(Number of parts\s*:\s*(\d+))"), 1.0);
+    EXPECT_EQ(field(run("admesh '" + path + "'"), "Number of parts"), 1.0);
 }
 
 TEST_F(MeshExport, AdmeshFindsAClosedStl) { expectAdmeshFindsItClosed(uvSphere(0.2f, 10, 12), (mDir / "sphere.stl").string()); }
