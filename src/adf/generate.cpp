@@ -1100,38 +1100,43 @@ private:
             tiles[j] = g.planRoot(mJobs[j], splits[j], mVersion);
             evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
         });
-        // A tile goes in parts when it holds more than half a thread's share of the children
-        // still to generate (a dab's crater tile: whole tiles under that balance well enough);
-        // the others continue from their roots whole, one task each, so their children share one
-        // scratch volume and evaluate no point twice (a LOD's 2^3 even tiles took 31 % more
-        // samples in parts, and 20 % more time).
-        std::size_t toGenerate = 0;
-        auto childrenToGenerate = [&](std::size_t j) {
-            return tiles[j] ? 0 : std::size_t(std::count(splits[j].keep, splits[j].keep + 8, Keep::No));
+        // What a child still to generate costs, about: the part of the region it covers, plus one
+        // (a full generation's region covers every child: then a tile weighs its child count).
+        const uint32_t half = mDomain.cellLattice(mDomain.tileLevel() + 1);
+        auto childWork = [&](std::size_t j, int c) -> uint64_t {
+            if (tiles[j] || splits[j].keep[c] != Keep::No) return 0;
+            const glm::uvec3 lo = mJobs[j].slot * (2 * half) + childOffset(c) * half;
+            const glm::uvec3 a = glm::max(lo, mRegionMin), b = glm::min(lo + half, mRegionMax);
+            return 1 + (glm::all(glm::lessThan(a, b)) ? uint64_t(b.x - a.x) * (b.y - a.y) * (b.z - a.z) : 0);
         };
-        for (std::size_t j = 0; j < n; ++j) toGenerate += childrenToGenerate(j);
+        std::vector<uint64_t> work(n, 0);
+        uint64_t total = 0;
+        for (std::size_t j = 0; j < n; ++j) {
+            for (int c = 0; c < 8; ++c) work[j] += childWork(j, c);
+            total += work[j];
+        }
+        // A tile goes in parts when it holds more than half a thread's share of that work (a
+        // dab's crater tile); the others continue from their roots whole, one task each, so
+        // their children share one scratch volume and evaluate no point twice (a LOD's 2^3 even
+        // tiles took 31 % more samples in parts, and 20 % more time).
         std::vector<std::size_t> split, whole;  // jobs whose root waits for its children
         for (std::size_t j = 0; j < n; ++j) {
             if (tiles[j]) continue;
-            (2 * childrenToGenerate(j) * threads > toGenerate ? split : whole).push_back(j);
+            (2 * work[j] * threads > total ? split : whole).push_back(j);
         }
-        // Parts first (the largest items), then the whole tiles; the parts by how much of the
-        // region their child holds, most first (the crater's child takes longest: handed out
-        // late, it alone kept one thread busy after the other had run out of items).
+        // Items heaviest first, parts and whole tiles alike: one handed out late kept a thread
+        // busy alone after the other had run out of items (a dab's crater child; a dab's
+        // heaviest whole tile, when whole tiles went last in index order: up to 1 ms of 2.4).
         std::vector<Part> parts(8 * split.size());
-        const uint32_t half = mDomain.cellLattice(mDomain.tileLevel() + 1);
-        auto overlap = [&](std::size_t i) -> uint64_t {
-            if (i >= parts.size()) return 0;  // a whole tile: after every part (ties keep the order)
-            const glm::uvec3 lo = mJobs[split[i / 8]].slot * (2 * half) + childOffset(int(i % 8)) * half;
-            const glm::uvec3 a = glm::max(lo, mRegionMin), b = glm::min(lo + half, mRegionMax);
-            return glm::all(glm::lessThan(a, b)) ? uint64_t(b.x - a.x) * (b.y - a.y) * (b.z - a.z) : 0;
+        auto weight = [&](std::size_t i) {
+            return i < parts.size() ? childWork(split[i / 8], int(i % 8)) : work[whole[i - parts.size()]];
         };
         // The task finishing a tile's last part joins them, while the other threads go on with
         // the items left: a loop of joins after all parts left one thread idle for as long as
         // the largest join took (a dab's crater tile: 0.1-0.25 ms of its 2.3).
         const std::unique_ptr<std::atomic<int>[]> partsLeft(new std::atomic<int>[split.size()]);
         for (std::size_t k = 0; k < split.size(); ++k) partsLeft[k].store(8, std::memory_order_relaxed);
-        util::parallelForHeaviestFirst(mPool, parts.size() + whole.size(), overlap, [&](std::size_t item) {
+        util::parallelForHeaviestFirst(mPool, parts.size() + whole.size(), weight, [&](std::size_t item) {
             if (item >= parts.size()) {
                 const std::size_t j = whole[item - parts.size()];
                 TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
