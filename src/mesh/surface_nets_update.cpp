@@ -359,10 +359,17 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     // cells' vertices) and the fresh ones (computed from the new tile) need each other only to
     // be compared. An edit's crater tile held a thread alone for half this phase when one item
     // did both. The side finishing last compares them; the result does not depend on who.
+    // A cell to re-mesh, named by a removed, added or kept crossing around it (with the
+    // crossing if added: the cell takes it as a new incidence).
+    struct Mention {
+        uint64_t owner, cell;
+        Crossing* added;
+    };
     struct ScanOut {
         std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot), (key, index in fresh)
         std::vector<Crossing> fresh;
-        std::vector<Crossing*> removed, added, kept;
+        std::vector<Mention> mentions;
+        std::size_t removedCount = 0, addedCount = 0;
         std::vector<uint32_t> released;
         SurfaceNetsStats st;
         std::atomic<int> sidesLeft{0};
@@ -394,8 +401,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         }
     }
     // Compares a tile's old and fresh crossings by key: removes the old ones that went or
-    // changed, adds the fresh ones that are new or changed, keeps identical ones in place.
-    auto compare = [&](std::size_t i) {
+    // changed, adds the fresh ones that are new or changed, keeps identical ones in place; and
+    // names the cells around them to re-mesh (a kept crossing's only where the cell changed).
+    auto compare = [&](std::size_t i, const ChangedCells::Query& changedAt) {
         TileMesh& tm = *scanTiles[i];
         ScanOut& out = scans[i];
         std::sort(out.old.begin(), out.old.end());
@@ -404,17 +412,26 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             Crossing& x = tm.crossings[j];
             x.alive = 0;
             --tm.liveCrossings;
-            out.removed.push_back(&x);
+            ++out.removedCount;
             out.released.push_back(j);
+            for (int q = 0; q < 4; ++q) out.mentions.push_back({x.ringOwner[q], x.ringCell[q], nullptr});
         };
-        auto add = [&](const Crossing& x) {
+        auto add = [&](const Crossing& from) {
             // A slot an earlier update released (its record is read by nobody since), else a new
             // one; never one released in this update: removed records are read until its end.
             const uint32_t j = tm.crossings.allocate();
-            tm.crossings[j] = x;
-            tm.crossings[j].slot = j;
+            Crossing& x = tm.crossings[j];
+            x = from;
+            x.slot = j;
             ++tm.liveCrossings;
-            out.added.push_back(&tm.crossings[j]);
+            ++out.addedCount;
+            for (int q = 0; q < 4; ++q)  // once per cell (a larger leaf fills two quadrants)
+                if (std::find(x.ringCell, x.ringCell + q, x.ringCell[q]) == x.ringCell + q)
+                    out.mentions.push_back({x.ringOwner[q], x.ringCell[q], &x});
+        };
+        auto keep = [&](const Crossing& x) {
+            for (int q = 0; q < 4; ++q)
+                if (changedAt.unitChanged(unpackLattice(x.ringCell[q]))) out.mentions.push_back({x.ringOwner[q], x.ringCell[q], nullptr});
         };
         const auto& old = out.old;
         const auto& order = out.order;
@@ -427,7 +444,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                 Crossing& x = tm.crossings[old[o].second];
                 const Crossing& y = out.fresh[order[f].second];
                 if (x.sameAs(y)) {
-                    out.kept.push_back(&x);
+                    keep(x);
                 } else {
                     remove(old[o].second);
                     add(y);
@@ -492,11 +509,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             for (uint32_t j = 0; j < out.fresh.size(); ++j) out.order[j] = {out.fresh[j].key(), j};
             std::sort(out.order.begin(), out.order.end());
         }
-        if (out.sidesLeft.fetch_sub(1, std::memory_order_acq_rel) == 1) compare(i);
+        if (out.sidesLeft.fetch_sub(1, std::memory_order_acq_rel) == 1) compare(i, changedAt);
     });
     st.tilesScanned = scanTiles.size();
     std::vector<CellTask> tasks;
-    const ChangedCells::Query changedAt(changed);
     // Totals move by what changed (the tiles not visited hold what they held).
     int64_t crossingDelta = 0, vertexDelta = 0, splitDelta = 0;
     // A cell is named by each of its crossings (about four): it is queued once (a cell key
@@ -510,19 +526,14 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     };
     std::vector<std::pair<uint32_t, Crossing*>> addedAt;  // (cell number, crossing)
     for (const ScanOut& s : scans) {
-        crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
+        crossingDelta += int64_t(s.addedCount) - int64_t(s.removedCount);
         st.boundaryLeaves += s.st.boundaryLeaves;
         st.openCrossings += s.st.openCrossings;
         st.crossingsComputed += s.st.crossingsComputed;
-        for (Crossing* x : s.removed)
-            for (int q = 0; q < 4; ++q) queueCell(x->ringOwner[q], x->ringCell[q]);
-        for (Crossing* x : s.added)
-            for (int q = 0; q < 4; ++q)
-                if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
-                    addedAt.emplace_back(queueCell(x->ringOwner[q], x->ringCell[q]), x);
-        for (Crossing* x : s.kept)
-            for (int q = 0; q < 4; ++q)
-                if (changedAt.unitChanged(unpackLattice(x->ringCell[q]))) queueCell(x->ringOwner[q], x->ringCell[q]);
+        for (const Mention& m : s.mentions) {
+            const uint32_t number = queueCell(m.owner, m.cell);
+            if (m.added) addedAt.emplace_back(number, m.added);
+        }
     }
     std::sort(tasks.begin(), tasks.end());
     // Added crossings by task (a counting sort): task i's are added[addedBegin[i]..addedBegin[i + 1]).
