@@ -19,7 +19,6 @@
 #include "util/thread_pool.h"
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cassert>
 #include <chrono>
@@ -228,6 +227,8 @@ struct CellTask {
 /// Not reentrant: a task must not start another update (none does).
 struct UpdateScratch {
     std::vector<BoundaryCell> leaves;
+    std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot or index)
+    std::vector<Crossing> fresh;
     std::vector<Incidence> inc;
     CellScratch cell;
 };
@@ -355,112 +356,21 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     }
 
     // 1. Crossings starting on a changed cell: recomputed by the tiles that can emit them.
-    // A rebuilt tile's two sides are separate items: its old crossings there (read from its old
-    // cells' vertices) and the fresh ones (computed from the new tile) need each other only to
-    // be compared. An edit's crater tile held a thread alone for half this phase when one item
-    // did both. The side finishing last compares them; the result does not depend on who.
-    // A cell to re-mesh, named by a removed, added or kept crossing around it (with the
-    // crossing if added: the cell takes it as a new incidence).
-    struct Mention {
-        uint64_t owner, cell;
-        Crossing* added;
-    };
     struct ScanOut {
-        std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot), (key, index in fresh)
-        std::vector<Crossing> fresh;
-        std::vector<Mention> mentions;
-        std::size_t removedCount = 0, addedCount = 0;
+        std::vector<Crossing*> removed, added, kept;
         std::vector<uint32_t> released;
         SurfaceNetsStats st;
-        std::atomic<int> sidesLeft{0};
     };
     std::vector<ScanOut> scans(scanTiles.size());
     // Only a scanned tile's pool can grow, and only a dropped tile's records go: the record
     // count moves by those, as the other totals do (not a pass over every tile per update).
     int64_t slotDelta = 0;
     for (const TileMesh* tm : scanTiles) slotDelta -= int64_t(tm->crossings.size());
-    enum Side : uint8_t { kOld = 1, kFresh = 2 };
-    struct ScanItem {
-        uint32_t tile;
-        uint8_t sides;
-    };
-    std::vector<ScanItem> scanItems;
-    for (uint32_t i = 0; i < scanTiles.size(); ++i) {
-        const TileMesh& tm = *scanTiles[i];
-        const bool hasOld = tm.liveCrossings > 0, hasFresh = tileOfKey(a, tm.key) == tm.tile;
-        const Tile* was = hasOld ? tileOfKey(oldAdf, tm.key) : nullptr;
-        if (hasOld && !was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
-        // A neighbour the edit left alone has the same leaves on both sides: walked once.
-        if (hasOld && hasFresh && was != tm.tile) {
-            scans[i].sidesLeft.store(2, std::memory_order_relaxed);
-            scanItems.push_back({i, kOld});
-            scanItems.push_back({i, kFresh});
-        } else {
-            scans[i].sidesLeft.store(1, std::memory_order_relaxed);
-            scanItems.push_back({i, uint8_t((hasOld ? kOld : 0) | (hasFresh ? kFresh : 0))});
-        }
-    }
-    // Compares a tile's old and fresh crossings by key: removes the old ones that went or
-    // changed, adds the fresh ones that are new or changed, keeps identical ones in place; and
-    // names the cells around them to re-mesh (a kept crossing's only where the cell changed).
-    auto compare = [&](std::size_t i, const ChangedCells::Query& changedAt) {
-        TileMesh& tm = *scanTiles[i];
-        ScanOut& out = scans[i];
-        std::sort(out.old.begin(), out.old.end());
-        std::size_t o = 0, f = 0;
-        auto remove = [&](uint32_t j) {
-            Crossing& x = tm.crossings[j];
-            x.alive = 0;
-            --tm.liveCrossings;
-            ++out.removedCount;
-            out.released.push_back(j);
-            for (int q = 0; q < 4; ++q) out.mentions.push_back({x.ringOwner[q], x.ringCell[q], nullptr});
-        };
-        auto add = [&](const Crossing& from) {
-            // A slot an earlier update released (its record is read by nobody since), else a new
-            // one; never one released in this update: removed records are read until its end.
-            const uint32_t j = tm.crossings.allocate();
-            Crossing& x = tm.crossings[j];
-            x = from;
-            x.slot = j;
-            ++tm.liveCrossings;
-            ++out.addedCount;
-            for (int q = 0; q < 4; ++q)  // once per cell (a larger leaf fills two quadrants)
-                if (std::find(x.ringCell, x.ringCell + q, x.ringCell[q]) == x.ringCell + q)
-                    out.mentions.push_back({x.ringOwner[q], x.ringCell[q], &x});
-        };
-        auto keep = [&](const Crossing& x) {
-            for (int q = 0; q < 4; ++q)
-                if (changedAt.unitChanged(unpackLattice(x.ringCell[q]))) out.mentions.push_back({x.ringOwner[q], x.ringCell[q], nullptr});
-        };
-        const auto& old = out.old;
-        const auto& order = out.order;
-        while (o < old.size() || f < order.size()) {
-            if (f == order.size() || (o < old.size() && old[o].first < order[f].first)) {
-                remove(old[o++].second);
-            } else if (o == old.size() || order[f].first < old[o].first) {
-                add(out.fresh[order[f++].second]);
-            } else {
-                Crossing& x = tm.crossings[old[o].second];
-                const Crossing& y = out.fresh[order[f].second];
-                if (x.sameAs(y)) {
-                    keep(x);
-                } else {
-                    remove(old[o].second);
-                    add(y);
-                }
-                ++o;
-                ++f;
-            }
-        }
-    };
     // Busiest tiles first (an edit's crater tile holds most of the work): then the other
     // thread's share is the small ones and both finish together. Results do not depend on it.
-    auto changedCells = [&](std::size_t k) { return scanBox[scanItems[k].tile].cells; };
-    util::parallelForHeaviestFirst(mPool, scanItems.size(), changedCells, [&](std::size_t k) {
-        const std::size_t i = scanItems[k].tile;
-        const uint8_t sides = scanItems[k].sides;
-        const TileMesh& tm = *scanTiles[i];
+    auto changedCells = [&](std::size_t i) { return scanBox[i].cells; };
+    util::parallelForHeaviestFirst(mPool, scanTiles.size(), changedCells, [&](std::size_t i) {
+        TileMesh& tm = *scanTiles[i];
         ScanOut& out = scans[i];
         const ChangedCells::Query changedAt(changed);
         const Touched box = scanBox[i];
@@ -470,13 +380,18 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         auto dropUnchanged = [&](std::vector<BoundaryCell>& leaves) {
             std::erase_if(leaves, [&](const BoundaryCell& b) { return !changedAt.cornerChanged(b.origin, b.size); });
         };
-        std::vector<BoundaryCell>& leaves = updateScratch().leaves;
+        // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
+        // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
+        UpdateScratch& buffers = updateScratch();
+        std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
+        std::vector<BoundaryCell>& leaves = buffers.leaves;
+        old.clear();
         leaves.clear();
-        if (sides & kOld) {
-            // Old ones: each was emitted by a boundary leaf of the old tile touching the region,
-            // and is listed by that leaf's vertex (found through the cell index, no scan of the
-            // tile). Another tile's crossings are read only in fields no task writes here.
-            appendBoundaryCellsTouching(*tileOfKey(oldAdf, tm.key), maxLevel, region, leaves);
+        const Tile* was = nullptr;
+        if (tm.liveCrossings > 0) {
+            was = tileOfKey(oldAdf, tm.key);
+            if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
+            appendBoundaryCellsTouching(*was, maxLevel, region, leaves);
             dropUnchanged(leaves);
             for (const BoundaryCell& e : leaves) {
                 const uint64_t cell = packLattice(e.origin);
@@ -485,15 +400,18 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                 for (uint32_t vi = *firstVertex; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
                     const Vertex& v = tm.vertices[vi];
                     for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+                        // Another tile's crossing: only fields no task writes in this phase.
                         const Crossing& x = *tm.incidences[j].x;
                         if (x.ringCell[x.emitter] != cell || x.ringOwner[x.emitter] != tm.key) continue;
-                        if (inBox(x.start, box.lo, box.hi) && changedAt.pointChanged(x.start)) out.old.emplace_back(x.key(), x.slot);
+                        if (inBox(x.start, box.lo, box.hi) && changedAt.pointChanged(x.start)) old.emplace_back(x.key(), x.slot);
                     }
                 }
             }
         }
-        if (sides & kFresh) {
-            if (!(sides & kOld) || tileOfKey(oldAdf, tm.key) != tm.tile) {  // else the old side's leaves are these
+        std::vector<Crossing>& fresh = buffers.fresh;
+        fresh.clear();
+        if (tileOfKey(a, tm.key) == tm.tile) {
+            if (was != tm.tile) {  // a rebuilt tile (a neighbour the edit left alone has the same leaves)
                 leaves.clear();
                 appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves);
                 dropUnchanged(leaves);
@@ -503,16 +421,52 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                                             return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
                                         },
                                         &changedAt};
-            out.fresh.reserve(leaves.size() + leaves.size() / 2);  // about one crossing a leaf
-            computeCrossings(a, tm.key, leaves, out.fresh, out.st, onChanged);
-            out.order.resize(out.fresh.size());  // (key, index): no record moves
-            for (uint32_t j = 0; j < out.fresh.size(); ++j) out.order[j] = {out.fresh[j].key(), j};
-            std::sort(out.order.begin(), out.order.end());
+            computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
         }
-        if (out.sidesLeft.fetch_sub(1, std::memory_order_acq_rel) == 1) compare(i, changedAt);
+        std::sort(old.begin(), old.end());
+        std::vector<std::pair<uint64_t, uint32_t>>& order = buffers.order;  // (key, index): no record moves
+        order.resize(fresh.size());
+        for (uint32_t j = 0; j < fresh.size(); ++j) order[j] = {fresh[j].key(), j};
+        std::sort(order.begin(), order.end());
+        std::size_t o = 0, f = 0;
+        auto remove = [&](uint32_t j) {
+            Crossing& x = tm.crossings[j];
+            x.alive = 0;
+            --tm.liveCrossings;
+            out.removed.push_back(&x);
+            out.released.push_back(j);
+        };
+        auto add = [&](const Crossing& x) {
+            // A slot an earlier update released (its record is read by nobody since), else a new
+            // one; never one released in this update: removed records are read until its end.
+            const uint32_t j = tm.crossings.allocate();
+            tm.crossings[j] = x;
+            tm.crossings[j].slot = j;
+            ++tm.liveCrossings;
+            out.added.push_back(&tm.crossings[j]);
+        };
+        while (o < old.size() || f < order.size()) {
+            if (f == order.size() || (o < old.size() && old[o].first < order[f].first)) {
+                remove(old[o++].second);
+            } else if (o == old.size() || order[f].first < old[o].first) {
+                add(fresh[order[f++].second]);
+            } else {
+                Crossing& x = tm.crossings[old[o].second];
+                const Crossing& y = fresh[order[f].second];
+                if (x.sameAs(y)) {
+                    out.kept.push_back(&x);
+                } else {
+                    remove(old[o].second);
+                    add(y);
+                }
+                ++o;
+                ++f;
+            }
+        }
     });
     st.tilesScanned = scanTiles.size();
     std::vector<CellTask> tasks;
+    const ChangedCells::Query changedAt(changed);
     // Totals move by what changed (the tiles not visited hold what they held).
     int64_t crossingDelta = 0, vertexDelta = 0, splitDelta = 0;
     // A cell is named by each of its crossings (about four): it is queued once (a cell key
@@ -526,14 +480,19 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     };
     std::vector<std::pair<uint32_t, Crossing*>> addedAt;  // (cell number, crossing)
     for (const ScanOut& s : scans) {
-        crossingDelta += int64_t(s.addedCount) - int64_t(s.removedCount);
+        crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
         st.boundaryLeaves += s.st.boundaryLeaves;
         st.openCrossings += s.st.openCrossings;
         st.crossingsComputed += s.st.crossingsComputed;
-        for (const Mention& m : s.mentions) {
-            const uint32_t number = queueCell(m.owner, m.cell);
-            if (m.added) addedAt.emplace_back(number, m.added);
-        }
+        for (Crossing* x : s.removed)
+            for (int q = 0; q < 4; ++q) queueCell(x->ringOwner[q], x->ringCell[q]);
+        for (Crossing* x : s.added)
+            for (int q = 0; q < 4; ++q)
+                if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
+                    addedAt.emplace_back(queueCell(x->ringOwner[q], x->ringCell[q]), x);
+        for (Crossing* x : s.kept)
+            for (int q = 0; q < 4; ++q)
+                if (changedAt.unitChanged(unpackLattice(x->ringCell[q]))) queueCell(x->ringOwner[q], x->ringCell[q]);
     }
     std::sort(tasks.begin(), tasks.end());
     // Added crossings by task (a counting sort): task i's are added[addedBegin[i]..addedBegin[i + 1]).
@@ -654,38 +613,29 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             for (Vertex& v : tm->vertices) v.relaxStamp = 0;
         mRelaxStamp = 1;
     }
-    // The new vertices and every vertex that reads one of them, each relaxed once: a block of
-    // new vertices claims its neighbours by their stamp (an atomic exchange: a neighbour of two
-    // blocks goes to one) and relaxes what it claimed. Relaxation reads only `projected`, final
-    // since phase 2, and writes the vertex's own position: no barrier between claiming and
-    // relaxing. (Listing them first, on one thread, took as long as relaxing them on two.)
-    std::vector<VertexRef> newVertices;
-    for (const std::vector<VertexRef>& list : made) newVertices.insert(newVertices.end(), list.begin(), list.end());
-    constexpr std::size_t kRelaxBlock = 256;
-    std::atomic<std::size_t> relaxed{0};
-    util::parallelFor(mPool, (newVertices.size() + kRelaxBlock - 1) / kRelaxBlock, [&](std::size_t b) {
-        thread_local std::vector<VertexRef> relax;  // kept per pool thread, as UpdateScratch
-        relax.clear();
-        const std::size_t first = b * kRelaxBlock, end = std::min(newVertices.size(), first + kRelaxBlock);
-        for (std::size_t k = first; k < end; ++k) {
-            const VertexRef r = newVertices[k];
+    std::vector<VertexRef> relax;
+    for (const std::vector<VertexRef>& list : made)
+        for (const VertexRef& r : list) {
             const Vertex& v = r.tile->vertices[r.index];
             for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
                 const Crossing& x = *r.tile->incidences[j].x;
                 for (int q = 0; q < 4; ++q) {
                     const VertexRef n = x.ringVertex[q];
-                    std::atomic_ref<uint32_t> stamp(n.tile->vertices[n.index].relaxStamp);
-                    if (stamp.load(std::memory_order_relaxed) == mRelaxStamp ||
-                        stamp.exchange(mRelaxStamp, std::memory_order_relaxed) == mRelaxStamp)
-                        continue;
+                    Vertex& w = n.tile->vertices[n.index];
+                    if (w.relaxStamp == mRelaxStamp) continue;
+                    w.relaxStamp = mRelaxStamp;
                     relax.push_back(n);
                 }
             }
         }
-        relaxInOrder(relax.size(), [&](std::size_t k) { return relax[k]; });
-        relaxed.fetch_add(relax.size(), std::memory_order_relaxed);
+    // Each vertex is independent (reads neighbours' `projected`, writes its own position):
+    // blocks of vertices, not one pool hand-off each.
+    constexpr std::size_t kRelaxBlock = 512;
+    util::parallelFor(mPool, (relax.size() + kRelaxBlock - 1) / kRelaxBlock, [&](std::size_t b) {
+        const std::size_t first = b * kRelaxBlock, end = std::min(relax.size(), first + kRelaxBlock);
+        relaxInOrder(end - first, [&](std::size_t k) { return relax[first + k]; });
     });
-    st.verticesRelaxed = relaxed.load();
+    st.verticesRelaxed = relax.size();
 
     // Released crossings can be reused from the next update on. Gone tiles must be empty; they
     // and tiles left empty (only a visited tile can become empty) are dropped.
