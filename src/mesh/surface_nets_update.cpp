@@ -277,17 +277,13 @@ void SurfaceMesher::update(adf::AdfPtr next) {
 
     // 0. Tiles the new snapshot does not share with the old one, and old tiles that are gone,
     // compared cell by cell.
-    // Slot by slot (two loads each; the old tile of every TileMesh is the old snapshot's).
+    // The slots of the chunks the snapshots do not share (the old tile of every TileMesh is the
+    // old snapshot's).
     std::vector<uint64_t> dirty;
-    for (uint32_t z = 0; z < slots; ++z)
-        for (uint32_t y = 0; y < slots; ++y)
-            for (uint32_t x = 0; x < slots; ++x) {
-                const Tile* was = oldAdf.tileAtSlot({x, y, z});
-                const Tile* now = a.tileAtSlot({x, y, z});
-                if (was == now) continue;
-                dirty.push_back(packLattice(was->latticeOrigin()));
-                dirty.push_back(packLattice(now->latticeOrigin()));
-            }
+    a.forEachSlotDiffering(oldAdf, [&](glm::uvec3 slot) {
+        dirty.push_back(packLattice(oldAdf.tileAtSlot(slot)->latticeOrigin()));
+        dirty.push_back(packLattice(a.tileAtSlot(slot)->latticeOrigin()));
+    });
     sortUnique(dirty);
     std::vector<std::vector<LatticeBox>> boxesOf(dirty.size());
     util::parallelFor(mPool, dirty.size(), [&](std::size_t i) {

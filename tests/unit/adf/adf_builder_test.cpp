@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <stdexcept>
+#include <tuple>
 #include <vector>
 
 using namespace kizamu::adf;
@@ -77,4 +79,37 @@ TEST(AdfBuilder, AnEditSharesTheChunksItDoesNotWrite) {
                     EXPECT_EQ(next->tileAtSlot(s), base->tileAtSlot(s));
                 }
             }
+}
+
+TEST(AdfBuilder, SlotsDifferingBetweenSnapshotsAreFoundWithoutVisitingSharedChunks) {
+    const Domain d = smallDomain();
+    AdfBuilder first(d, GenerationSettings{});
+    fillExcept(first, d, glm::uvec3(99));
+    const AdfPtr base = first.build(1);
+    AdfBuilder edit(*base);
+    const std::vector<glm::uvec3> changed{{3, 4, 5}, {3, 4, 6}, {12, 1, 9}};  // two chunks of eight
+    for (const glm::uvec3& s : changed) edit.setTile(outsideTile(d, s, 0.25f));
+    const AdfPtr next = edit.build(2);
+
+    std::vector<glm::uvec3> found;
+    next->forEachSlotDiffering(*base, [&](glm::uvec3 s) { found.push_back(s); });
+    auto sorted = [](std::vector<glm::uvec3> v) {
+        std::sort(v.begin(), v.end(), [](glm::uvec3 l, glm::uvec3 r) {
+            return std::tie(l.z, l.y, l.x) < std::tie(r.z, r.y, r.x);
+        });
+        return v;
+    };
+    EXPECT_EQ(sorted(found), sorted(changed));
+    found.clear();
+    base->forEachSlotDiffering(*next, [&](glm::uvec3 s) { found.push_back(s); });
+    EXPECT_EQ(sorted(found), sorted(changed));
+    std::size_t none = 0;
+    next->forEachSlotDiffering(*next, [&](glm::uvec3) { ++none; });
+    EXPECT_EQ(none, 0u);
+    // Snapshots built apart share no chunk and no tile: every slot differs.
+    AdfBuilder apart(d, GenerationSettings{});
+    fillExcept(apart, d, glm::uvec3(99));
+    std::size_t all = 0;
+    apart.build(3)->forEachSlotDiffering(*base, [&](glm::uvec3) { ++all; });
+    EXPECT_EQ(all, std::size_t(d.slotsPerAxis()) * d.slotsPerAxis() * d.slotsPerAxis());
 }
