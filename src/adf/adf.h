@@ -112,6 +112,7 @@ public:
     /// few chunks, not every slot (262k at level 12). Threading: any thread. Memory: none.
     template <class F>
     void forEachSlotDiffering(const Adf& other, F f) const {
+        assert(other.mRoot.size() == mRoot.size() && "forEachSlotDiffering compares snapshots of one domain");
         const uint32_t n = mRootDim;
         for (uint32_t rz = 0; rz < n; ++rz)
             for (uint32_t ry = 0; ry < n; ++ry)

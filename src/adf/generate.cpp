@@ -1083,11 +1083,12 @@ private:
     /// A small generation or regeneration: every tile at once (no colours), each evaluating the
     /// border points it shares with a neighbour itself, and each from its root: the roots
     /// first, then the large tiles' 8 children as parts side by side with the other tiles, each
-    /// tile's parts joined by the task finishing its last one. A dab's tiles are uneven (one usually holds most of the crater: 1-2.8
-    /// ms against under 0.5 ms for the rest), so whole tiles left the second thread idle. Parts
-    /// evaluate the points they share again: the values are the same (the source is a function
-    /// of the point), and the tiles come out as build() makes them (tested: the same bits on 1,
-    /// 2 and 3 threads); only the evaluation count depends on the thread count.
+    /// tile's parts joined by the task finishing its last one. A dab's tiles are uneven (one
+    /// usually holds most of the crater: 1-2.8 ms against under 0.5 ms for the rest), so whole
+    /// tiles left the second thread idle. Parts evaluate the points they share again: the
+    /// values are the same (the source is a function of the point), and the tiles come out as
+    /// build() makes them (tested: the same bits on 1, 2 and 3 threads); only the evaluation
+    /// count depends on the thread count.
     void generateSmall(unsigned threads) {
         using Split = TileGenerator::Split;
         using Part = TileGenerator::Part;
@@ -1127,7 +1128,8 @@ private:
         }
         // Items heaviest first, parts and whole tiles alike: one handed out late kept a thread
         // busy alone after the other had run out of items (a dab's crater child; a dab's
-        // heaviest whole tile, when whole tiles went last in index order: up to 1 ms of 2.4).
+        // heaviest whole tile, when whole tiles went last in index order: up to 1 ms of thread
+        // time idle in a 2.4 ms dab).
         std::vector<Part> parts(8 * split.size());
         auto weight = [&](std::size_t i) {
             return i < parts.size() ? childWork(split[i / 8], int(i % 8)) : work[whole[i - parts.size()]];
