@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <stdexcept>
 #include <tuple>
+#include <utility>
 #include <vector>
 
 using namespace kizamu::adf;
@@ -41,6 +42,17 @@ void fillExcept(AdfBuilder& b, const Domain& d, glm::uvec3 skip) {
                 if (glm::uvec3(x, y, z) != skip) b.setTile(outsideTile(d, {x, y, z}));
 }
 
+/// A complete snapshot (version 1) and an edit of it (version 2) that replaces the tiles at
+/// `changed`.
+std::pair<AdfPtr, AdfPtr> snapshotAndEdit(const Domain& d, const std::vector<glm::uvec3>& changed) {
+    AdfBuilder first(d, GenerationSettings{});
+    fillExcept(first, d, glm::uvec3(99));
+    AdfPtr base = first.build(1);
+    AdfBuilder edit(*base);
+    for (const glm::uvec3& s : changed) edit.setTile(outsideTile(d, s, 0.25f));
+    return {std::move(base), edit.build(2)};
+}
+
 }  // namespace
 
 TEST(AdfBuilder, AnUnassignedSlotOfAWrittenChunkIsAnError) {
@@ -58,14 +70,8 @@ TEST(AdfBuilder, AnUnassignedSlotOfAWrittenChunkIsAnError) {
 
 TEST(AdfBuilder, AnEditSharesTheChunksItDoesNotWrite) {
     const Domain d = smallDomain();
-    AdfBuilder first(d, GenerationSettings{});
-    fillExcept(first, d, glm::uvec3(99));
-    const AdfPtr base = first.build(1);
-
-    AdfBuilder edit(*base);
     const glm::uvec3 changed(3, 4, 5);  // in chunk (0, 0, 0)
-    edit.setTile(outsideTile(d, changed, 0.25f));
-    const AdfPtr next = edit.build(2);
+    const auto [base, next] = snapshotAndEdit(d, {changed});
     EXPECT_EQ(next->version(), 2u);
     const uint32_t n = d.slotsPerAxis();
     for (uint32_t z = 0; z < n; ++z)
@@ -83,13 +89,8 @@ TEST(AdfBuilder, AnEditSharesTheChunksItDoesNotWrite) {
 
 TEST(AdfBuilder, SlotsDifferingBetweenSnapshotsAreFoundWithoutVisitingSharedChunks) {
     const Domain d = smallDomain();
-    AdfBuilder first(d, GenerationSettings{});
-    fillExcept(first, d, glm::uvec3(99));
-    const AdfPtr base = first.build(1);
-    AdfBuilder edit(*base);
     const std::vector<glm::uvec3> changed{{3, 4, 5}, {3, 4, 6}, {12, 1, 9}};  // two chunks of eight
-    for (const glm::uvec3& s : changed) edit.setTile(outsideTile(d, s, 0.25f));
-    const AdfPtr next = edit.build(2);
+    const auto [base, next] = snapshotAndEdit(d, changed);
 
     std::vector<glm::uvec3> found;
     next->forEachSlotDiffering(*base, [&](glm::uvec3 s) { found.push_back(s); });
