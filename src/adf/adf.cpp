@@ -290,8 +290,8 @@ void AdfBuilder::setColours(std::shared_ptr<const ColourLayer> colours) {
 }
 
 const Tile* AdfBuilder::tileAtSlot(glm::uvec3 slot) const {
-    // Only a root entry can still be unassigned here (chunks start filled or copied); the rest
-    // is the snapshot's own lookup.
+    // An unassigned root entry answers null here; a chunk being filled answers null for its
+    // unassigned slots through the snapshot's own lookup.
     const Adf& a = *mAdf;
     const glm::uvec3 r = slot >> uint32_t(a.mChunkLevels);
     if (a.mRoot[(r.z * a.mRootDim + r.y) * a.mRootDim + r.x] == 0) return nullptr;

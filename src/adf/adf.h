@@ -106,12 +106,12 @@ public:
         return reinterpret_cast<const Chunk*>(e)->tiles[(c.z * mChunkDim + c.y) * mChunkDim + c.x];
     }
 
-    /// Calls f(slot) for every tile slot where `other`, a snapshot of the same domain, holds a
+    /// Calls fn(slot) for every tile slot where `other`, a snapshot of the same domain, holds a
     /// different tile. Chunks both share (an edit copies only those it writes) are skipped
     /// whole. Complexity: O(root entries + slots of the chunks they do not share): an edit's
     /// few chunks, not every slot (262k at level 12). Threading: any thread. Memory: none.
-    template <class F>
-    void forEachSlotDiffering(const Adf& other, F f) const {
+    template <class Fn>
+    void forEachSlotDiffering(const Adf& other, Fn&& fn) const {
         assert(other.mRoot.size() == mRoot.size() && "forEachSlotDiffering compares snapshots of one domain");
         const uint32_t n = mRootDim;
         for (uint32_t rz = 0; rz < n; ++rz)
@@ -124,7 +124,7 @@ public:
                         for (uint32_t y = 0; y < mChunkDim; ++y)
                             for (uint32_t x = 0; x < mChunkDim; ++x) {
                                 const glm::uvec3 slot = first + glm::uvec3(x, y, z);
-                                if (tileAtSlot(slot) != other.tileAtSlot(slot)) f(slot);
+                                if (tileAtSlot(slot) != other.tileAtSlot(slot)) fn(slot);
                             }
                 }
     }

@@ -1102,7 +1102,9 @@ private:
             evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
         });
         // What a child still to generate costs, about: the part of the region it covers, plus one
-        // (a full generation's region covers every child: then a tile weighs its child count).
+        // so that a child just outside the region (inside its margin) still weighs something. A
+        // full generation's region covers every child: then a tile weighs in proportion to its
+        // child count.
         const uint32_t half = mDomain.cellLattice(mDomain.tileLevel() + 1);
         auto childWork = [&](std::size_t j, int c) -> uint64_t {
             if (tiles[j] || splits[j].keep[c] != Keep::No) return 0;
@@ -1116,15 +1118,19 @@ private:
             for (int c = 0; c < 8; ++c) work[j] += childWork(j, c);
             total += work[j];
         }
-        // A tile goes in parts when it holds more than a quarter of a thread's share of that
-        // work (a dab's crater tile, and a heavy neighbour: with half a share, a dab's threads
-        // idled a fifth longer, for 0.4 % fewer samples); the others continue from their roots
-        // whole, one task each, so their children share one scratch volume and evaluate no
-        // point twice (a LOD's 2^3 even tiles took 31 % more samples in parts, and 20 % more time).
+        // A tile goes in parts when it holds more than a share of that work: in a regeneration
+        // (an edit's region, uneven: a dab's crater tile and its heavy neighbours) a quarter of
+        // a thread's share (with half a share, a dab's threads idled a fifth longer, for 0.4 %
+        // fewer samples); in a generation (spread over the domain, even: a LOD's 2^3 tiles) half
+        // a thread's share, which keeps even tiles whole up to 4 threads. The others continue
+        // from their roots whole, one task each, so their children share one scratch volume and
+        // evaluate no point twice (a LOD's 2^3 even tiles took 31 % more samples in parts, and
+        // 20 % more time).
+        const uint64_t sharesPerThread = mBase ? 4 : 2;
         std::vector<std::size_t> split, whole;  // jobs whose root waits for its children
         for (std::size_t j = 0; j < n; ++j) {
             if (tiles[j]) continue;
-            (4 * work[j] * threads > total ? split : whole).push_back(j);
+            (sharesPerThread * work[j] * threads > total ? split : whole).push_back(j);
         }
         // Items heaviest first, parts and whole tiles alike: one handed out late kept a thread
         // busy alone after the other had run out of items (a dab's crater child; a dab's

@@ -277,8 +277,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
 
     // 0. Tiles the new snapshot does not share with the old one, and old tiles that are gone,
     // compared cell by cell.
-    // The slots of the chunks the snapshots do not share (the old tile of every TileMesh is the
-    // old snapshot's).
+    // The slots holding different tiles, found in the chunks the snapshots do not share (the
+    // old tile of every TileMesh is the old snapshot's).
     std::vector<uint64_t> dirty;
     a.forEachSlotDiffering(oldAdf, [&](glm::uvec3 slot) {
         dirty.push_back(packLattice(oldAdf.tileAtSlot(slot)->latticeOrigin()));

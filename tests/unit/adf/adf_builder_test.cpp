@@ -68,6 +68,17 @@ TEST(AdfBuilder, AnUnassignedSlotOfAWrittenChunkIsAnError) {
     EXPECT_NO_THROW(whole.build(1));
 }
 
+TEST(AdfBuilder, AChunkNeverAssignedIsAnError) {
+    const Domain d = smallDomain();
+    AdfBuilder b(d, GenerationSettings{});
+    const uint32_t n = d.slotsPerAxis();
+    for (uint32_t z = 0; z < n; ++z)
+        for (uint32_t y = 0; y < n; ++y)
+            for (uint32_t x = 0; x < n; ++x)
+                if (x < 8 || y < 8 || z < 8) b.setTile(outsideTile(d, {x, y, z}));  // chunk (1, 1, 1) left out
+    EXPECT_THROW(b.build(1), std::logic_error);
+}
+
 TEST(AdfBuilder, AnEditSharesTheChunksItDoesNotWrite) {
     const Domain d = smallDomain();
     const glm::uvec3 changed(3, 4, 5);  // in chunk (0, 0, 0)
@@ -87,7 +98,7 @@ TEST(AdfBuilder, AnEditSharesTheChunksItDoesNotWrite) {
             }
 }
 
-TEST(AdfBuilder, SlotsDifferingBetweenSnapshotsAreFoundWithoutVisitingSharedChunks) {
+TEST(AdfBuilder, SlotsDifferingBetweenSnapshotsAreExactlyTheReplacedOnes) {
     const Domain d = smallDomain();
     const std::vector<glm::uvec3> changed{{3, 4, 5}, {3, 4, 6}, {12, 1, 9}};  // two chunks of eight
     const auto [base, next] = snapshotAndEdit(d, changed);
