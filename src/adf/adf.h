@@ -20,6 +20,7 @@
 #include <glm/vec3.hpp>
 
 #include <array>
+#include <bit>
 #include <cassert>
 #include <cstdint>
 #include <functional>
@@ -113,20 +114,20 @@ public:
     template <class Fn>
     void forEachSlotDiffering(const Adf& other, Fn&& fn) const {
         assert(other.mRoot.size() == mRoot.size() && "forEachSlotDiffering compares snapshots of one domain");
-        const uint32_t n = mRootDim;
-        for (uint32_t rz = 0; rz < n; ++rz)
-            for (uint32_t ry = 0; ry < n; ++ry)
-                for (uint32_t rx = 0; rx < n; ++rx) {
-                    const std::size_t i = (std::size_t(rz) * n + ry) * n + rx;
-                    if (mRoot[i] == other.mRoot[i]) continue;
-                    const glm::uvec3 first = glm::uvec3(rx, ry, rz) << uint32_t(mChunkLevels);
-                    for (uint32_t z = 0; z < mChunkDim; ++z)
-                        for (uint32_t y = 0; y < mChunkDim; ++y)
-                            for (uint32_t x = 0; x < mChunkDim; ++x) {
-                                const glm::uvec3 slot = first + glm::uvec3(x, y, z);
-                                if (tileAtSlot(slot) != other.tileAtSlot(slot)) fn(slot);
-                            }
-                }
+        // Entry i of a cube of side 2^bits (x fastest), as coordinates.
+        auto unpack = [](uint32_t i, uint32_t bits) {
+            const uint32_t mask = (1u << bits) - 1;
+            return glm::uvec3(i & mask, (i >> bits) & mask, i >> (2 * bits));
+        };
+        const auto rootBits = uint32_t(std::countr_zero(mRootDim)), chunkBits = uint32_t(mChunkLevels);
+        for (uint32_t i = 0; i < uint32_t(mRoot.size()); ++i) {
+            if (mRoot[i] == other.mRoot[i]) continue;
+            const glm::uvec3 first = unpack(i, rootBits) << chunkBits;
+            for (uint32_t k = 0; k < (1u << (3 * chunkBits)); ++k) {
+                const glm::uvec3 slot = first + unpack(k, chunkBits);
+                if (tileAtSlot(slot) != other.tileAtSlot(slot)) fn(slot);
+            }
+        }
     }
 
     /// Leaf cell containing lattice point `p` (each coordinate < latticeSize()), corners not

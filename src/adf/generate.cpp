@@ -960,6 +960,9 @@ public:
     }
 
 private:
+    /// A tile generator for this run's source, settings and region.
+    TileGenerator generator() const { return TileGenerator(mDomain, mSettings, mSource, mRegionMin, mRegionMax); }
+
     float sample(glm::uvec3 p) {
         bool fresh;
         float* v = mUpperSamples.findOrInsert(latticeKey(p), 0.0f, fresh);
@@ -1068,7 +1071,7 @@ private:
             }
             if (failed.load(std::memory_order_relaxed)) return;  // the loop rethrows the first error
             try {
-                TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+                TileGenerator g = generator();
                 tiles[j] = g.build(mJobs[j], neighbours, borders[j], mVersion);
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
             } catch (...) {
@@ -1097,7 +1100,7 @@ private:
         std::vector<Split> splits(n);
         std::atomic<uint64_t> evaluations{0};
         util::parallelFor(mPool, n, [&](std::size_t j) {
-            TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+            TileGenerator g = generator();
             tiles[j] = g.planRoot(mJobs[j], splits[j], mVersion);
             evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
         });
@@ -1148,19 +1151,19 @@ private:
         util::parallelForHeaviestFirst(mPool, parts.size() + whole.size(), weight, [&](std::size_t item) {
             if (item >= parts.size()) {
                 const std::size_t j = whole[item - parts.size()];
-                TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+                TileGenerator g = generator();
                 tiles[j] = g.buildChildren(mJobs[j], splits[j], mVersion);
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
                 return;
             }
             const std::size_t k = item / 8, j = split[k];
             {
-                TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+                TileGenerator g = generator();
                 parts[item] = g.buildChild(mJobs[j], splits[j], int(item % 8));
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
             }
             if (partsLeft[k].fetch_sub(1, std::memory_order_acq_rel) == 1) {
-                TileGenerator g(mDomain, mSettings, mSource, mRegionMin, mRegionMax);
+                TileGenerator g = generator();
                 tiles[j] = g.join(mJobs[j], splits[j], &parts[8 * k], mVersion);
             }
         });
