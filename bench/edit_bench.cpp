@@ -50,6 +50,7 @@ int runEditBench(const EditBenchOptions& opt) {
             continue;
         }
         std::vector<double> edit, remesh, total;
+        std::vector<double> crossingMs, vertexMs, relaxMs;  // the re-mesh's phases (SurfaceNetsStats)
         Sculptor sculptor(part, &pool);
         for (int i = 0; i < opt.dabs + 1; ++i) {  // the first is a warm-up
             Stroke dab;
@@ -64,6 +65,9 @@ int runEditBench(const EditBenchOptions& opt) {
             edit.push_back((t1 - t0) * 1e3);
             remesh.push_back((t2 - t1) * 1e3);
             total.push_back((t2 - t0) * 1e3);
+            crossingMs.push_back(mesher.stats().crossingMs);
+            vertexMs.push_back(mesher.stats().vertexMs);
+            relaxMs.push_back(mesher.stats().relaxMs);
         }
         out.add("edit.dab_ms" + L + ".p50", median(edit), "ms", "regenerate the dab's tiles");
         out.add("edit.dab_remesh_ms" + L + ".p50", median(total), "ms", "edit + incremental re-mesh");
@@ -77,6 +81,9 @@ int runEditBench(const EditBenchOptions& opt) {
         }
         if (!correct.empty()) out.add("edit.correct_ms" + L + ".p50", median(correct), "ms", "one dab's remote-field zone");
         out.add("edit.remesh_ms" + L + ".p50", median(remesh), "ms", "the re-mesh alone");
+        out.add("edit.remesh_phase_ms.crossings" + L + ".p50", median(crossingMs), "ms", "changed cells, scan, cells to re-mesh");
+        out.add("edit.remesh_phase_ms.vertices" + L + ".p50", median(vertexMs), "ms", "cycles, vertices, first projection");
+        out.add("edit.remesh_phase_ms.relax" + L + ".p50", median(relaxMs), "ms", "split edges, relaxation, clean-up");
         out.add("edit.dab_tiles" + L, double(sculptor.lastEdit().tilesRebuilt), "tiles", "tiles rebuilt by the last dab");
 #ifdef KIZAMU_HAVE_OPENVDB
         if (opt.vsOpenVdb) {

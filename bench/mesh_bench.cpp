@@ -112,6 +112,12 @@ int runMeshBench(const MeshBenchOptions& opt) {
         const std::string k = target == 2000 ? "2k" : "20k";
         out.add("mesh.lod" + k + "_ms", ms, "ms", "error " + std::to_string(e / d.finestCellSize()) + " cells");
         out.add("mesh.lod" + k + "_triangles", double(lod.triangleCount()), "triangles");
+        // Its two halves (the part is unpainted: meshLod is exactly these), timed apart.
+        AdfPtr coarse;
+        out.add("mesh.lod" + k + "_phase_ms.coarsen", medianMs(opt.repeats, [&] { coarse = mesh::coarsenAdf(part, e, &pool); }),
+                "ms", "re-sample the coarse ADF");
+        out.add("mesh.lod" + k + "_phase_ms.mesh", medianMs(opt.repeats, [&] { lod = mesh::meshAdf(coarse, &pool); }), "ms",
+                "SurfaceNets of the coarse ADF");
     }
 
     out.progress("points");

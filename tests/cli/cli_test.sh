@@ -162,7 +162,8 @@ for line in open(sys.argv[1]):
     names[obj["figure"]] = obj["value"]
 need = ["mesh.full_ms.level6", "mesh.full_triangles.level6", "mesh.triangles_per_s", "mesh.lod2k_ms",
         "mesh.lod20k_ms", "mesh.points800k_ms", "mesh.tile_remesh_ms", "mesh.import_ms.bunny.level6",
-        "mesh.full_ms.bunny.level6", "mesh.full_triangles.bunny.level6"]
+        "mesh.full_ms.bunny.level6", "mesh.full_triangles.bunny.level6", "mesh.lod2k_phase_ms.coarsen",
+        "mesh.lod2k_phase_ms.mesh"]
 missing = [n for n in need if n not in names]
 assert not missing, f"missing figures: {missing}"
 assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
@@ -180,7 +181,9 @@ for line in open(sys.argv[1]):
     assert set(obj) == {"figure", "value", "unit"}, obj
     names[obj["figure"]] = obj["value"]
 need = ["edit.dab_ms.level6.p50", "edit.dab_remesh_ms.level6.p50", "edit.dab_remesh_ms.level6.p99",
-        "edit.undo_ms", "edit.redo_ms", "edit.stroke500_ms.level6", "edit.slab5_s", "edit.slab5_bytes"]
+        "edit.undo_ms", "edit.redo_ms", "edit.stroke500_ms.level6", "edit.slab5_s", "edit.slab5_bytes",
+        "edit.remesh_phase_ms.crossings.level6.p50", "edit.remesh_phase_ms.vertices.level6.p50",
+        "edit.remesh_phase_ms.relax.level6.p50"]
 missing = [n for n in need if n not in names]
 assert not missing, f"missing figures: {missing}"
 assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
