@@ -475,6 +475,19 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         return number;
     };
     std::vector<std::pair<uint32_t, Crossing*>> addedAt;  // (cell number, crossing)
+    {
+        // Room for them at once: grown a step at a time, the map was rehashed seven times a dab
+        // (docs/PERFORMANCE.md, "Sixteenth session"). A cell has about four crossings and a
+        // crossing four cells, so the cells come to about as many as the crossings named.
+        std::size_t named = 0, addedMentions = 0;
+        for (const ScanOut& s : scans) {
+            named += s.removed.size() + s.added.size() + s.kept.size();
+            addedMentions += 4 * s.added.size();
+        }
+        queued.reserve(named);
+        tasks.reserve(named);
+        addedAt.reserve(addedMentions);
+    }
     for (const ScanOut& s : scans) {
         crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
         st.boundaryLeaves += s.st.boundaryLeaves;
