@@ -784,10 +784,12 @@ void splitFaces(TileMesh& tm) {
     }
 }
 
-void relaxVertex(TileMesh& tm, Vertex& v) {
-    auto projectedAt = [](const VertexRef& r) -> const glm::vec3& {
+void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked) {
+    auto projectedAt = [&](const VertexRef& r) -> const glm::vec3& {
         if (!r.tile) throw std::logic_error("surface nets: a neighbouring vertex was not computed");
-        return r.tile->vertices[r.index].projected;
+        const Vertex& w = r.tile->vertices[r.index];
+        if (unmarked.out && w.relaxStamp != unmarked.mark) unmarked.out->push_back(r);
+        return w.projected;
     };
     // The ring cells on both sides of each crossing's run (most neighbours come twice).
     glm::vec3 sum(0.0f);

@@ -93,13 +93,15 @@ struct Vertex {
     glm::uvec3 origin{0};
     uint32_t size = 0;
     glm::vec3 projected{0.0f};  ///< after the first projection (what neighbours read)
+    /// The last update that marked it for relaxation; next to `projected`, which a neighbour's
+    /// relaxation reads in the same cache line when it checks the mark.
+    uint32_t relaxStamp = 0;
     glm::vec3 position{0.0f};   ///< final, lattice units
     glm::vec3 normal{0.0f};
     float corners[8] = {};  ///< the cell's: projection reads the cell's own trilinear field
     uint32_t incBegin = 0, incEnd = 0;
     uint32_t nextInCell = UINT32_MAX;  ///< the cell's next vertex (several sheets), or none
     bool alive = true;                 ///< false: a released slot
-    uint32_t relaxStamp = 0;           ///< the last update that queued it for relaxation
 };
 
 /// A face with four or more crossings, recorded by the cell with the smaller key: its segments
@@ -235,16 +237,25 @@ void neighbourKeys(const adf::Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vect
 /// Recomputes `tm`'s split vertices from its multi-crossing faces (reads both cells' vertices).
 void splitFaces(TileMesh& tm);
 
+/// Where relaxation reports the neighbours it reads that do not carry `mark` (an update
+/// relaxes those too, after: they read a vertex that moved).
+struct UnmarkedNeighbours {
+    std::vector<VertexRef>* out = nullptr;
+    uint32_t mark = 0;
+};
+
 /// Tangential relaxation toward the neighbours' mean, projection, normal (reads neighbours'
-/// `projected`, writes the vertex's `position` and `normal`).
-void relaxVertex(TileMesh& tm, Vertex& v);
+/// `projected`, writes the vertex's `position` and `normal`). The neighbours it reads are
+/// exactly the vertices that read it when they relax (the cells next to its run of ring cells
+/// in each of its crossings), so `unmarked` gets every vertex that reads this one, unless marked.
+void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked = {});
 
 /// Relaxes vertices at(0..n-1) in order (`at` gives each one's VertexRef). Relaxation chases
 /// pointers (incidence, crossing, neighbour vertex), so the crossings are asked for a few
 /// vertices ahead and the neighbours one vertex ahead: a build's relaxation phase took 16 %
 /// less (docs/PERFORMANCE.md, "Eleventh session").
 template <class At>
-void relaxInOrder(std::size_t n, At at) {
+void relaxInOrder(std::size_t n, At at, UnmarkedNeighbours unmarked = {}) {
     constexpr std::size_t kCrossingsAhead = 4;
     auto vertexOf = [](const VertexRef& r) -> Vertex& { return r.tile->vertices[r.index]; };
     for (std::size_t k = 0; k < n; ++k) {
@@ -263,7 +274,7 @@ void relaxInOrder(std::size_t n, At at) {
             }
         }
         const VertexRef r = at(k);
-        relaxVertex(*r.tile, vertexOf(r));
+        relaxVertex(*r.tile, vertexOf(r), unmarked);
     }
 }
 

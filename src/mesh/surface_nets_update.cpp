@@ -525,6 +525,13 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     }
     taskBegin.push_back(tasks.size());
     for (const TileMesh* tm : meshTiles) vertexDelta -= tm->liveVertices;
+    // This update's mark: on the vertices it makes (below), then on those it relaxes besides.
+    if (++mRelaxStamp == 0) {  // wrapped: clear every mark
+        for (const auto& [key, tm] : mTiles)
+            for (Vertex& v : tm->vertices) v.relaxStamp = 0;
+        mRelaxStamp = 1;
+    }
+    const uint32_t relaxMark = mRelaxStamp;
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     std::vector<std::vector<VertexRef>> made(meshTiles.size());
     auto cellsToMesh = [&](std::size_t ti) { return taskBegin[ti + 1] - taskBegin[ti]; };  // most first, as the scan
@@ -589,7 +596,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), corners, cellScratch, ms);
             tm.liveIncidences += tm.incidences.size() - incBefore;
             tm.cellVertex.assign(cell, first);
-            for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) made[ti].push_back({&tm, vi});
+            for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
+                tm.vertices[vi].relaxStamp = relaxMark;
+                made[ti].push_back({&tm, vi});
+            }
         }
         compactIncidences(tm);
     });
@@ -617,34 +627,36 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             splitDelta += int64_t(it->second->splits.size());
         }
     }
-    if (++mRelaxStamp == 0) {  // wrapped: clear every mark
-        for (const auto& [key, tm] : mTiles)
-            for (Vertex& v : tm->vertices) v.relaxStamp = 0;
-        mRelaxStamp = 1;
-    }
+    // The new vertices first; relaxing them reports the unmarked vertices that read them,
+    // relaxed after (each once: marked then). Listing those on one thread beforehand, from every
+    // ring cell of every new vertex's crossings, was a serial 0.05-0.08 ms of a dab
+    // (docs/PERFORMANCE.md, "Sixteenth session"). Each vertex is independent (reads
+    // neighbours' `projected`, writes its own position): blocks of vertices, not one pool
+    // hand-off each.
     std::vector<VertexRef> relax;
-    for (const std::vector<VertexRef>& list : made)
-        for (const VertexRef& r : list) {
-            const Vertex& v = r.tile->vertices[r.index];
-            for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
-                const Crossing& x = *r.tile->incidences[j].x;
-                for (int q = 0; q < 4; ++q) {
-                    const VertexRef n = x.ringVertex[q];
-                    Vertex& w = n.tile->vertices[n.index];
-                    if (w.relaxStamp == mRelaxStamp) continue;
-                    w.relaxStamp = mRelaxStamp;
-                    relax.push_back(n);
-                }
-            }
-        }
-    // Each vertex is independent (reads neighbours' `projected`, writes its own position):
-    // blocks of vertices, not one pool hand-off each.
+    for (const std::vector<VertexRef>& list : made) relax.insert(relax.end(), list.begin(), list.end());
     constexpr std::size_t kRelaxBlock = 512;
-    util::parallelFor(mPool, (relax.size() + kRelaxBlock - 1) / kRelaxBlock, [&](std::size_t b) {
-        const std::size_t first = b * kRelaxBlock, end = std::min(relax.size(), first + kRelaxBlock);
-        relaxInOrder(end - first, [&](std::size_t k) { return relax[first + k]; });
-    });
-    st.verticesRelaxed = relax.size();
+    auto relaxBlocks = [&](const std::vector<VertexRef>& list, std::vector<std::vector<VertexRef>>* unmarked) {
+        const std::size_t blocks = (list.size() + kRelaxBlock - 1) / kRelaxBlock;
+        if (unmarked) unmarked->resize(blocks);
+        util::parallelFor(mPool, blocks, [&](std::size_t b) {
+            const std::size_t first = b * kRelaxBlock, end = std::min(list.size(), first + kRelaxBlock);
+            relaxInOrder(end - first, [&](std::size_t k) { return list[first + k]; },
+                         unmarked ? UnmarkedNeighbours{&(*unmarked)[b], relaxMark} : UnmarkedNeighbours{});
+        });
+    };
+    std::vector<std::vector<VertexRef>> readers;
+    relaxBlocks(relax, &readers);
+    std::vector<VertexRef> besides;
+    for (const std::vector<VertexRef>& list : readers)
+        for (const VertexRef& r : list) {
+            Vertex& w = r.tile->vertices[r.index];
+            if (w.relaxStamp == relaxMark) continue;
+            w.relaxStamp = relaxMark;
+            besides.push_back(r);
+        }
+    relaxBlocks(besides, nullptr);
+    st.verticesRelaxed = relax.size() + besides.size();
 
     // Released crossings can be reused from the next update on. Gone tiles must be empty; they
     // and tiles left empty (only a visited tile can become empty) are dropped.
