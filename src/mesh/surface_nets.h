@@ -71,7 +71,7 @@ struct SurfaceNetsStats {
     std::size_t crossingsComputed = 0;  ///< crossings computed (an update recomputes those at changed cells)
     std::size_t cellsMeshed = 0;       ///< update: cells whose vertices were recomputed
     std::size_t verticesComputed = 0;  ///< vertices computed (cycles and first projection)
-    std::size_t verticesRelaxed = 0;   ///< vertices relaxed (computed ones and their neighbours)
+    std::size_t verticesRelaxed = 0;   ///< vertices relaxed (computed ones and those that read them)
     double crossingMs = 0.0;           ///< wall time: boundary leaves and crossings
     double vertexMs = 0.0;             ///< wall time: cycles, vertices, first projection
     double relaxMs = 0.0;              ///< wall time: split edges, relaxation, normals

@@ -247,7 +247,8 @@ struct UnmarkedNeighbours {
 /// Tangential relaxation toward the neighbours' mean, projection, normal (reads neighbours'
 /// `projected`, writes the vertex's `position` and `normal`). The neighbours it reads are
 /// exactly the vertices that read it when they relax (the cells next to its run of ring cells
-/// in each of its crossings), so `unmarked` gets every vertex that reads this one, unless marked.
+/// in each of its crossings), so `unmarked` gets every vertex that reads this one, unless marked
+/// (once per read: most come twice).
 void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked = {});
 
 /// Relaxes vertices at(0..n-1) in order (`at` gives each one's VertexRef). Relaxation chases
