@@ -479,13 +479,13 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         // Room for them at once: grown a step at a time, the map was rehashed seven times a dab
         // (docs/PERFORMANCE.md, "Sixteenth session"). A cell has about four crossings and a
         // crossing four cells, so the cells come to about as many as the crossings named.
-        std::size_t named = 0, addedMentions = 0;
+        std::size_t crossings = 0, addedMentions = 0;
         for (const ScanOut& s : scans) {
-            named += s.removed.size() + s.added.size() + s.kept.size();
+            crossings += s.removed.size() + s.added.size() + s.kept.size();
             addedMentions += 4 * s.added.size();
         }
-        queued.reserve(named);
-        tasks.reserve(named);
+        queued.reserve(crossings);
+        tasks.reserve(crossings);
         addedAt.reserve(addedMentions);
     }
     for (const ScanOut& s : scans) {
@@ -633,8 +633,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     // (docs/PERFORMANCE.md, "Sixteenth session"). Each vertex is independent (reads
     // neighbours' `projected`, writes its own position): blocks of vertices, not one pool
     // hand-off each.
-    std::vector<VertexRef> relax;
-    for (const std::vector<VertexRef>& list : made) relax.insert(relax.end(), list.begin(), list.end());
+    std::vector<VertexRef> newVertices;
+    for (const std::vector<VertexRef>& list : made) newVertices.insert(newVertices.end(), list.begin(), list.end());
     constexpr std::size_t kRelaxBlock = 512;
     auto relaxBlocks = [&](const std::vector<VertexRef>& list, std::vector<std::vector<VertexRef>>* unmarked) {
         const std::size_t blocks = (list.size() + kRelaxBlock - 1) / kRelaxBlock;
@@ -646,7 +646,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         });
     };
     std::vector<std::vector<VertexRef>> readers;
-    relaxBlocks(relax, &readers);
+    relaxBlocks(newVertices, &readers);
     std::vector<VertexRef> besides;
     for (const std::vector<VertexRef>& list : readers)
         for (const VertexRef& r : list) {
@@ -656,7 +656,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             besides.push_back(r);
         }
     relaxBlocks(besides, nullptr);
-    st.verticesRelaxed = relax.size() + besides.size();
+    st.verticesRelaxed = newVertices.size() + besides.size();
 
     // Released crossings can be reused from the next update on. Gone tiles must be empty; they
     // and tiles left empty (only a visited tile can become empty) are dropped.
