@@ -12,8 +12,10 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <limits>
-
+#include <memory>
 #include <stdexcept>
 #include <utility>
 
@@ -35,6 +37,15 @@ constexpr std::array<uint8_t, 8> kSubsetsOf = [] {
 /// neighbour's interpolation there can differ, even in sign, and a regenerated tile must agree
 /// with the untouched tiles around it on every corner they share (the mesher relies on it).
 /// Elsewhere it interpolates in the leaf holding the point (half-open), as Adf::sample does.
+///
+/// Two ways to the same value: point by point (a cached descent, the corner rule and an
+/// interpolation, value()), or, in a block of 8^3 lattice points asked for often, every point
+/// of it at once from one pass over the leaves around it (fill()). A dab's edit asks for 14k
+/// points of its region, most in the few blocks of its crater, where the pass costs a fraction
+/// of the point-by-point answers (about 420 instructions each, a third of the edit's); a block
+/// asked only at a few corners of coarse cells is never filled. The two ways give the same
+/// bits (the same stored corners, the same interpolation), so which one answers a point
+/// changes no result.
 class AdfSource final : public DistanceSource {
 public:
     explicit AdfSource(AdfPtr adf)
@@ -70,6 +81,20 @@ private:
     /// fresh descent would, so the cache changes no result. It is tagged with the serial number
     /// of the source that filled it and emptied when another source uses the thread, so no entry
     /// outlives the snapshot it points into.
+    /// The values of one block's points, once filled; until then, how often they were asked for.
+    static constexpr uint32_t kBlockShift = 3, kBlockSide = 1u << kBlockShift, kBlockPoints = kBlockSide * kBlockSide * kBlockSide;
+    struct Block {
+        glm::uvec3 key{~0u};  ///< lattice point >> kBlockShift
+        uint32_t asked = 0;
+        bool filled = false;
+        float values[kBlockPoints];  ///< x fastest
+    };
+    /// Points of a block asked for before it is filled: a pass over a block costs about as
+    /// much as this many point-by-point answers where its leaves are finest.
+    static constexpr uint32_t kFillAfter = 24;
+    /// Direct-mapped by block (wrapping every 64 finest cells along each axis, past a dab's
+    /// region), about 1 MB, allocated on first use.
+    static constexpr uint32_t kBlockSlots = 512;
     struct Cache {
         static constexpr int kSize = 256;  ///< 8 x 8 x 4 blocks, about 20 KB
         uint64_t owner = 0;
@@ -77,6 +102,7 @@ private:
         /// The entries found last for a point and for the neighbours value() asks about: asked
         /// first (consecutive points share leaves, and so do their neighbours).
         int lastPoint = 0, lastNeighbour = 0;
+        std::unique_ptr<Block[]> blocks;
     };
     Cache& threadCache() const {
         thread_local Cache cache;
@@ -84,6 +110,8 @@ private:
             cache.owner = mSerial;
             for (CachedLeaf& c : cache.cells) c.size = 0;
             cache.lastPoint = cache.lastNeighbour = 0;
+            if (!cache.blocks) cache.blocks = std::make_unique<Block[]>(kBlockSlots);
+            for (uint32_t i = 0; i < kBlockSlots; ++i) cache.blocks[i].key = glm::uvec3(~0u);
         }
         return cache;
     }
@@ -129,6 +157,27 @@ private:
     double value(const glm::dvec3& p, Cache& cache) const {
         glm::uvec3 pt;
         if (!mRounding.nearest(p, 1e-4, pt)) return mAdf->sample(glm::vec3(p)).distance;
+        if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
+            const glm::uvec3 key = pt >> kBlockShift, in = pt & (kBlockSide - 1);
+            Block& b = cache.blocks[(key.x & 7u) | ((key.y & 7u) << 3) | ((key.z & 7u) << 6)];
+            const uint32_t i = (in.z * kBlockSide + in.y) * kBlockSide + in.x;
+            if (b.key == key) {
+                if (b.filled) return b.values[i];
+                if (++b.asked == kFillAfter) {
+                    fill(b);
+                    return b.values[i];
+                }
+            } else {
+                b.key = key;
+                b.asked = 1;
+                b.filled = false;
+            }
+        }
+        return pointValue(p, pt, cache);
+    }
+
+    /// value() at lattice point `pt` (nearest to `p`), point by point.
+    double pointValue(const glm::dvec3& p, glm::uvec3 pt, Cache& cache) const {
         // Octant 0 (the unit cube above p) when inside the domain; then only octants across
         // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
         // octant order wins (their values differ only by quantisation).
@@ -164,6 +213,124 @@ private:
         if (!first.tile) return mAdf->sample(glm::vec3(p)).distance;  // on the domain's upper faces
         // On the first leaf's faces but a corner of no leaf: interpolate there.
         return trilinear(first.decoded(), (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
+    }
+
+    /// Which leaf a block point's value comes from so far: the corner of the leaf it is corner
+    /// `c` of (rank c: the first octant wins, as in pointValue), else (rank 8) the interpolation
+    /// in the leaf holding its unit cube, the only leaf that interpolates there.
+    static constexpr uint8_t kInterpolated = 8;
+
+    /// Every value of block `b`, as pointValue gives them: one pass over the leaves that hold
+    /// a unit cube of the block or one just below it (the leaves with a block point as a corner).
+    /// Complexity: O(leaves around the block + 8^3). Memory: none.
+    void fill(Block& b) const {
+        const glm::uvec3 lo = b.key << kBlockShift;
+        const glm::uvec3 cubeLo = glm::max(lo, glm::uvec3(1u)) - 1u, cubeEnd = lo + kBlockSide;
+        uint8_t rank[kBlockPoints];
+        std::memset(rank, kInterpolated, sizeof rank);
+        const auto span = uint32_t(mAdf->domain().tileSpan());
+        const glm::uvec3 first = cubeLo >> span, last = (cubeEnd - 1u) >> span;
+        for (uint32_t z = first.z; z <= last.z; ++z)
+            for (uint32_t y = first.y; y <= last.y; ++y)
+                for (uint32_t x = first.x; x <= last.x; ++x) {
+                    const Tile* t = mAdf->tileAtSlot({x, y, z});
+                    // A coarse tile covers several slots: visited from the first of them here.
+                    if (glm::uvec3(x, y, z) != glm::max(t->latticeOrigin() >> span, first)) continue;
+                    visit(*t, 0, t->latticeOrigin(), mTop >> uint32_t(t->level()), cubeLo, cubeEnd, b, rank);
+                }
+        b.filled = true;
+    }
+
+    /// The leaves under node `i` of `t` (a cell at `o`, `size` wide) that meet [cubeLo, cubeEnd).
+    void visit(const Tile& t, uint32_t i, glm::uvec3 o, uint32_t size, glm::uvec3 cubeLo, glm::uvec3 cubeEnd,
+               Block& b, uint8_t* rank) const {
+        if (o.x >= cubeEnd.x || o.y >= cubeEnd.y || o.z >= cubeEnd.z || o.x + size <= cubeLo.x ||
+            o.y + size <= cubeLo.y || o.z + size <= cubeLo.z)
+            return;
+        const uint32_t w = t.node(i), half = size / 2;
+        float v[8];
+        if (node::isInternal(w)) {
+            for (uint32_t c = 0; c < 8; ++c)
+                visit(t, w + c, o + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half, half, cubeLo, cubeEnd, b, rank);
+        } else if (node::isLeaf(w)) {
+            t.leafCorners(node::leafIndex(w), v);
+            paint(o, size, v, b, rank);
+        } else {
+            paintBrick(t, node::brickIndex(w), o, half, b, rank);
+        }
+    }
+
+    /// paint() for the 8 children of brick `brick` (at `o`, children `half` wide) at once: each
+    /// point of its half grid is a corner of every child around it, the first octant of which
+    /// is the child on the point's lower side along each axis where the point is not on the
+    /// brick's upper face. The children interpolate nowhere when they are finest (half 1).
+    static void paintBrick(const Tile& t, uint32_t brick, glm::uvec3 o, uint32_t half, Block& b, uint8_t* rank) {
+        int16_t q[27];
+        t.brickValues(brick, q);
+        if (half > 1) {
+            float v[8];
+            for (int child = 0; child < 8; ++child) {
+                for (int c = 0; c < 8; ++c) v[c] = float(q[brickPoint(child, c)]) * t.scale();  // as brickCorners
+                paint(o + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half, half, v, b, rank);
+            }
+            return;
+        }
+        const glm::uvec3 lo = b.key << kBlockShift;
+        for (uint32_t g = 0; g < 27; ++g) {
+            const glm::uvec3 at(g % 3, (g / 3) % 3, g / 9);
+            const glm::uvec3 rel = o + at - lo;  // wraps below lo
+            if (rel.x >= kBlockSide || rel.y >= kBlockSide || rel.z >= kBlockSide) continue;
+            const uint32_t i = (rel.z * kBlockSide + rel.y) * kBlockSide + rel.x;
+            const auto r = uint8_t((at.x == 2) | ((at.y == 2) << 1) | ((at.z == 2) << 2));
+            if (r < rank[i]) {
+                b.values[i] = float(q[g]) * t.scale();
+                rank[i] = r;
+            }
+        }
+    }
+
+    /// Leaf (`o`, `size`, corners `v`)'s part in block `b`: its own corner 0 and the
+    /// interpolation at the other points of its half-open box (where it holds their unit cube),
+    /// and each other corner c at the point it is the corner of (where it lies in octant c).
+    static void paint(glm::uvec3 o, uint32_t size, const float v[8], Block& b, uint8_t* rank) {
+        const glm::uvec3 lo = b.key << kBlockShift;
+        const glm::uvec3 from = glm::max(o, lo), to = glm::min(o + size, lo + kBlockSide);
+        if (size > 1 && from.x < to.x && from.y < to.y && from.z < to.z) {
+            // trilinear()'s distance, its lerps hoisted out of the loops they do not depend on
+            // (the same operations on the same operands: the same bits).
+            const auto f = [&](uint32_t k, uint32_t at) { return (float(at) - float(o[k])) / float(size); };
+            const uint32_t n = to.x - from.x;
+            float a00[kBlockSide], a10[kBlockSide], a01[kBlockSide], a11[kBlockSide], b0[kBlockSide], b1[kBlockSide];
+            for (uint32_t j = 0; j < n; ++j) {
+                const float fx = f(0, from.x + j);
+                a00[j] = v[0] + fx * (v[1] - v[0]);
+                a10[j] = v[2] + fx * (v[3] - v[2]);
+                a01[j] = v[4] + fx * (v[5] - v[4]);
+                a11[j] = v[6] + fx * (v[7] - v[6]);
+            }
+            for (uint32_t y = from.y; y < to.y; ++y) {
+                const float fy = f(1, y);
+                for (uint32_t j = 0; j < n; ++j) {
+                    b0[j] = a00[j] + fy * (a10[j] - a00[j]);
+                    b1[j] = a01[j] + fy * (a11[j] - a01[j]);
+                }
+                for (uint32_t z = from.z; z < to.z; ++z) {
+                    const float fz = f(2, z);
+                    const uint32_t row = ((z - lo.z) * kBlockSide + (y - lo.y)) * kBlockSide + (from.x - lo.x);
+                    for (uint32_t j = 0; j < n; ++j)
+                        if (rank[row + j] == kInterpolated) b.values[row + j] = b0[j] + fz * (b1[j] - b0[j]);
+                }
+            }
+        }
+        for (uint32_t c = 0; c < 8; ++c) {
+            const glm::uvec3 rel = o + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * size - lo;  // wraps below lo
+            if (rel.x >= kBlockSide || rel.y >= kBlockSide || rel.z >= kBlockSide) continue;
+            const uint32_t i = (rel.z * kBlockSide + rel.y) * kBlockSide + rel.x;
+            if (c < rank[i]) {
+                b.values[i] = v[c];
+                rank[i] = uint8_t(c);
+            }
+        }
     }
 
     static inline std::atomic<uint64_t> gNextSerial{1};

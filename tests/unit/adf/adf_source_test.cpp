@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // AdfSource: a snapshot read as a distance source answers, at every lattice point, the stored
 // corner of the first leaf (octant order) that has the point as a corner, and elsewhere the
-// trilinear field of the leaf holding the point; its per-thread leaf cache never lets one
-// source's leaves answer for another's. The reference below maps every finest cube to its leaf
-// by walking all tiles, sharing no lookup code with the source.
+// trilinear field of the leaf holding the point, whether it answers point by point or from a
+// block it filled at once; its per-thread caches never let one source's leaves answer for
+// another's. The reference below maps every finest cube to its leaf by walking all tiles,
+// sharing no lookup code with the source.
 #include "adf/adf_source.h"
 #include "adf/generate.h"
 
@@ -17,23 +18,23 @@ using namespace kizamu::adf;
 
 namespace {
 
-Domain smallDomain() {
+Domain smallDomain(int maxLevel = 5, int tileSpanLevels = 3) {
     Domain d;
     d.originWorld = glm::dvec3(-0.5);
-    d.maxLevel = 5;
-    d.tileSpanLevels = 3;
+    d.maxLevel = maxLevel;
+    d.tileSpanLevels = tileSpanLevels;
     return d;
 }
 
 /// A box with a ball bitten out of one corner and a ball on top: leaves of every size, bricks
 /// and lone leaves, and tiles of several depths side by side.
-AdfPtr makeShape(double ballRadius) {
+AdfPtr makeShape(double ballRadius, const Domain& domain = smallDomain()) {
     const SourcePtr box = makeBox(glm::dvec3(0.27, 0.22, 0.19));
     const SourcePtr bite = makeTranslated(makeSphere(ballRadius), glm::dvec3(0.25, 0.2, 0.2));
     const SourcePtr top = makeTranslated(makeSphere(0.13), glm::dvec3(-0.05, 0.0, 0.2));
     GenerationSettings s;
     s.bandCells = 3.0;
-    return generate(*makeCsg(CsgOp::Union, makeCsg(CsgOp::Difference, box, bite), top), smallDomain(), s);
+    return generate(*makeCsg(CsgOp::Union, makeCsg(CsgOp::Difference, box, bite), top), domain, s);
 }
 
 /// Every finest cube's leaf, by walking all tiles.
@@ -79,28 +80,54 @@ private:
 
 }  // namespace
 
-TEST(AdfSource, AnswersTheFirstStoredCornerOrTheHoldingLeafAtEveryLatticePoint) {
-    const AdfPtr adf = makeShape(0.12);
+class AdfSourceAtEveryPoint : public ::testing::TestWithParam<std::pair<int, int>> {};
+
+TEST_P(AdfSourceAtEveryPoint, AnswersTheFirstStoredCornerOrTheHoldingLeaf) {
+    // Tiles of 4, 8 and 16 cells against the source's blocks of 8^3 points: blocks that span
+    // several tiles, one tile, or half of one, each reading the leaves of the tiles below it.
+    const AdfPtr adf = makeShape(0.12, smallDomain(GetParam().first, GetParam().second));
     const CubeLeaves ref(*adf);
-    const SourcePtr src = makeAdfSource(adf);
     const Domain& d = adf->domain();
     // Interior points only (the upper domain faces take the clamped Adf::sample path), in
     // batches along x as the generator asks, and one at a time in reverse.
     std::vector<glm::dvec3> row(ref.top());
     std::vector<double> out(ref.top());
-    int mismatches = 0;
+    auto inBatches = [&](const SourcePtr& src) {
+        int mismatches = 0;
+        for (uint32_t z = 0; z < ref.top(); ++z)
+            for (uint32_t y = 0; y < ref.top(); ++y) {
+                for (uint32_t x = 0; x < ref.top(); ++x) row[x] = d.latticeToWorld(x, y, z);
+                src->distances(row, out);
+                for (uint32_t x = 0; x < ref.top(); ++x) mismatches += out[x] != double(ref.expected({x, y, z}));
+            }
+        return mismatches;
+    };
+    auto inReverse = [&](const SourcePtr& src) {
+        int mismatches = 0;
+        for (uint32_t z = ref.top(); z-- > 0;)
+            for (uint32_t y = ref.top(); y-- > 0;)
+                for (uint32_t x = ref.top(); x-- > 0;)
+                    mismatches += src->distance(d.latticeToWorld(x, y, z)) != double(ref.expected({x, y, z}));
+        return mismatches;
+    };
+    // A fresh source answers a block's first points one by one and fills it once they are
+    // many; asked again, every point comes from a filled block.
+    const SourcePtr src = makeAdfSource(adf);
+    EXPECT_EQ(inBatches(src), 0);
+    EXPECT_EQ(inReverse(src), 0);
+    EXPECT_EQ(inReverse(makeAdfSource(adf)), 0);
+    // Asked once per block, from a fresh source each time: every point point by point.
+    int pointByPoint = 0;
     for (uint32_t z = 0; z < ref.top(); ++z)
-        for (uint32_t y = 0; y < ref.top(); ++y) {
-            for (uint32_t x = 0; x < ref.top(); ++x) row[x] = d.latticeToWorld(x, y, z);
-            src->distances(row, out);
-            for (uint32_t x = 0; x < ref.top(); ++x) mismatches += out[x] != double(ref.expected({x, y, z}));
-        }
-    for (uint32_t z = ref.top(); z-- > 0;)
-        for (uint32_t y = ref.top(); y-- > 0;)
-            for (uint32_t x = ref.top(); x-- > 0;)
-                mismatches += src->distance(d.latticeToWorld(x, y, z)) != double(ref.expected({x, y, z}));
-    EXPECT_EQ(mismatches, 0);
+        for (uint32_t y = 0; y < ref.top(); ++y)
+            for (uint32_t x = 0; x < ref.top(); ++x)
+                if (((x | y | z) & 7u) == 3u)
+                    pointByPoint += makeAdfSource(adf)->distance(d.latticeToWorld(x, y, z)) != double(ref.expected({x, y, z}));
+    EXPECT_EQ(pointByPoint, 0);
 }
+
+INSTANTIATE_TEST_SUITE_P(TileSpans, AdfSourceAtEveryPoint,
+                         ::testing::Values(std::pair{5, 3}, std::pair{5, 2}, std::pair{6, 4}));
 
 TEST(AdfSource, OffTheLatticeItIsTheSnapshotsOwnField) {
     const AdfPtr adf = makeShape(0.12);
