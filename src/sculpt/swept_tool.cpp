@@ -146,6 +146,9 @@ double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
 
 template <class SegmentDistance>
 double SweptTool::search(const glm::dvec3& p, double limit, const SegmentDistance& segment) const {
+    // One segment (a dab): its box would only skip a segment that cannot come below the limit,
+    // which the min does too; the box test cost more than the segment it rarely skipped.
+    if (mSegments.size() == 1) return std::min(limit, segment(mSegments[0]));
     double best = limit;
     const double r = mBoundingRadius;
     // Lower bound of a node: distance to its box minus nothing (the box already holds the tool);
