@@ -55,6 +55,15 @@ public:
         Cache& cache = threadCache();
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = value(p[i], cache);
     }
+    /// Its own lattice: an edit's generation asks for lattice points, which the source would
+    /// otherwise round back from their world positions (a sixth of its instructions per point).
+    bool answersLattice(const Domain& d) const override { return d == mAdf->domain(); }
+    void latticeDistances(const Domain& d, std::span<const glm::uvec3> lattice, std::span<double> out) const override {
+        if (!answersLattice(d)) return DistanceSource::latticeDistances(d, lattice, out);
+        Cache& cache = threadCache();
+        for (std::size_t i = 0; i < lattice.size(); ++i)
+            if (!latticeValue(lattice[i], cache, out[i])) out[i] = mAdf->sample(glm::vec3(d.latticeToWorld(lattice[i].x, lattice[i].y, lattice[i].z))).distance;
+    }
 
 private:
     /// A found leaf and, once asked for, its 8 decoded corners (most of a regeneration's points
@@ -156,16 +165,29 @@ private:
 
     double value(const glm::dvec3& p, Cache& cache) const {
         glm::uvec3 pt;
-        if (!mRounding.nearest(p, 1e-4, pt)) return mAdf->sample(glm::vec3(p)).distance;
+        double v;
+        // Off the lattice, or on the domain's upper faces with no leaf there to take a corner
+        // from: the snapshot's own (clamped) field.
+        if (!mRounding.nearest(p, 1e-4, pt) || !latticeValue(pt, cache, v)) return mAdf->sample(glm::vec3(p)).distance;
+        return v;
+    }
+
+    /// The value at lattice point `pt` into `out`, or false on the domain's upper faces where
+    /// no leaf has `pt` as a corner (value() then samples the field there).
+    bool latticeValue(glm::uvec3 pt, Cache& cache, double& out) const {
         if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
             const glm::uvec3 key = pt >> kBlockShift, in = pt & (kBlockSide - 1);
             Block& b = cache.blocks[(key.x & 7u) | ((key.y & 7u) << 3) | ((key.z & 7u) << 6)];
             const uint32_t i = (in.z * kBlockSide + in.y) * kBlockSide + in.x;
             if (b.key == key) {
-                if (b.filled) return b.values[i];
+                if (b.filled) {
+                    out = b.values[i];
+                    return true;
+                }
                 if (++b.asked == kFillAfter) {
                     fill(b);
-                    return b.values[i];
+                    out = b.values[i];
+                    return true;
                 }
             } else {
                 b.key = key;
@@ -173,11 +195,11 @@ private:
                 b.filled = false;
             }
         }
-        return pointValue(p, pt, cache);
+        return pointValue(pt, cache, out);
     }
 
-    /// value() at lattice point `pt` (nearest to `p`), point by point.
-    double pointValue(const glm::dvec3& p, glm::uvec3 pt, Cache& cache) const {
+    /// latticeValue() point by point.
+    bool pointValue(glm::uvec3 pt, Cache& cache, double& out) const {
         // Octant 0 (the unit cube above p) when inside the domain; then only octants across
         // faces of that leaf that p lies on can hold a leaf with p as a corner. The first in
         // octant order wins (their values differ only by quantisation).
@@ -187,16 +209,16 @@ private:
         if (pt.x < mTop && pt.y < mTop && pt.z < mTop) {
             CachedLeaf& found = locate(pt, cache, cache.lastPoint);
             const int c = found.cornerIndex(pt);
-            if (c >= 0) return found.corner(c);
+            if (c >= 0) return out = found.corner(c), true;
             onFace = 0;
             for (int k = 0; k < 3; ++k)
                 if (pt[k] == found.origin[k]) onFace |= 1u << k;
             const glm::vec3 f = (glm::vec3(pt) - glm::vec3(found.origin)) / float(found.size);
-            if (onFace == 0) return trilinear(found.decoded(), f).distance;  // strictly inside it
+            if (onFace == 0) return out = trilinear(found.decoded(), f).distance, true;  // strictly inside it
             // p, no corner of the found leaf, is no corner of a leaf at least as large next to
             // it (along an axis where p lies strictly inside, such a leaf has no corner there).
             finer = finerNeighbours(found, onFace);
-            if (finer == 0) return trilinear(found.decoded(), f).distance;
+            if (finer == 0) return out = trilinear(found.decoded(), f).distance, true;
             found.decoded();  // decoded where it stays cached, before the copy (most points need them)
             first = found;
         }
@@ -208,11 +230,12 @@ private:
             if (cube.x >= mTop || cube.y >= mTop || cube.z >= mTop) continue;
             const CachedLeaf& leaf = locate(cube, cache, cache.lastNeighbour);
             const int c = leaf.cornerIndex(pt);
-            if (c >= 0) return leaf.corner(c);
+            if (c >= 0) return out = leaf.corner(c), true;
         }
-        if (!first.tile) return mAdf->sample(glm::vec3(p)).distance;  // on the domain's upper faces
+        if (!first.tile) return false;  // on the domain's upper faces
         // On the first leaf's faces but a corner of no leaf: interpolate there.
-        return trilinear(first.decoded(), (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
+        out = trilinear(first.decoded(), (glm::vec3(pt) - glm::vec3(first.origin)) / float(first.size)).distance;
+        return true;
     }
 
     /// Which leaf a block point's value comes from so far: the corner of the leaf it is corner
@@ -365,6 +388,31 @@ public:
             if (no) mOutside->distances({outside, no}, {outValues, no});
             ni = no = 0;
             for (std::size_t i = 0; i < n; ++i) out[start + i] = mRegion.contains(p[start + i]) ? inValues[ni++] : outValues[no++];
+        }
+    }
+    bool answersLattice(const Domain& d) const override {
+        return mInside->answersLattice(d) && mOutside->answersLattice(d);
+    }
+    /// distances() at lattice points, each side asked at lattice points too (the region test
+    /// on the world position the point stands for, as distances() makes it).
+    void latticeDistances(const Domain& d, std::span<const glm::uvec3> p, std::span<double> out) const override {
+        const glm::dvec3 origin = d.originWorld;
+        const double cell = d.finestCellSize();
+        auto inRegion = [&](glm::uvec3 q) { return mRegion.contains(Domain::latticeToWorld(origin, cell, q)); };
+        const auto inside = std::size_t(std::count_if(p.begin(), p.end(), inRegion));
+        if (inside == p.size()) return mInside->latticeDistances(d, p, out);
+        if (inside == 0) return mOutside->latticeDistances(d, p, out);
+        glm::uvec3 in[kSourceBatch], outside[kSourceBatch];
+        double inValues[kSourceBatch], outValues[kSourceBatch];
+        bool isIn[kSourceBatch];
+        for (std::size_t start = 0; start < p.size(); start += kSourceBatch) {
+            const std::size_t n = std::min(kSourceBatch, p.size() - start);
+            std::size_t ni = 0, no = 0;
+            for (std::size_t i = 0; i < n; ++i) (isIn[i] = inRegion(p[start + i])) ? (in[ni++] = p[start + i]) : (outside[no++] = p[start + i]);
+            if (ni) mInside->latticeDistances(d, {in, ni}, {inValues, ni});
+            if (no) mOutside->latticeDistances(d, {outside, no}, {outValues, no});
+            ni = no = 0;
+            for (std::size_t i = 0; i < n; ++i) out[start + i] = isIn[i] ? inValues[ni++] : outValues[no++];
         }
     }
     /// Outside the region the source is the base field (regenerate's contract); a ball reaching

@@ -49,9 +49,12 @@ struct Domain {
     /// World position of a lattice corner. Computed the same way everywhere so that a lattice
     /// point evaluated from two tiles gets bit-identical coordinates.
     glm::dvec3 latticeToWorld(uint32_t x, uint32_t y, uint32_t z) const {
-        const double h = finestCellSize();
-        return {originWorld.x + double(x) * h, originWorld.y + double(y) * h,
-                originWorld.z + double(z) * h};
+        return latticeToWorld(originWorld, finestCellSize(), {x, y, z});
+    }
+    /// The same with the origin and cell size read once by the caller (a loop over many points:
+    /// the division in finestCellSize() costs more than the rest).
+    static glm::dvec3 latticeToWorld(const glm::dvec3& origin, double cell, glm::uvec3 p) {
+        return {origin.x + double(p.x) * cell, origin.y + double(p.y) * cell, origin.z + double(p.z) * cell};
     }
 
     /// True when the parameters describe a usable domain. The tile level is capped so that

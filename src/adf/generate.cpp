@@ -616,6 +616,8 @@ private:
             }
             m = 0;
         };
+        const glm::dvec3 origin = mDomain.originWorld;
+        const double cell = mDomain.finestCellSize();
         for (int k = 0; k < n; ++k) {
             const uint32_t i = index(local[k]);
             if (valid(i)) continue;
@@ -624,7 +626,7 @@ private:
             if constexpr (kLattice)
                 pts[m] = p;
             else
-                pts[m] = mDomain.latticeToWorld(p.x, p.y, p.z);
+                pts[m] = Domain::latticeToWorld(origin, cell, p);
             todo[m] = local[k];
             todoAt[m++] = i;
             if (m == kBatch) flush();

@@ -41,6 +41,15 @@ public:
         mOld->distances(p, out);
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(p[i], out[i]);
     }
+    /// At lattice points when the old field answers them (a snapshot's own lattice): the tool
+    /// takes their world positions, the old field the points themselves.
+    bool answersLattice(const adf::Domain& d) const override { return mOld->answersLattice(d); }
+    void latticeDistances(const adf::Domain& d, std::span<const glm::uvec3> p, std::span<double> out) const override {
+        mOld->latticeDistances(d, p, out);
+        const glm::dvec3 origin = d.originWorld;
+        const double cell = d.finestCellSize();
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(adf::Domain::latticeToWorld(origin, cell, p[i]), out[i]);
+    }
     double featureSize(const glm::dvec3& c, double radius) const override {
         double f = std::min(mOld->featureSize(c, radius), mTool->featureSize(mirrored(c), radius));
         for (const adf::SourcePtr& m : mLimits.masks) f = std::min(f, m->featureSize(c, radius));

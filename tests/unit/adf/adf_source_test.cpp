@@ -116,6 +116,23 @@ TEST_P(AdfSourceAtEveryPoint, AnswersTheFirstStoredCornerOrTheHoldingLeaf) {
     EXPECT_EQ(inBatches(src), 0);
     EXPECT_EQ(inReverse(src), 0);
     EXPECT_EQ(inReverse(makeAdfSource(adf)), 0);
+    // At lattice points (how an edit's generation asks): the same values, and on the upper
+    // domain faces what the world positions give.
+    const SourcePtr byLattice = makeAdfSource(adf);
+    ASSERT_TRUE(byLattice->answersLattice(d));
+    std::vector<glm::uvec3> lattice(ref.top() + 1);
+    std::vector<double> values(lattice.size());
+    int latticeMismatches = 0;
+    for (uint32_t z = 0; z <= ref.top(); ++z)
+        for (uint32_t y = 0; y <= ref.top(); ++y) {
+            for (uint32_t x = 0; x <= ref.top(); ++x) lattice[x] = {x, y, z};
+            byLattice->latticeDistances(d, lattice, values);
+            for (uint32_t x = 0; x <= ref.top(); ++x)
+                latticeMismatches += values[x] != (x < ref.top() && y < ref.top() && z < ref.top()
+                                                       ? double(ref.expected({x, y, z}))
+                                                       : makeAdfSource(adf)->distance(d.latticeToWorld(x, y, z)));
+        }
+    EXPECT_EQ(latticeMismatches, 0);
     // Asked once per block, from a fresh source each time: every point point by point.
     int pointByPoint = 0;
     for (uint32_t z = 0; z < ref.top(); ++z)
@@ -138,6 +155,38 @@ TEST(AdfSource, OffTheLatticeItIsTheSnapshotsOwnField) {
         const glm::dvec3 p(u(rng), u(rng), u(rng));
         ASSERT_EQ(src->distance(p), double(adf->sample(glm::vec3(p)).distance)) << i;
     }
+}
+
+TEST(AdfSource, RegionLimitedAtLatticePointsAnswersWhatItAnswersAtTheirWorldPositions) {
+    const AdfPtr a = makeShape(0.12), b = makeShape(0.2);
+    const Domain& d = a->domain();
+    const BoxWorld region{glm::dvec3(-0.2, -0.1, 0.0), glm::dvec3(0.25, 0.3, 0.31)};
+    const SourcePtr limited = makeRegionLimited(makeAdfSource(a), makeAdfSource(b), region);
+    ASSERT_TRUE(limited->answersLattice(d));
+    EXPECT_FALSE(makeRegionLimited(makeAdfSource(a), makeSphere(0.1), region)->answersLattice(d))
+        << "a side that does not answer lattice points makes the whole answer world positions";
+    const uint32_t top = d.latticeSize();
+    std::vector<glm::uvec3> lattice;
+    std::vector<glm::dvec3> world;
+    for (uint32_t z = 0; z <= top; ++z)
+        for (uint32_t y = 0; y <= top; ++y)
+            for (uint32_t x = 0; x <= top; ++x) {
+                lattice.push_back({x, y, z});
+                world.push_back(d.latticeToWorld(x, y, z));
+            }
+    std::vector<double> byLattice(lattice.size()), byWorld(lattice.size());
+    // In rows (batches wholly inside, wholly outside and mixed) and all at once.
+    for (std::size_t first = 0; first < lattice.size(); first += top + 1) {
+        const std::size_t n = std::min<std::size_t>(top + 1, lattice.size() - first);
+        limited->latticeDistances(d, std::span(lattice).subspan(first, n), std::span(byLattice).subspan(first, n));
+    }
+    limited->distances(world, byWorld);
+    int mismatches = 0;
+    for (std::size_t i = 0; i < lattice.size(); ++i) mismatches += byLattice[i] != byWorld[i];
+    EXPECT_EQ(mismatches, 0);
+    limited->latticeDistances(d, lattice, byLattice);
+    for (std::size_t i = 0; i < lattice.size(); ++i) mismatches += byLattice[i] != byWorld[i];
+    EXPECT_EQ(mismatches, 0);
 }
 
 TEST(AdfSource, SourcesSharingAThreadNeverAnswerForEachOther) {

@@ -4,7 +4,9 @@
 // mirror.
 #include "sculpt/stroke_edit.h"
 
+#include "adf/adf_source.h"
 #include "adf/distance_source.h"
+#include "adf/generate.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -73,6 +75,51 @@ TEST(StrokeEdit, AnswersTheOldFieldWhereverItSaysItStands) {
     EXPECT_GT(kept, 2000);
     EXPECT_GT(checked, 20000);
     EXPECT_GT(turningKept, 100) << "turning cubes and cylinders keep cells too (a box bound, no search)";
+}
+
+TEST(StrokeEdit, AtLatticePointsAnswersWhatItAnswersAtTheirWorldPositions) {
+    // An edit of a snapshot is asked for lattice points (the generator's cheaper way); it must
+    // give the same bits as at the points' world positions, for every tool and a mask.
+    adf::Domain d;
+    d.originWorld = glm::dvec3(0.0);
+    d.maxLevel = 6;
+    d.tileSpanLevels = 3;
+    const adf::AdfPtr snapshot = adf::generate(*adf::makeTranslated(adf::makeSphere(0.3), glm::dvec3(0.5)), d, adf::GenerationSettings{});
+    const adf::SourcePtr old = adf::makeAdfSource(snapshot);
+    ASSERT_TRUE(old->answersLattice(d));
+    adf::Domain other = d;
+    other.maxLevel = 7;
+    EXPECT_FALSE(old->answersLattice(other)) << "another lattice goes through world positions";
+    std::mt19937_64 rng(9);
+    std::uniform_int_distribution<uint32_t> at(0, d.latticeSize());
+    int compared = 0;
+    for (int op = 0; op < 6; ++op) {
+        Tool tool;
+        tool.shape = ToolShape(op % 3);
+        tool.op = ToolOp(op);
+        tool.radius = 0.08;
+        tool.halfLength = 0.05;
+        tool.amount = 0.02;
+        tool.rate = 0.01;
+        const auto swept = makeSweptTool(tool, {{glm::dvec3(0.5, 0.5, 0.8), glm::dquat(1.0, 0.0, 0.0, 0.0)},
+                                                {glm::dvec3(0.6, 0.5, 0.75), glm::dquat(1.0, 0.0, 0.0, 0.0)}});
+        ToolLimits limits;
+        if (op == 0) limits.masks.push_back(adf::makeTranslated(adf::makeSphere(0.05), glm::dvec3(0.55, 0.5, 0.8)));
+        const adf::SourcePtr edit = makeStrokeEdit(old, swept, uint8_t(op == 1 ? 1 : 0), glm::dvec3(0.5), 0.01, limits, d.finestCellSize());
+        ASSERT_TRUE(edit->answersLattice(d));
+        std::vector<glm::uvec3> lattice(500);
+        std::vector<glm::dvec3> world(lattice.size());
+        for (std::size_t i = 0; i < lattice.size(); ++i) {
+            lattice[i] = {at(rng), at(rng), at(rng)};
+            if (i % 2) lattice[i].z = d.latticeSize() * 3 / 4 + lattice[i].z % 8;  // many near the tool
+            world[i] = d.latticeToWorld(lattice[i].x, lattice[i].y, lattice[i].z);
+        }
+        std::vector<double> byLattice(lattice.size()), byWorld(lattice.size());
+        edit->latticeDistances(d, lattice, byLattice);
+        edit->distances(world, byWorld);
+        for (std::size_t i = 0; i < lattice.size(); ++i, ++compared) ASSERT_EQ(byLattice[i], byWorld[i]) << "op " << op << " point " << i;
+    }
+    EXPECT_EQ(compared, 3000);
 }
 
 }  // namespace
