@@ -399,6 +399,14 @@ public:
         const glm::dvec3 origin = d.originWorld;
         const double cell = d.finestCellSize();
         auto inRegion = [&](glm::uvec3 q) { return mRegion.contains(Domain::latticeToWorld(origin, cell, q)); };
+        // A batch whose lattice box has both corners inside lies inside (latticeToWorld is
+        // monotonic on each axis, the region a box): most of an edit's batches, one test each.
+        glm::uvec3 lo(UINT32_MAX), hi(0);
+        for (const glm::uvec3& q : p) {
+            lo = glm::min(lo, q);
+            hi = glm::max(hi, q);
+        }
+        if (!p.empty() && inRegion(lo) && inRegion(hi)) return mInside->latticeDistances(d, p, out);
         const auto inside = std::size_t(std::count_if(p.begin(), p.end(), inRegion));
         if (inside == p.size()) return mInside->latticeDistances(d, p, out);
         if (inside == 0) return mOutside->latticeDistances(d, p, out);

@@ -175,14 +175,17 @@ TEST(AdfSource, RegionLimitedAtLatticePointsAnswersWhatItAnswersAtTheirWorldPosi
                 world.push_back(d.latticeToWorld(x, y, z));
             }
     std::vector<double> byLattice(lattice.size()), byWorld(lattice.size());
-    // In rows (batches wholly inside, wholly outside and mixed) and all at once.
-    for (std::size_t first = 0; first < lattice.size(); first += top + 1) {
-        const std::size_t n = std::min<std::size_t>(top + 1, lattice.size() - first);
-        limited->latticeDistances(d, std::span(lattice).subspan(first, n), std::span(byLattice).subspan(first, n));
-    }
     limited->distances(world, byWorld);
+    // In runs of 5 along x (batches wholly inside, wholly outside and mixed), of a row, and
+    // all at once.
     int mismatches = 0;
-    for (std::size_t i = 0; i < lattice.size(); ++i) mismatches += byLattice[i] != byWorld[i];
+    for (const std::size_t run : {std::size_t(5), std::size_t(top + 1)}) {
+        for (std::size_t first = 0; first < lattice.size(); first += run) {
+            const std::size_t n = std::min(run, lattice.size() - first);
+            limited->latticeDistances(d, std::span(lattice).subspan(first, n), std::span(byLattice).subspan(first, n));
+        }
+        for (std::size_t i = 0; i < lattice.size(); ++i) mismatches += byLattice[i] != byWorld[i];
+    }
     EXPECT_EQ(mismatches, 0);
     limited->latticeDistances(d, lattice, byLattice);
     for (std::size_t i = 0; i < lattice.size(); ++i) mismatches += byLattice[i] != byWorld[i];
