@@ -385,6 +385,7 @@ public:
         begin(job);
         for (int i = 0; i < kNeighbours; ++i)
             if (neighbours[i]) importFrom(*neighbours[i], i);
+        mHandsOverBorder = true;
         subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
         groupBorder(border);
         return finish(version);
@@ -612,7 +613,7 @@ private:
                 else
                     value = checkedDistance(out[k], pts[k]);
                 mValues[todoAt[k]] = value;
-                if (onTileFace(todo[k])) recordBorder(todo[k], value);
+                if (mHandsOverBorder && onTileFace(todo[k])) recordBorder(todo[k], value);
             }
             m = 0;
         };
@@ -935,6 +936,9 @@ private:
     std::vector<uint32_t>& mBrickFrom;
     glm::uvec3 mBase{0};
     std::vector<BorderRecord>& mRecorded;
+    /// Whether the tile's face samples go to its neighbours (build(): tiles in colour phases);
+    /// a small run's tiles and parts evaluate their shared points themselves.
+    bool mHandsOverBorder = false;
     uint64_t mEvaluations = 0;
 };
 
