@@ -12,7 +12,6 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
-#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <memory>
@@ -81,15 +80,6 @@ private:
             return values;
         }
     };
-    /// Leaves found recently, kept per thread across calls: a regeneration asks for a tile's
-    /// points in many small, coherent batches. Direct-mapped by the point's 4-cell block (the
-    /// table wraps every 32 x 32 x 16 finest cells): a lookup that misses the hint tries one
-    /// entry and otherwise descends into it, cheaper than the search of a few recent leaves this
-    /// replaced (dab edits -3 % instructions), and it keeps more of the leaves a tile's
-    /// traversal returns to. A leaf answers for the points of its half-open box exactly as a
-    /// fresh descent would, so the cache changes no result. It is tagged with the serial number
-    /// of the source that filled it and emptied when another source uses the thread, so no entry
-    /// outlives the snapshot it points into.
     /// The values of one block's points, once filled; until then, how often they were asked for.
     static constexpr uint32_t kBlockShift = 3, kBlockSide = 1u << kBlockShift, kBlockPoints = kBlockSide * kBlockSide * kBlockSide;
     struct Block {
@@ -104,6 +94,16 @@ private:
     /// Direct-mapped by block (wrapping every 64 finest cells along each axis, past a dab's
     /// region), about 1 MB, allocated on first use.
     static constexpr uint32_t kBlockSlots = 512;
+    /// Leaves found recently, kept per thread across calls: a regeneration asks for a tile's
+    /// points in many small, coherent batches. Direct-mapped by the point's 4-cell block (the
+    /// table wraps every 32 x 32 x 16 finest cells): a lookup that misses the hint tries one
+    /// entry and otherwise descends into it, cheaper than the search of a few recent leaves this
+    /// replaced (dab edits -3 % instructions), and it keeps more of the leaves a tile's
+    /// traversal returns to. A leaf answers for the points of its half-open box exactly as a
+    /// fresh descent would, so the cache changes no result. It is tagged with the serial number
+    /// of the source that filled it and emptied when another source uses the thread, so no entry
+    /// outlives the snapshot it points into. The filled blocks (fill()) are kept beside them,
+    /// under the same tag.
     struct Cache {
         static constexpr int kSize = 256;  ///< 8 x 8 x 4 blocks, about 20 KB
         uint64_t owner = 0;
@@ -372,23 +372,9 @@ public:
     double distance(const glm::dvec3& p) const override {
         return mRegion.contains(p) ? mInside->distance(p) : mOutside->distance(p);
     }
-    /// Each side in batches (the old field's batch caches its leaf lookups), then merged; a
-    /// call wholly on one side (most of a regeneration's) goes there as it is.
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
-        const auto inside = std::size_t(std::count_if(p.begin(), p.end(), [&](const glm::dvec3& q) { return mRegion.contains(q); }));
-        if (inside == p.size()) return mInside->distances(p, out);
-        if (inside == 0) return mOutside->distances(p, out);
-        glm::dvec3 in[kSourceBatch], outside[kSourceBatch];
-        double inValues[kSourceBatch], outValues[kSourceBatch];
-        for (std::size_t start = 0; start < p.size(); start += kSourceBatch) {
-            const std::size_t n = std::min(kSourceBatch, p.size() - start);
-            std::size_t ni = 0, no = 0;
-            for (std::size_t i = 0; i < n; ++i) (mRegion.contains(p[start + i]) ? in[ni++] : outside[no++]) = p[start + i];
-            if (ni) mInside->distances({in, ni}, {inValues, ni});
-            if (no) mOutside->distances({outside, no}, {outValues, no});
-            ni = no = 0;
-            for (std::size_t i = 0; i < n; ++i) out[start + i] = mRegion.contains(p[start + i]) ? inValues[ni++] : outValues[no++];
-        }
+        bySide(p, out, [&](const glm::dvec3& q) { return mRegion.contains(q); },
+               [](const DistanceSource& s, std::span<const glm::dvec3> q, std::span<double> o) { s.distances(q, o); });
     }
     bool answersLattice(const Domain& d) const override {
         return mInside->answersLattice(d) && mOutside->answersLattice(d);
@@ -399,6 +385,7 @@ public:
         const glm::dvec3 origin = d.originWorld;
         const double cell = d.finestCellSize();
         auto inRegion = [&](glm::uvec3 q) { return mRegion.contains(Domain::latticeToWorld(origin, cell, q)); };
+        auto ask = [&d](const DistanceSource& s, std::span<const glm::uvec3> q, std::span<double> o) { s.latticeDistances(d, q, o); };
         // A batch whose lattice box has both corners inside lies inside (latticeToWorld is
         // monotonic on each axis, the region a box): most of an edit's batches, one test each.
         glm::uvec3 lo(UINT32_MAX), hi(0);
@@ -406,22 +393,8 @@ public:
             lo = glm::min(lo, q);
             hi = glm::max(hi, q);
         }
-        if (!p.empty() && inRegion(lo) && inRegion(hi)) return mInside->latticeDistances(d, p, out);
-        const auto inside = std::size_t(std::count_if(p.begin(), p.end(), inRegion));
-        if (inside == p.size()) return mInside->latticeDistances(d, p, out);
-        if (inside == 0) return mOutside->latticeDistances(d, p, out);
-        glm::uvec3 in[kSourceBatch], outside[kSourceBatch];
-        double inValues[kSourceBatch], outValues[kSourceBatch];
-        bool isIn[kSourceBatch];
-        for (std::size_t start = 0; start < p.size(); start += kSourceBatch) {
-            const std::size_t n = std::min(kSourceBatch, p.size() - start);
-            std::size_t ni = 0, no = 0;
-            for (std::size_t i = 0; i < n; ++i) (isIn[i] = inRegion(p[start + i])) ? (in[ni++] = p[start + i]) : (outside[no++] = p[start + i]);
-            if (ni) mInside->latticeDistances(d, {in, ni}, {inValues, ni});
-            if (no) mOutside->latticeDistances(d, {outside, no}, {outValues, no});
-            ni = no = 0;
-            for (std::size_t i = 0; i < n; ++i) out[start + i] = isIn[i] ? inValues[ni++] : outValues[no++];
-        }
+        if (!p.empty() && inRegion(lo) && inRegion(hi)) return ask(*mInside, p, out);
+        bySide(p, out, inRegion, ask);
     }
     /// Outside the region the source is the base field (regenerate's contract); a ball reaching
     /// into it is as unchanged as the edit says.
@@ -441,6 +414,27 @@ public:
     }
 
 private:
+    /// Each side in batches (the old field's batch caches its leaf lookups), then merged; a
+    /// call wholly on one side (most of a regeneration's) goes there as it is.
+    template <class Point, class InRegion, class Ask>
+    void bySide(std::span<const Point> p, std::span<double> out, InRegion inRegion, Ask ask) const {
+        const auto inside = std::size_t(std::count_if(p.begin(), p.end(), inRegion));
+        if (inside == p.size()) return ask(*mInside, p, out);
+        if (inside == 0) return ask(*mOutside, p, out);
+        Point in[kSourceBatch], outside[kSourceBatch];
+        double inValues[kSourceBatch], outValues[kSourceBatch];
+        bool isIn[kSourceBatch];
+        for (std::size_t start = 0; start < p.size(); start += kSourceBatch) {
+            const std::size_t n = std::min(kSourceBatch, p.size() - start);
+            std::size_t ni = 0, no = 0;
+            for (std::size_t i = 0; i < n; ++i) (isIn[i] = inRegion(p[start + i])) ? (in[ni++] = p[start + i]) : (outside[no++] = p[start + i]);
+            if (ni) ask(*mInside, std::span<const Point>(in, ni), std::span<double>(inValues, ni));
+            if (no) ask(*mOutside, std::span<const Point>(outside, no), std::span<double>(outValues, no));
+            ni = no = 0;
+            for (std::size_t i = 0; i < n; ++i) out[start + i] = isIn[i] ? inValues[ni++] : outValues[no++];
+        }
+    }
+
     SourcePtr mOutside, mInside;
     BoxWorld mRegion;
 };
