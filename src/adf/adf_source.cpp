@@ -248,7 +248,9 @@ private:
     /// Complexity: O(leaves around the block + 8^3). Memory: none.
     void fill(Block& b) const {
         const glm::uvec3 lo = b.key << kBlockShift;
-        const glm::uvec3 cubeLo = glm::max(lo, glm::uvec3(1u)) - 1u, cubeEnd = lo + kBlockSide;
+        // (In a domain under 8 cells across the block runs past the top: its points there are
+        // never asked through it.)
+        const glm::uvec3 cubeLo = glm::max(lo, glm::uvec3(1u)) - 1u, cubeEnd = glm::min(lo + kBlockSide, glm::uvec3(mTop));
         uint8_t rank[kBlockPoints];
         std::memset(rank, kInterpolated, sizeof rank);
         const auto span = uint32_t(mAdf->domain().tileSpan());

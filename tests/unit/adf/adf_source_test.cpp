@@ -84,7 +84,8 @@ class AdfSourceAtEveryPoint : public ::testing::TestWithParam<std::pair<int, int
 
 TEST_P(AdfSourceAtEveryPoint, AnswersTheFirstStoredCornerOrTheHoldingLeaf) {
     // Tiles of 4, 8 and 16 cells against the source's blocks of 8^3 points: blocks that span
-    // several tiles, one tile, or half of one, each reading the leaves of the tiles below it.
+    // several tiles, one tile, or half of one, each reading the leaves of the tiles below it;
+    // and a domain 4 cells across, smaller than one block.
     const AdfPtr adf = makeShape(0.12, smallDomain(GetParam().first, GetParam().second));
     const CubeLeaves ref(*adf);
     const Domain& d = adf->domain();
@@ -144,7 +145,7 @@ TEST_P(AdfSourceAtEveryPoint, AnswersTheFirstStoredCornerOrTheHoldingLeaf) {
 }
 
 INSTANTIATE_TEST_SUITE_P(TileSpans, AdfSourceAtEveryPoint,
-                         ::testing::Values(std::pair{5, 3}, std::pair{5, 2}, std::pair{6, 4}));
+                         ::testing::Values(std::pair{5, 3}, std::pair{5, 2}, std::pair{6, 4}, std::pair{2, 6}));
 
 TEST(AdfSource, OffTheLatticeItIsTheSnapshotsOwnField) {
     const AdfPtr adf = makeShape(0.12);
