@@ -227,7 +227,7 @@ AdfBuilder::AdfBuilder(const Domain& domain, const GenerationSettings& settings)
 }
 
 AdfBuilder::AdfBuilder(const Adf& base) : mAdf(new Adf(base)) {
-    mOwnChunks.assign(mAdf->mRoot.size(), nullptr);
+    mOwnChunks.resize(mAdf->mRoot.size());
 }
 
 void AdfBuilder::setTile(TilePtr tile) {
@@ -250,14 +250,15 @@ void AdfBuilder::setTile(TilePtr tile) {
                     a.mRoot[i] = reinterpret_cast<uintptr_t>(tile.get()) | 1u;
                     a.mRootTileOwners[i] = tile;
                     a.mChunkOwners[i] = nullptr;
-                    mOwnChunks[i] = nullptr;
+                    mOwnChunks[i] = {};
                 }
         return;
     }
     // Inside one chunk: copy it on first write.
     const glm::uvec3 r = slot0 / cd;
     const std::size_t ri = (std::size_t(r.z) * a.mRootDim + r.y) * a.mRootDim + r.x;
-    Chunk* chunk = mOwnChunks[ri].get();
+    OwnChunk& own = mOwnChunks[ri];
+    Chunk* chunk = own.chunk.get();
     if (!chunk) {
         auto fresh = std::make_shared<Chunk>();
         const uintptr_t e = a.mRoot[ri];
@@ -269,7 +270,9 @@ void AdfBuilder::setTile(TilePtr tile) {
             *fresh = *reinterpret_cast<const Chunk*>(e);
         }
         chunk = fresh.get();
-        mOwnChunks[ri] = fresh;
+        own.chunk = fresh;
+        own.kept = fresh->owners.size();
+        own.replaced.clear();
         a.mRoot[ri] = reinterpret_cast<uintptr_t>(chunk);
         a.mChunkOwners[ri] = fresh;
         a.mRootTileOwners[ri] = nullptr;
@@ -279,6 +282,7 @@ void AdfBuilder::setTile(TilePtr tile) {
         for (uint32_t y = c0.y; y < c0.y + slots; ++y)
             for (uint32_t x = c0.x; x < c0.x + slots; ++x) {
                 const std::size_t i = (std::size_t(z) * cd + y) * cd + x;
+                if (chunk->tiles[i] && chunk->tiles[i] != tile.get()) own.replaced.push_back(chunk->tiles[i]);
                 chunk->tiles[i] = tile.get();
             }
     chunk->owners.push_back(std::move(tile));  // duplicates and replaced tiles go in build()
@@ -305,18 +309,29 @@ AdfPtr AdfBuilder::build(uint64_t version) {
     // Only a chunk this builder wrote can hold an unassigned slot (a shared one was checked when
     // its builder published it): an edit checks the chunks it touched, not every slot (262k at
     // level 12). Each written chunk keeps one owner per tile it still shows.
-    for (const auto& chunk : mOwnChunks) {
+    // Owners end sorted and unique, one per tile the chunk shows. Only the tiles this builder
+    // appended need sorting, and only the ones it overwrote can have gone: sorting all of a
+    // chunk's slots and owners instead took an edit 35 us.
+    auto byTile = [](const TilePtr& x, const TilePtr& y) { return x.get() < y.get(); };
+    for (OwnChunk& own : mOwnChunks) {
+        Chunk* chunk = own.chunk.get();
         if (!chunk) continue;
         const auto used = chunk->tiles.begin() + std::ptrdiff_t(a.mChunkDim) * a.mChunkDim * a.mChunkDim;
         if (std::find(chunk->tiles.begin(), used, nullptr) != used)
             throw std::logic_error("ADF builder: a tile slot was never assigned");
-        std::vector<const Tile*> shown(chunk->tiles.begin(), chunk->tiles.end());
-        std::sort(shown.begin(), shown.end());
-        shown.erase(std::unique(shown.begin(), shown.end()), shown.end());
         auto& owners = chunk->owners;
-        std::sort(owners.begin(), owners.end(), [](const TilePtr& x, const TilePtr& y) { return x.get() < y.get(); });
+        const auto kept = owners.begin() + std::ptrdiff_t(own.kept);
+        std::sort(kept, owners.end(), byTile);
+        std::inplace_merge(owners.begin(), kept, owners.end(), byTile);
         owners.erase(std::unique(owners.begin(), owners.end()), owners.end());
-        std::erase_if(owners, [&](const TilePtr& t) { return !std::binary_search(shown.begin(), shown.end(), t.get()); });
+        std::vector<const Tile*>& gone = own.replaced;  // overwritten and shown nowhere any more
+        std::sort(gone.begin(), gone.end());
+        gone.erase(std::unique(gone.begin(), gone.end()), gone.end());
+        if (!gone.empty()) {
+            for (auto slot = chunk->tiles.begin(); slot != used && !gone.empty(); ++slot)
+                if (const auto at = std::lower_bound(gone.begin(), gone.end(), *slot); at != gone.end() && *at == *slot) gone.erase(at);
+            std::erase_if(owners, [&](const TilePtr& t) { return std::binary_search(gone.begin(), gone.end(), t.get()); });
+        }
         owners.shrink_to_fit();
     }
     a.mVersion = version;

@@ -257,8 +257,16 @@ public:
     AdfPtr build(uint64_t version);
 
 private:
+    /// A chunk this builder may still mutate. Its owners are sorted and unique up to `kept`
+    /// (as the snapshot it was copied from left them); setTile appends after that, and notes the
+    /// tiles it overwrites, the only ones that can stop being shown.
+    struct OwnChunk {
+        std::shared_ptr<Chunk> chunk;
+        std::size_t kept = 0;
+        std::vector<const Tile*> replaced;
+    };
     std::shared_ptr<Adf> mAdf;
-    std::vector<std::shared_ptr<Chunk>> mOwnChunks;  ///< chunks this builder may still mutate
+    std::vector<OwnChunk> mOwnChunks;
 };
 
 /// Per-thread cached reader for coherent queries (the haptic thread's path).
