@@ -308,10 +308,9 @@ AdfPtr AdfBuilder::build(uint64_t version) {
         if (e == 0) throw std::logic_error("ADF builder: a chunk was never assigned");
     // Only a chunk this builder wrote can hold an unassigned slot (a shared one was checked when
     // its builder published it): an edit checks the chunks it touched, not every slot (262k at
-    // level 12). Each written chunk keeps one owner per tile it still shows.
-    // Owners end sorted and unique, one per tile the chunk shows. Only the tiles this builder
-    // appended need sorting, and only the ones it overwrote can have gone: sorting all of a
-    // chunk's slots and owners instead took an edit 35 us.
+    // level 12). Each written chunk keeps one owner per tile it still shows, sorted: only the
+    // tiles this builder appended need sorting, and only the ones it overwrote can have gone
+    // (sorting all of a chunk's slots and owners instead took an edit 35 us).
     auto byTile = [](const TilePtr& x, const TilePtr& y) { return x.get() < y.get(); };
     for (OwnChunk& own : mOwnChunks) {
         Chunk* chunk = own.chunk.get();

@@ -80,12 +80,12 @@ private:
             return values;
         }
     };
-    /// The values of one block's points, once filled; until then, how often they were asked for.
+    /// The values of one block's points, filled when `asked` reaches kFillAfter (it counts no
+    /// further).
     static constexpr uint32_t kBlockShift = 3, kBlockSide = 1u << kBlockShift, kBlockPoints = kBlockSide * kBlockSide * kBlockSide;
     struct Block {
         glm::uvec3 key{~0u};  ///< lattice point >> kBlockShift
         uint32_t asked = 0;
-        bool filled = false;
         float values[kBlockPoints];  ///< x fastest
     };
     /// Points of a block asked for before it is filled: a pass over a block costs about as
@@ -180,7 +180,7 @@ private:
             Block& b = cache.blocks[(key.x & 7u) | ((key.y & 7u) << 3) | ((key.z & 7u) << 6)];
             const uint32_t i = (in.z * kBlockSide + in.y) * kBlockSide + in.x;
             if (b.key == key) {
-                if (b.filled) {
+                if (b.asked == kFillAfter) {
                     out = b.values[i];
                     return true;
                 }
@@ -192,7 +192,6 @@ private:
             } else {
                 b.key = key;
                 b.asked = 1;
-                b.filled = false;
             }
         }
         return pointValue(pt, cache, out);
@@ -263,7 +262,6 @@ private:
                     if (glm::uvec3(x, y, z) != glm::max(t->latticeOrigin() >> span, first)) continue;
                     visit(*t, 0, t->latticeOrigin(), mTop >> uint32_t(t->level()), cubeLo, cubeEnd, b, rank);
                 }
-        b.filled = true;
     }
 
     /// The leaves under node `i` of `t` (a cell at `o`, `size` wide) that meet [cubeLo, cubeEnd).
