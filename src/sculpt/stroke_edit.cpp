@@ -48,7 +48,28 @@ public:
         mOld->latticeDistances(d, p, out);
         const glm::dvec3 origin = d.originWorld;
         const double cell = d.finestCellSize();
-        for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(adf::Domain::latticeToWorld(origin, cell, p[i]), out[i]);
+        if (!plainCsg()) {
+            for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(adf::Domain::latticeToWorld(origin, cell, p[i]), out[i]);
+            return;
+        }
+        // combine() for a carve or an addition without symmetry or limits, the tool asked for a
+        // run of points at once (SweptTool::distancesBelow): the same values.
+        constexpr std::size_t kRun = 64;
+        glm::dvec3 world[kRun];
+        double tool[kRun];
+        const bool carve = mOp == ToolOp::Carve;
+        for (std::size_t first = 0; first < p.size(); first += kRun) {
+            const std::size_t n = std::min(kRun, p.size() - first);
+            for (std::size_t k = 0; k < n; ++k) {
+                world[k] = adf::Domain::latticeToWorld(origin, cell, p[first + k]);
+                tool[k] = carve ? -out[first + k] : out[first + k];  // the limit: where the tool decides
+            }
+            mTool->distancesBelow({world, n}, {tool, n});
+            for (std::size_t k = 0; k < n; ++k) {
+                double& v = out[first + k];
+                v = carve ? std::max(v, -tool[k]) : std::min(v, tool[k]);
+            }
+        }
     }
     double featureSize(const glm::dvec3& c, double radius) const override {
         double f = std::min(mOld->featureSize(c, radius), mTool->featureSize(mirrored(c), radius));
@@ -81,6 +102,8 @@ public:
     }
 
 private:
+    /// A carve or an addition with neither symmetry nor limits: min/max with the tool alone.
+    bool plainCsg() const { return (mOp == ToolOp::Carve || mOp == ToolOp::Add) && mReflect == 0 && mLimits.empty(); }
     glm::dvec3 mirrored(const glm::dvec3& p) const { return mirroredPoint(p, mReflect, mCentre); }
     /// The swept tool's distance at p (q: p mirrored) where below `limit`, cut by the limits:
     /// intersected with the outside of every mask and with the allowed side of the offset of

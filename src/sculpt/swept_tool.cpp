@@ -180,6 +180,25 @@ double SweptTool::distanceBelow(const glm::dvec3& p, double limit) const {
     return search(p, limit, [&](const Segment& s) { return segmentDistance(s, p); });
 }
 
+void SweptTool::distancesBelow(std::span<const glm::dvec3> p, std::span<double> limitInOut) const {
+    const Segment& s = mSegments[0];
+    if (mSegments.size() != 1 || !s.fixedOrientation || mTool.shape != ToolShape::Sphere) {
+        for (std::size_t i = 0; i < p.size(); ++i) limitInOut[i] = distanceBelow(p[i], limitInOut[i]);
+        return;
+    }
+    // segmentDistance's capsule and toolDistance's sphere, the same operations in the same
+    // order (so the same bits), with what does not depend on the point read once.
+    const glm::dmat3 inverseA = s.inverseA;
+    const glm::dvec3 a = s.a.position, w = s.moveA;
+    const double moveA2 = s.moveA2, radius = mTool.radius, shrink = (1.0 - mTool.strength) * mTool.radius;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const glm::dvec3 q = inverseA * (p[i] - a);
+        const double t = moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / moveA2, 0.0, 1.0) : 0.0;
+        const double d = glm::length(q - t * w) - radius + shrink;
+        limitInOut[i] = std::min(limitInOut[i], d);
+    }
+}
+
 double SweptTool::lowerBound(const glm::dvec3& p, double limit) const {
     const double r = mBoundingRadius;
     return search(p, limit, [&](const Segment& s) {

@@ -22,6 +22,7 @@
 
 #include <limits>
 #include <memory>
+#include <span>
 #include <vector>
 
 namespace kizamu::sculpt {
@@ -36,6 +37,11 @@ public:
     /// stroke that cannot come closer than the limit are not searched (what an edit needs:
     /// far from the tool the old field wins the CSG anyway).
     double distanceBelow(const glm::dvec3& p, double limit) const;
+    /// distanceBelow of every point of `p`, each with its own limit, into `limitInOut` (the
+    /// same values). For a dab of a sphere (one segment of fixed orientation, what most dabs
+    /// are) the loop runs the capsule distance directly: no search and no call per point, a
+    /// fifth of the per-point instructions.
+    void distancesBelow(std::span<const glm::dvec3> p, std::span<double> limitInOut) const;
     /// A lower bound of the true distance to the swept volume where below `limit` (otherwise
     /// `limit`), without searching: exact for a sphere (a capsule per segment), a box bound per
     /// segment for the other shapes. distance() never falls below it (its search only misses

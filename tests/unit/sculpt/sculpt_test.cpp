@@ -14,6 +14,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 
 namespace kizamu {
@@ -97,6 +98,37 @@ TEST(SweptTool, MatchesADenseSweepOfPosesForEveryShapeAndTurningStrokes) {
         }
     }
     EXPECT_THROW(SweptTool(Tool{}, {}), std::invalid_argument);
+}
+
+TEST(SweptTool, DistancesBelowInARunAreThePointByPointOnes) {
+    // distancesBelow runs a sphere's dab or straight stroke without the per-point search: it
+    // must give distanceBelow's bits for every shape, stroke and limit.
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int direct = 0;
+    for (int stroke = 0; stroke < 48; ++stroke) {
+        Tool tool = randomTool(rng);
+        if (stroke % 2 == 0) tool.shape = ToolShape::Sphere;  // the direct loop's case, half the strokes
+        const int n = 1 + stroke % 3;  // a dab, one segment, two
+        const bool turning = stroke % 4 == 3;
+        const glm::dquat fixed = stroke % 8 < 4 ? glm::dquat(1.0, 0.0, 0.0, 0.0) : randomRotation(rng);
+        std::vector<ToolSample> samples;
+        for (int i = 0; i < n; ++i)
+            samples.push_back({glm::dvec3(u(rng), u(rng), u(rng)) * 0.2, turning ? randomRotation(rng) : fixed});
+        const SweptTool swept(tool, samples);
+        direct += tool.shape == ToolShape::Sphere && n <= 2 && !turning;
+        std::vector<glm::dvec3> p(150);
+        std::vector<double> limits(p.size());
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            p[i] = glm::dvec3(u(rng), u(rng), u(rng)) * 0.35;
+            limits[i] = i % 3 == 0 ? std::numeric_limits<double>::infinity() : 0.2 * u(rng);  // above and below the tool
+        }
+        std::vector<double> run = limits;
+        swept.distancesBelow(p, run);
+        for (std::size_t i = 0; i < p.size(); ++i)
+            ASSERT_EQ(run[i], swept.distanceBelow(p[i], limits[i])) << "stroke " << stroke << " point " << i;
+    }
+    EXPECT_GE(direct, 12) << "too few sphere dabs and straight strokes";
 }
 
 Script slabScript(int level) {

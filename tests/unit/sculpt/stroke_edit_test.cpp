@@ -122,5 +122,46 @@ TEST(StrokeEdit, AtLatticePointsAnswersWhatItAnswersAtTheirWorldPositions) {
     EXPECT_EQ(compared, 3000);
 }
 
+TEST(StrokeEdit, PlainCarvesAndAdditionsInRunsAnswerWhatEachPointAnswers) {
+    // A carve or an addition with neither symmetry nor limits asks the tool for a run of points
+    // at once (the common dab); it must give what combining point by point gives.
+    adf::Domain d;
+    d.originWorld = glm::dvec3(0.0);
+    d.maxLevel = 6;
+    d.tileSpanLevels = 3;
+    const adf::AdfPtr snapshot = adf::generate(*adf::makeTranslated(adf::makeSphere(0.3), glm::dvec3(0.5)), d, adf::GenerationSettings{});
+    const adf::SourcePtr old = adf::makeAdfSource(snapshot);
+    std::mt19937_64 rng(13);
+    std::uniform_int_distribution<uint32_t> at(0, d.latticeSize());
+    const glm::dquat turned = glm::angleAxis(0.7, glm::normalize(glm::dvec3(1.0, 2.0, 0.5)));
+    int changed = 0;
+    for (int c = 0; c < 16; ++c) {
+        Tool tool;
+        tool.shape = c % 8 == 7 ? ToolShape::Cube : ToolShape::Sphere;  // and one shape the run does not take directly
+        tool.op = c % 2 ? ToolOp::Add : ToolOp::Carve;
+        tool.radius = 0.08;
+        tool.strength = c % 4 < 2 ? 1.0 : 0.6;
+        const glm::dquat o = c % 8 < 4 ? glm::dquat(1.0, 0.0, 0.0, 0.0) : turned;
+        std::vector<ToolSample> samples{{glm::dvec3(0.5, 0.5, 0.8), o}};
+        if (c >= 8) samples.push_back({glm::dvec3(0.6, 0.5, 0.75), o});  // a straight stroke: a capsule
+        const adf::SourcePtr edit = makeStrokeEdit(old, makeSweptTool(tool, samples), 0, glm::dvec3(0.5), 0.0, {}, d.finestCellSize());
+        std::vector<glm::uvec3> lattice(300);
+        std::vector<glm::dvec3> world(lattice.size());
+        for (std::size_t i = 0; i < lattice.size(); ++i) {
+            lattice[i] = {at(rng), at(rng), at(rng)};
+            if (i % 2) lattice[i] = glm::uvec3(d.latticeSize() / 2 + at(rng) % 12, d.latticeSize() / 2 + at(rng) % 12, d.latticeSize() * 3 / 4 + at(rng) % 8);  // at the tool
+            world[i] = d.latticeToWorld(lattice[i].x, lattice[i].y, lattice[i].z);
+        }
+        std::vector<double> inRuns(lattice.size()), oldValues(lattice.size());
+        edit->latticeDistances(d, lattice, inRuns);
+        old->latticeDistances(d, lattice, oldValues);
+        for (std::size_t i = 0; i < lattice.size(); ++i) {
+            ASSERT_EQ(inRuns[i], edit->distance(world[i])) << "case " << c << " point " << i;
+            changed += inRuns[i] != oldValues[i];
+        }
+    }
+    EXPECT_GT(changed, 300) << "the tool decided too few points to test its runs";
+}
+
 }  // namespace
 }  // namespace kizamu::sculpt
