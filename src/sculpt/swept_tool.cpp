@@ -72,6 +72,8 @@ SweptTool::SweptTool(const Tool& tool, std::vector<ToolSample> samples) : mTool(
                   glm::dvec3(0.0, 0.0, 1.0), 0.0, false, 1};
         s.moveA = s.inverseA * (s.b.position - s.a.position);
         s.moveA2 = glm::dot(s.moveA, s.moveA);
+        s.move = s.b.position - s.a.position;
+        s.move2 = glm::dot(s.move, s.move);
         // The turn from a to b as a world rotation r = b a^-1, the short way round.
         glm::dquat r = s.b.orientation * glm::conjugate(s.a.orientation);
         if (r.w < 0.0) r = -r;
@@ -111,14 +113,17 @@ uint32_t SweptTool::build(uint32_t first, uint32_t count) {
     return index;
 }
 
+double SweptTool::capsuleDistance(const Segment& s, const glm::dvec3& p) const {
+    const glm::dvec3 q = p - s.a.position;
+    const double t = s.move2 > 0.0 ? std::clamp(glm::dot(q, s.move) / s.move2, 0.0, 1.0) : 0.0;
+    return toolDistance(mTool, q - t * s.move);
+}
+
 double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
+    if (mTool.shape == ToolShape::Sphere) return capsuleDistance(s, p);  // exact, turning or not: no search
     const glm::dvec3 v = s.b.position - s.a.position;
     if (s.fixedOrientation) {
         const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.moveA;  // tool frame
-        if (mTool.shape == ToolShape::Sphere) {  // capsule
-            const double t = s.moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / s.moveA2, 0.0, 1.0) : 0.0;
-            return toolDistance(mTool, q - t * w);
-        }
         if (s.moveA2 == 0.0) return toolDistance(mTool, q);
         return goldenMinimum([&](double t) { return toolDistance(mTool, q - t * w); }, 0.0, 1.0);
     }
@@ -181,19 +186,18 @@ double SweptTool::distanceBelow(const glm::dvec3& p, double limit) const {
 }
 
 void SweptTool::distancesBelow(std::span<const glm::dvec3> p, std::span<double> limitInOut) const {
-    const Segment& s = mSegments[0];
-    if (mSegments.size() != 1 || !s.fixedOrientation || mTool.shape != ToolShape::Sphere) {
+    if (mSegments.size() != 1 || mTool.shape != ToolShape::Sphere) {
         for (std::size_t i = 0; i < p.size(); ++i) limitInOut[i] = distanceBelow(p[i], limitInOut[i]);
         return;
     }
-    // segmentDistance's capsule and toolDistance's sphere, the same operations in the same
-    // order (so the same bits), with what does not depend on the point read once.
-    const glm::dmat3 inverseA = s.inverseA;
-    const glm::dvec3 a = s.a.position, w = s.moveA;
-    const double moveA2 = s.moveA2, radius = mTool.radius, shrink = (1.0 - mTool.strength) * mTool.radius;
+    // capsuleDistance and toolDistance's sphere, the same operations in the same order (so the
+    // same bits), with what does not depend on the point read once.
+    const Segment& s = mSegments[0];
+    const glm::dvec3 a = s.a.position, w = s.move;
+    const double move2 = s.move2, radius = mTool.radius, shrink = (1.0 - mTool.strength) * mTool.radius;
     for (std::size_t i = 0; i < p.size(); ++i) {
-        const glm::dvec3 q = inverseA * (p[i] - a);
-        const double t = moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / moveA2, 0.0, 1.0) : 0.0;
+        const glm::dvec3 q = p[i] - a;
+        const double t = move2 > 0.0 ? std::clamp(glm::dot(q, w) / move2, 0.0, 1.0) : 0.0;
         const double d = glm::length(q - t * w) - radius + shrink;
         limitInOut[i] = std::min(limitInOut[i], d);
     }
@@ -202,12 +206,7 @@ void SweptTool::distancesBelow(std::span<const glm::dvec3> p, std::span<double> 
 double SweptTool::lowerBound(const glm::dvec3& p, double limit) const {
     const double r = mBoundingRadius;
     return search(p, limit, [&](const Segment& s) {
-        if (mTool.shape == ToolShape::Sphere) {
-            // A sphere turns into itself: the capsule distance, whatever the orientations.
-            const glm::dvec3 q = s.inverseA * (p - s.a.position), w = s.moveA;
-            const double t = s.moveA2 > 0.0 ? std::clamp(glm::dot(q, w) / s.moveA2, 0.0, 1.0) : 0.0;
-            return toolDistance(mTool, q - t * w);
-        }
+        if (mTool.shape == ToolShape::Sphere) return capsuleDistance(s, p);  // exact, whatever the orientations
         // The segment's swept volume lies in the box of its ends grown by the bounding radius.
         const glm::dvec3 lo = glm::min(s.a.position, s.b.position) - r, hi = glm::max(s.a.position, s.b.position) + r;
         return boxDistance(p, lo, hi) - (glm::all(glm::lessThanEqual(lo, p)) && glm::all(glm::lessThanEqual(p, hi)) ? r : 0.0);

@@ -38,9 +38,9 @@ public:
     /// far from the tool the old field wins the CSG anyway).
     double distanceBelow(const glm::dvec3& p, double limit) const;
     /// distanceBelow of every point of `p`, each with its own limit, into `limitInOut` (the
-    /// same values). For a dab of a sphere (one segment of fixed orientation, what most dabs
-    /// are) the loop runs the capsule distance directly: no search and no call per point, a
-    /// fifth of the per-point instructions.
+    /// same values). For a sphere's dab or one-segment stroke (what most dabs are) the loop
+    /// runs the capsule distance directly: no search and no call per point, a fifth of the
+    /// per-point instructions.
     void distancesBelow(std::span<const glm::dvec3> p, std::span<double> limitInOut) const;
     /// A lower bound of the true distance to the swept volume where below `limit` (otherwise
     /// `limit`), without searching: exact for a sphere (a capsule per segment), a box bound per
@@ -65,12 +65,17 @@ private:
         double angle;           ///< radians turned from a to b
         bool fixedOrientation;  ///< a and b share their orientation
         int angleSteps;         ///< samples for the turning case
+        glm::dvec3 move{0.0};   ///< b - a in the world (a sphere's capsule)
+        double move2 = 0.0;     ///< its squared length
     };
     struct Node {
         glm::dvec3 lo, hi;  ///< segment boxes grown by the tool's bounding radius
         uint32_t first, count, left, right;
     };
     double segmentDistance(const Segment& s, const glm::dvec3& p) const;
+    /// A sphere's distance along a segment, whatever its turn (a sphere turns into itself):
+    /// the capsule from a to b.
+    double capsuleDistance(const Segment& s, const glm::dvec3& p) const;
     /// Nearest segment by `segment(s)`, visiting only BVH nodes whose box could beat `limit`.
     template <class SegmentDistance>
     double search(const glm::dvec3& p, double limit, const SegmentDistance& segment) const;

@@ -116,7 +116,7 @@ TEST(SweptTool, DistancesBelowInARunAreThePointByPointOnes) {
         for (int i = 0; i < n; ++i)
             samples.push_back({glm::dvec3(u(rng), u(rng), u(rng)) * 0.2, turning ? randomRotation(rng) : fixed});
         const SweptTool swept(tool, samples);
-        direct += tool.shape == ToolShape::Sphere && n <= 2 && !turning;
+        direct += tool.shape == ToolShape::Sphere && n <= 2;  // turning or not: a sphere is a capsule
         std::vector<glm::dvec3> p(150);
         std::vector<double> limits(p.size());
         for (std::size_t i = 0; i < p.size(); ++i) {
