@@ -376,7 +376,12 @@ TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32
     }
     for (std::size_t b = 0; b < brickValues.size() / 27; ++b) {
         if (from && copies.bricks[b] != TileCopies::kNotCopied) {
-            from->brickValues(copies.bricks[b], &bricks[27 * b]);
+            // A packed copy takes its steps' bytes from `from` (build): only its centre is read.
+            const uint32_t i = copies.bricks[b];
+            if (i < from->mPackedCount)
+                bricks[27 * b + 13] = from->brickValue(i, 13);
+            else
+                from->brickValues(i, &bricks[27 * b]);
             continue;
         }
         for (std::size_t i = 27 * b; i < 27 * b + 27; ++i) bricks[i] = quantise(brickValues[i], scale);
@@ -401,18 +406,19 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     std::vector<int8_t> deltas(std::size_t(brickCount) * 27);
     std::vector<uint8_t> form(brickCount);
     // A copied brick's form and steps are its source's: packing its decoded values again would
-    // find the same (the encoding is idempotent), at the price of every value. (Narrow own
-    // leaves likewise below; wide own leaves and grouped ones are packed again.)
+    // find the same (the encoding is idempotent), at the price of every value. Its steps' bytes
+    // are copied as they are (the same layout per form), so only its centre was decoded
+    // (create). (Narrow own leaves likewise below; wide own leaves and grouped ones are packed
+    // again.)
     const Tile* from = copies.from;
+    std::vector<const unsigned char*> copiedSteps(from ? brickCount : 0, nullptr);
     for (uint32_t b = 0; b < brickCount; ++b) {
         const int16_t* q = brickValues.data() + 27 * std::size_t(b);
         int8_t* d = deltas.data() + 27 * std::size_t(b);
         if (from && copies.bricks[b] != TileCopies::kNotCopied) {
             const uint32_t i = copies.bricks[b];
             form[b] = i < from->mNarrowCount ? kNarrow : i < from->mCoarseEnd ? kCoarse : i < from->mPackedCount ? kFar : kWide;
-            if (form[b] == kWide) continue;
-            const unsigned char* p = from->at<unsigned char>(from->mBrickDeltasAt) + gridStepsOffset(from->mNarrowCount, i);
-            for (int g = 0; g < 27; ++g) d[g] = int8_t(form[b] == kNarrow ? narrowGridStep(p, g) : coarseGridStep(p, g));
+            if (form[b] != kWide) copiedSteps[b] = from->at<unsigned char>(from->mBrickDeltasAt) + gridStepsOffset(from->mNarrowCount, i);
             continue;
         }
         form[b] = packGrid(q, leafStep, d);
@@ -534,9 +540,10 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     }
     // Bricks and groups alike: packed ones as centre and steps (7-bit fields or bytes, the
     // centre's 0 left out), wide ones as they are.
+    // `copied`: per item, the bytes of its steps in the tile it was copied from, or null.
     auto writeGrids = [t](std::span<const int16_t> values, const std::vector<uint8_t>& forms, std::span<const int8_t> steps,
                           const std::vector<uint32_t>& number, uint32_t narrow, uint32_t packed, uint32_t basesAt,
-                          uint32_t stepsAt, uint32_t wideAt) {
+                          uint32_t stepsAt, uint32_t wideAt, const std::vector<const unsigned char*>& copied) {
         auto* bases = const_cast<int16_t*>(t->at<int16_t>(basesAt));
         auto* packedSteps = const_cast<unsigned char*>(t->at<unsigned char>(stepsAt));
         auto* wide = const_cast<int16_t*>(t->at<int16_t>(wideAt));
@@ -550,6 +557,10 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             }
             bases[i] = q[13];
             unsigned char* p = packedSteps + gridStepsOffset(narrow, i);  // zeroed by allocate
+            if (k < copied.size() && copied[k]) {
+                std::memcpy(p, copied[k], forms[k] == kNarrow ? kNarrowGridSteps : kCoarseGridSteps);
+                continue;
+            }
             for (int j = 0; j < 26; ++j) {
                 const auto field = uint8_t(d[gridPointOf(j)]);
                 if (forms[k] != kNarrow) {
@@ -563,9 +574,9 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
         }
     };
     writeGrids(brickValues, form, deltas, renumber, narrowCount, packedCount, t->mBrickBasesAt, t->mBrickDeltasAt,
-               t->mWideBricksAt);
+               t->mWideBricksAt, copiedSteps);
     writeGrids(groups.values, groups.form, groups.deltas, renumberGroup, groupForms[kNarrow], packedGroups,
-               t->mGroupBasesAt, t->mGroupDeltasAt, t->mWideGroupsAt);
+               t->mGroupBasesAt, t->mGroupDeltasAt, t->mWideGroupsAt, {});
     return finish(t, level, latticeOrigin, scale, version);
 }
 
