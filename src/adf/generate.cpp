@@ -386,7 +386,7 @@ public:
         for (int i = 0; i < kNeighbours; ++i)
             if (neighbours[i]) importFrom(*neighbours[i], i);
         mHandsOverBorder = true;
-        subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel());
+        subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false);
         groupBorder(border);
         return finish(version);
     }
@@ -415,14 +415,14 @@ public:
     /// generated, else null and fills `split`.
     TilePtr planRoot(const TileJob& job, Split& split, uint64_t version) {
         begin(job);
-        if (decide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, split)) return finish(version);
+        if (decide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false, split)) return finish(version);
         return nullptr;
     }
 
     /// Child `c` of the tile root that `split` describes.
     Part buildChild(const TileJob& job, const Split& split, int c) {
         beginBelowRoot(job, split);
-        child(0, glm::uvec3(0), mSpan / 2, mDomain.tileLevel() + 1, c, split);
+        child(0, glm::uvec3(0), mSpan / 2, mDomain.tileLevel() + 1, c, split, false);
         return {mNodes, mLeafCorners, mBrickValues, mLeafFrom, mBrickFrom};
     }
 
@@ -537,15 +537,21 @@ private:
     /// Makes the half-grid points `gs` of the cell at `o` (half size `half`) valid, evaluating
     /// the missing ones in one batch, and loads them into v. Indices by table (mGridStep): a
     /// cell's points are nearly all valid already (prefetchChildren), and working out each one's
-    /// coordinates to look it up cost a full generation 7 % of its instructions.
-    void ensure(glm::uvec3 o, uint32_t half, const int* gs, int n, float* v) {
+    /// coordinates to look it up cost a full generation 7 % of its instructions. `prefetched`:
+    /// they are all valid (the parent's prefetchChildren took them), so they are only loaded.
+    void ensure(glm::uvec3 o, uint32_t half, const int* gs, int n, float* v, bool prefetched) {
         const uint32_t base = index(o);
-        glm::uvec3 missing[27];
-        int m = 0;
-        for (int k = 0; k < n; ++k)
-            if (!valid(base + half * mGridStep[gs[k]])) missing[m++] = o + gridOffset(gs[k]) * half;
-        if (m > 0) evaluate(missing, m);
-        for (int k = 0; k < n; ++k) v[gs[k]] = mValues[base + half * mGridStep[gs[k]]];
+        if (!prefetched) {
+            glm::uvec3 missing[27];
+            int m = 0;
+            for (int k = 0; k < n; ++k)
+                if (!valid(base + half * mGridStep[gs[k]])) missing[m++] = o + gridOffset(gs[k]) * half;
+            if (m > 0) evaluate(missing, m);
+        }
+        for (int k = 0; k < n; ++k) {
+            assert(valid(base + half * mGridStep[gs[k]]));
+            v[gs[k]] = mValues[base + half * mGridStep[gs[k]]];
+        }
     }
 
     /// Evaluates, in two large batches, what the 8 children of a cell will ask for first: their
@@ -795,26 +801,28 @@ private:
     }
 
     /// `keepChecked`: the parent already asked keepsOld for this cell (and was told no, or
-    /// the copy failed).
-    void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked = false) {
+    /// the copy failed). `prefetched`: the parent's prefetchChildren evaluated what this cell
+    /// looks at (decide then only loads it).
+    void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched) {
         Split split;
-        if (!decide(nodeIndex, o, s, level, keepChecked, split)) children(nodeIndex, o, s, level, split);
+        if (!decide(nodeIndex, o, s, level, keepChecked, prefetched, split)) children(nodeIndex, o, s, level, split);
     }
 
     /// The children of the cell at `o` (node `nodeIndex`) that `split` describes, appended as
     /// the next 8 nodes with their subtrees, then the cell finished (finishParent).
     void children(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, const Split& split) {
-        if (level + 1 < mDomain.maxLevel) prefetchChildren(o, s / 2, level + 1, split.keep);
+        const bool prefetched = level + 1 < mDomain.maxLevel;
+        if (prefetched) prefetchChildren(o, s / 2, level + 1, split.keep);
         const auto first = uint32_t(mNodes.size());
         const std::size_t leafMark = mLeafCorners.size();
         mNodes.resize(first + 8);
-        for (int c = 0; c < 8; ++c) child(first + uint32_t(c), o, s / 2, level + 1, c, split);
+        for (int c = 0; c < 8; ++c) child(first + uint32_t(c), o, s / 2, level + 1, c, split, prefetched);
         finishParent(nodeIndex, first, leafMark, split);
     }
 
     /// The cell's own decision: true when settled (node `nodeIndex` written), else `split` says
     /// what its children need.
-    bool decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, Split& split) {
+    bool decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched, Split& split) {
         if (!keepChecked && keepsOld(o, s, level) == Keep::Copy && copyOld(nodeIndex, o, level)) return true;
         float* v = split.v;
         const uint32_t base = index(o), dy = mDim * s, dz = mDim * mDim * s;
@@ -831,13 +839,13 @@ private:
         if (level == mDomain.maxLevel) return leaf();
 
         const uint32_t half = s / 2;
-        ensure(o, half, &kCentre, 1, v);
+        ensure(o, half, &kCentre, 1, v, prefetched);
         const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
         if (look.leaf) return leaf();
 
         auto hides = [&] { return mRule.hidesFeature(mSource, mBase + o, level); };  // asked last: it may query the source
         if (mRule.farFromSurfaceAtFirstLook(corners, v[kCentre], level) && !hides()) return leaf();
-        ensure(o, half, kFaceEdgePoints.data(), 18, v);
+        ensure(o, half, kFaceEdgePoints.data(), 18, v, prefetched);
         if ((mRule.farFromSurface(v, level) || CellRule::error(v) <= look.threshold) && !hides()) return leaf();
 
         for (int c = 0; c < 8; ++c) split.keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1);
@@ -849,15 +857,16 @@ private:
         return false;
     }
 
-    /// Child `c` (at node `nodeIndex`, size `half`) of the cell at `o`, as `split` says.
-    void child(uint32_t nodeIndex, glm::uvec3 o, uint32_t half, int childLevel, int c, const Split& split) {
+    /// Child `c` (at node `nodeIndex`, size `half`) of the cell at `o`, as `split` says;
+    /// `prefetched`: prefetchChildren ran for the children.
+    void child(uint32_t nodeIndex, glm::uvec3 o, uint32_t half, int childLevel, int c, const Split& split, bool prefetched) {
         const glm::uvec3 co = o + childOffset(c) * half;
         if (split.keep[c] == Keep::Leaf) {
             float childCorners[8];
             for (int k = 0; k < 8; ++k) childCorners[k] = split.v[brickPoint(c, k)];
             makeLeaf(nodeIndex, childCorners);
         } else if (!(split.keep[c] == Keep::Copy && copyOld(nodeIndex, co, childLevel))) {
-            subdivide(nodeIndex, co, half, childLevel, true);
+            subdivide(nodeIndex, co, half, childLevel, true, prefetched && split.keep[c] == Keep::No);
         }
     }
 
