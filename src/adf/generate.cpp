@@ -398,9 +398,19 @@ public:
 
     /// What a cell needs once its own samples are in: nothing more (it was settled as a leaf, a
     /// copy, or a brick of finest children), or its children generated as `keep` says.
+    /// Where the old tile holds a cell: its node word `word`, the child `brickChild` of a brick
+    /// (-1: the word itself), and whether that is a leaf coarser than the cell (then the cell
+    /// lies inside it).
+    struct OldCell {
+        uint32_t word = 0;
+        int brickChild = -1;
+        bool coarser = false;
+    };
+
     struct Split {
         float v[27];  ///< the cell's half-grid values: its children's corners
         Keep keep[8];
+        OldCell old[8];  ///< where the old tile holds each child (when there is an old tile)
         bool nearBand;
     };
 
@@ -415,7 +425,7 @@ public:
     /// generated, else null and fills `split`.
     TilePtr planRoot(const TileJob& job, Split& split, uint64_t version) {
         begin(job);
-        if (decide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false, split)) return finish(version);
+        if (decide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false, nullptr, split)) return finish(version);
         return nullptr;
     }
 
@@ -671,14 +681,7 @@ private:
         return a.x > hi.x || a.y > hi.y || a.z > hi.z || a.x + int(s) < lo.x || a.y + int(s) < lo.y || a.z + int(s) < lo.z;
     }
 
-    /// Where the old tile holds the cell at `o` (level `level`): its node word `word`, the
-    /// child `brickChild` of a brick (-1: the word itself), and whether that is a leaf coarser
-    /// than the cell (then the cell lies inside it).
-    struct OldCell {
-        uint32_t word;
-        int brickChild;
-        bool coarser;
-    };
+    /// Where the old tile holds the cell at `o` (level `level`), by a descent from its root.
     OldCell findOld(glm::uvec3 o, int level) const {
         uint32_t w = mOld->node(0);
         for (int l = mDomain.tileLevel(); l < level; ++l) {
@@ -691,6 +694,13 @@ private:
         }
         return {w, -1, false};
     }
+    /// findOld of child `c` of the cell the old tile holds at `parent`, without a descent.
+    OldCell oldChild(const OldCell& parent, int c) const {
+        if (parent.coarser || parent.brickChild >= 0) return {parent.word, parent.brickChild, true};
+        if (node::isInternal(parent.word)) return {mOld->node(parent.word + uint32_t(c)), -1, false};
+        if (node::isLeaf(parent.word)) return {parent.word, -1, true};
+        return {parent.word, c, false};  // a brick: the child is one of its children
+    }
 
     /// Sub-tile regeneration: what a cell keeps of the old tile. `Copy`: the old tile's cells
     /// there. `Leaf`: the cell lies inside a coarser old leaf, whose trilinear field it
@@ -698,7 +708,8 @@ private:
     /// exact and stop there too). Cells clear of the region are copied; inside it, cells where
     /// the source says it equals the old field for every value the old cells hold there, and
     /// where no new feature asks for finer cells, are kept too.
-    Keep keepsOld(glm::uvec3 o, uint32_t s, int level) const {
+    /// `cell`: where the old tile holds it (findOld).
+    Keep keepsOld(glm::uvec3 o, uint32_t s, int level, const OldCell& cell) const {
         if (!mOld) return Keep::No;
         if (outsideRegion(o, s)) return Keep::Copy;
         if (level >= mDomain.maxLevel) return Keep::No;  // its corners are sampled already
@@ -711,13 +722,13 @@ private:
         range.lo += rounding;
         range.hi -= rounding;
         if (range.lo > range.hi || mRule.hidesFeature(mSource, mBase + o, level)) return Keep::No;
-        return oldValuesWithin(o, level, range);
+        return oldValuesWithin(cell, range);
     }
 
     /// Whether every value the old tile stores for the cell at `o` (its subtree, or the coarser
     /// leaf holding it) lies in `range`: then so does the old field over the cell, which is
     /// trilinear between them. Says which way the cell can be kept.
-    Keep oldValuesWithin(glm::uvec3 o, int level, const DistanceSource::Range& range) const {
+    Keep oldValuesWithin(const OldCell& cell, const DistanceSource::Range& range) const {
         const float scale = mOld->scale();
         // value(k) is a quantised value; all n must decode into the range
         auto inRange = [&](int n, const auto& value) {
@@ -733,7 +744,6 @@ private:
             mOld->leafValues(leaf, q.data());
             return [q](int c) { return q[std::size_t(c)]; };
         };
-        const OldCell cell = findOld(o, level);
         if (cell.brickChild >= 0) {
             const uint32_t brick = node::brickIndex(cell.word);
             if (!inRange(8, [&](int c) { return mOld->brickValue(brick, brickPoint(cell.brickChild, c)); })) return Keep::No;
@@ -767,8 +777,7 @@ private:
     /// the old tile has this cell (or it is one of an old brick's children). The source equals
     /// the old field outside the region, so generating would only re-derive them, at the cost
     /// of every sample; copying also keeps their structure exactly. False: generate it.
-    bool copyOld(uint32_t nodeIndex, glm::uvec3 o, int level) {
-        const OldCell cell = findOld(o, level);
+    bool copyOld(uint32_t nodeIndex, const OldCell& cell) {
         if (cell.coarser) return false;
         if (cell.brickChild >= 0) {
             float corners[8];
@@ -803,9 +812,11 @@ private:
     /// `keepChecked`: the parent already asked keepsOld for this cell (and was told no, or
     /// the copy failed). `prefetched`: the parent's prefetchChildren evaluated what this cell
     /// looks at (decide then only loads it).
-    void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched) {
+    /// `old`: where the old tile holds the cell (its parent's Split::old), or null.
+    void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched,
+                   const OldCell* old = nullptr) {
         Split split;
-        if (!decide(nodeIndex, o, s, level, keepChecked, prefetched, split)) children(nodeIndex, o, s, level, split);
+        if (!decide(nodeIndex, o, s, level, keepChecked, prefetched, old, split)) children(nodeIndex, o, s, level, split);
     }
 
     /// The children of the cell at `o` (node `nodeIndex`) that `split` describes, appended as
@@ -822,8 +833,12 @@ private:
 
     /// The cell's own decision: true when settled (node `nodeIndex` written), else `split` says
     /// what its children need.
-    bool decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched, Split& split) {
-        if (!keepChecked && keepsOld(o, s, level) == Keep::Copy && copyOld(nodeIndex, o, level)) return true;
+    bool decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched, const OldCell* old,
+                Split& split) {
+        if (!keepChecked && mOld) {  // a tile's root (its children are checked by their parent)
+            const OldCell cell = findOld(o, level);
+            if (keepsOld(o, s, level, cell) == Keep::Copy && copyOld(nodeIndex, cell)) return true;
+        }
         float* v = split.v;
         const uint32_t base = index(o), dy = mDim * s, dz = mDim * mDim * s;
         const uint32_t cornerAt[8] = {base, base + s, base + dy, base + s + dy, base + dz, base + s + dz, base + dy + dz, base + s + dy + dz};
@@ -848,7 +863,11 @@ private:
         ensure(o, half, kFaceEdgePoints.data(), 18, v, prefetched);
         if ((mRule.farFromSurface(v, level) || CellRule::error(v) <= look.threshold) && !hides()) return leaf();
 
-        for (int c = 0; c < 8; ++c) split.keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1);
+        const OldCell here = !mOld ? OldCell{} : old ? *old : findOld(o, level);
+        for (int c = 0; c < 8; ++c) {
+            if (mOld) split.old[c] = oldChild(here, c);
+            split.keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1, split.old[c]);
+        }
         split.nearBand = look.nearBand;
         if (level + 1 == mDomain.maxLevel && std::all_of(split.keep, split.keep + 8, [](Keep k) { return k == Keep::No; })) {
             finestChildren(nodeIndex, v, corners, look.nearBand);
@@ -865,8 +884,8 @@ private:
             float childCorners[8];
             for (int k = 0; k < 8; ++k) childCorners[k] = split.v[brickPoint(c, k)];
             makeLeaf(nodeIndex, childCorners);
-        } else if (!(split.keep[c] == Keep::Copy && copyOld(nodeIndex, co, childLevel))) {
-            subdivide(nodeIndex, co, half, childLevel, true, prefetched && split.keep[c] == Keep::No);
+        } else if (!(split.keep[c] == Keep::Copy && copyOld(nodeIndex, split.old[c]))) {
+            subdivide(nodeIndex, co, half, childLevel, true, prefetched && split.keep[c] == Keep::No, mOld ? &split.old[c] : nullptr);
         }
     }
 
