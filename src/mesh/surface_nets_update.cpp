@@ -103,6 +103,10 @@ public:
                 const Slot* s = slot(p >> mShift);
                 if (!s) return false;
                 if (s->whole) return true;
+                if (mShift == 6) {  // 64-cube slots (the app's tiles): a row is a word, x - 1 and x in it
+                    const uint64_t* w = s->bits.data() + ((std::size_t(local.z) << 6) | local.y);
+                    return ((w[0] | w[-1] | w[-64] | w[-65]) >> (local.x - 1)) & 3u;
+                }
                 for (uint32_t dz = 0; dz < 2; ++dz)
                     for (uint32_t dy = 0; dy < 2; ++dy) {
                         const std::size_t at = bit(local - glm::uvec3(1, dy, dz));
@@ -130,6 +134,23 @@ public:
                 for (int c = 0; c < 8; ++c)
                     if (pointChanged(lo + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * size)) return true;
                 return false;
+            }
+            if (mShift == 6) {
+                // 64-cube slots (the app's tiles) with every cube around the corners in lo's
+                // slot (nearly always): the rows at the 2-4 y and z coordinates ORed, one mask.
+                const glm::uvec3 local = lo & 63u;
+                if (local.x > 0 && local.y > 0 && local.z > 0 && local.x + size < 64 && local.y + size < 64 && local.z + size < 64) {
+                    const Slot* s = slot(lo >> mShift);
+                    if (!s) return false;
+                    if (s->whole) return true;
+                    const uint32_t y[4] = {local.y - 1, local.y, local.y + size - 1, local.y + size};
+                    const uint32_t z[4] = {local.z - 1, local.z, local.z + size - 1, local.z + size};
+                    uint64_t rows = 0;
+                    for (uint32_t zi : z)
+                        for (uint32_t yi : y) rows |= s->bits[(std::size_t(zi) << 6) | yi];
+                    const uint64_t xs = (uint64_t(3) << (local.x - 1)) | (uint64_t(3) << (local.x + size - 1));
+                    return (rows & xs) != 0;
+                }
             }
             // Per axis, the cube coordinates in the domain by slot: its index and the bits within it.
             struct Axis {

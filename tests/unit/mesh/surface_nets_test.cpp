@@ -422,5 +422,24 @@ TEST(SurfaceNets, ASmallDabInsideATileRecomputesFewOfItsVertices) {
     EXPECT_TRUE(tested) << "every dab changed a tile's scale";
 }
 
+TEST(SurfaceNets, DabsOnTheTestPartInTheAppsTilesEqualAFullMesh) {
+    // The app's tiles (64 cells, where the update's changed-cell queries take their row-word
+    // paths) and the bench's dab (radius 10 finest cells, carved and added at surface points):
+    // every spliced mesh is the full mesh of its snapshot.
+    const Domain d = testPartDomain(10);
+    util::ThreadPool pool(2);
+    AdfPtr a = generate(*makeTestPart(d), d, testPartSettings(), &pool);
+    SurfaceMesher mesher(&pool);
+    mesher.build(a);
+    const MeshBuffers surface = mesher.mesh();
+    for (int i = 0; i < 8; ++i) {
+        const glm::dvec3 c(surface.positions[(std::size_t(i) * 7919) % surface.vertexCount()]);
+        a = dabbed(a, i % 4 == 3 ? CsgOp::Union : CsgOp::Difference, c, 10 * d.finestCellSize(), &pool);
+        mesher.update(a);
+        ASSERT_TRUE(test::canonical(mesher.mesh()) == test::canonical(mesh::meshAdf(a, &pool))) << "dab " << i;
+        EXPECT_GT(mesher.stats().cellsMeshed, 100u) << "dab " << i;
+    }
+}
+
 }  // namespace
 }  // namespace kizamu
