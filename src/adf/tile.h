@@ -274,6 +274,21 @@ public:
     /// The 27 quantised values of brick `brick`, as brickValue gives them (one branch for all:
     /// readers comparing or scanning whole bricks).
     void brickValues(uint32_t brick, int16_t out[27]) const { decodeBrick(brick, 0, kBrickPoints, out); }
+    /// Whether brick `brick` and brick `otherBrick` of `other` are stored alike (the same form,
+    /// centre, steps and leaf step): then their values are the same, without decoding them
+    /// (a rebuilt tile copies most of its bricks so). False says nothing.
+    bool storesBrickAs(uint32_t brick, const Tile& other, uint32_t otherBrick) const {
+        auto form = [](const Tile& t, uint32_t i) { return i < t.mNarrowCount ? 0 : i < t.mCoarseEnd ? 1 : i < t.mPackedCount ? 2 : 3; };
+        const int f = form(*this, brick);
+        if (f != form(other, otherBrick) || mStep != other.mStep) return false;
+        if (f == 3)
+            return std::memcmp(at<int16_t>(mWideBricksAt) + 27 * std::size_t(brick - mPackedCount),
+                               other.at<int16_t>(other.mWideBricksAt) + 27 * std::size_t(otherBrick - other.mPackedCount), 54) == 0;
+        return at<int16_t>(mBrickBasesAt)[brick] == other.at<int16_t>(other.mBrickBasesAt)[otherBrick] &&
+               std::memcmp(at<unsigned char>(mBrickDeltasAt) + gridStepsOffset(mNarrowCount, brick),
+                           other.at<unsigned char>(other.mBrickDeltasAt) + gridStepsOffset(other.mNarrowCount, otherBrick),
+                           f == 0 ? kNarrowGridSteps : kCoarseGridSteps) == 0;
+    }
     float scale() const { return mScale; }               ///< m per quantisation step
     uint64_t version() const { return mVersion; }
     uint64_t checksum() const { return mChecksum; }

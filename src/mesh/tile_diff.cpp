@@ -71,6 +71,7 @@ void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bo
     if (a.isBrick() && b.isBrick()) {
         // Each brick decoded once: equal values mean 8 equal children, else the children are
         // compared from the decoded values (not 8 lookups per corner and side).
+        if (sameScale && a.tile->storesBrickAs(adf::node::brickIndex(a.word), *b.tile, adf::node::brickIndex(b.word))) return;
         int16_t qa[27], qb[27];
         a.brickValues(qa);
         b.brickValues(qb);

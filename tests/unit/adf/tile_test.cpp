@@ -461,6 +461,35 @@ TEST(Tile, EncodingOfAllFourBrickFormsIsIdempotent) {
     EXPECT_EQ(copied->checksum(), t->checksum());
 }
 
+TEST(Tile, BricksStoredAlikeAreTheOnesWithTheSameValues) {
+    // storesBrickAs lets a comparison of two tiles skip decoding: true only where the form,
+    // the centre and every step agree.
+    std::vector<float> values;
+    std::vector<uint32_t> nodes{1};
+    appendBricksOfAllForms(8, values, nodes);
+    const TilePtr t = Tile::create(9, glm::uvec3(0), nodes, {}, values, 1, kCell);
+    ASSERT_GT(t->narrowBrickCount(), 0u);
+    ASSERT_GT(t->coarseBrickCount(), 0u);
+    ASSERT_GT(t->farBrickCount(), 0u);
+    ASSERT_LT(t->packedBrickCount(), t->brickCount());
+    std::vector<int16_t> q, shifted;
+    for (uint32_t b = 0; b < t->brickCount(); ++b)
+        for (int g = 0; g < 27; ++g) q.push_back(t->brickValue(b, g));
+    // The same values, and every value moved by one leaf step (the same steps, another centre).
+    for (int16_t v : q) shifted.push_back(int16_t(v + t->leafStep()));
+    const TilePtr same = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), {}, q, t->scale(), 1, kCell);
+    const TilePtr moved = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), {}, shifted, t->scale(), 1, kCell);
+    for (uint32_t b = 0; b < t->brickCount(); ++b) {
+        EXPECT_TRUE(t->storesBrickAs(b, *same, b)) << "brick " << b;
+        ASSERT_NE(moved->brickValue(b, 13), t->brickValue(b, 13));
+        EXPECT_FALSE(t->storesBrickAs(b, *moved, b)) << "brick " << b << ": another centre";
+        for (uint32_t other = 0; other < t->brickCount(); ++other) {
+            if (other == b) continue;
+            EXPECT_FALSE(t->storesBrickAs(b, *same, other)) << "brick " << b << " against " << other;
+        }
+    }
+}
+
 TEST(Tile, CopiedItemsTakeTheirSourcesPackingWithTheSameBits) {
     // A source with bricks of all four forms and a narrow and a wide lone leaf.
     std::vector<float> values;
