@@ -396,8 +396,6 @@ public:
     // The arrays come out as build() makes them: a child's subtree is a contiguous, depth-first
     // run of nodes, leaves and bricks, so the parts are joined by moving their indices.
 
-    /// What a cell needs once its own samples are in: nothing more (it was settled as a leaf, a
-    /// copy, or a brick of finest children), or its children generated as `keep` says.
     /// Where the old tile holds a cell: its node word `word`, the child `brickChild` of a brick
     /// (-1: the word itself), and whether that is a leaf coarser than the cell (then the cell
     /// lies inside it).
@@ -407,6 +405,8 @@ public:
         bool coarser = false;
     };
 
+    /// What a cell needs once its own samples are in: nothing more (it was settled as a leaf, a
+    /// copy, or a brick of finest children), or its children generated as `keep` says.
     struct Split {
         float v[27];  ///< the cell's half-grid values: its children's corners
         Keep keep[8];
@@ -583,6 +583,8 @@ private:
             const glm::uvec3 co = o + childOffset(c) * childSize;
             const uint32_t base = index(co);
             const float centre = mValues[base + q * mGridStep[kCentre]];
+            // The same tests, in the same order, as decide() makes before it loads these points
+            // (it only loads them when its parent prefetched: keep them in step).
             if (keep[c] != Keep::No || mRule.firstLook(centre, childLevel).leaf) continue;
             float corners[8];
             for (int k = 0; k < 8; ++k) corners[k] = mValues[base + q * mGridStep[cornerToGrid(k)]];
@@ -858,6 +860,7 @@ private:
         const CellRule::FirstLook look = mRule.firstLook(v[kCentre], level);
         if (look.leaf) return leaf();
 
+        // (prefetchChildren makes these two tests for the face and edge points: keep them in step.)
         auto hides = [&] { return mRule.hidesFeature(mSource, mBase + o, level); };  // asked last: it may query the source
         if (mRule.farFromSurfaceAtFirstLook(corners, v[kCentre], level) && !hides()) return leaf();
         ensure(o, half, kFaceEdgePoints.data(), 18, v, prefetched);

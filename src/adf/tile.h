@@ -432,7 +432,8 @@ private:
     }
     static Tile* allocate(const Counts& n);
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed
-    /// (`copies`, whose source must share the scale: take its packing).
+    /// (`copies`, whose source must share the scale: take its packing; of a copied packed brick
+    /// only the centre, value 13, is read: its steps are its source's bytes).
     static std::shared_ptr<const Tile> build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                                              std::span<const int16_t> leafCorners, std::span<const int16_t> brickValues,
                                              float scale, uint64_t version, double finestCell, const TileCopies& copies = {});

@@ -5,10 +5,11 @@
 /// A stroke is a polyline of tool samples. Between two samples the tool moves continuously:
 /// position linearly, orientation by slerp. The swept volume is the union over segments of
 /// { pose(t) applied to the tool : t in [0, 1] }, and its distance at p is the minimum over t
-/// of the tool's distance in the moving frame. With a fixed orientation that function of t is
-/// convex (the tools are convex), so a golden-section search finds its minimum; a sphere has
-/// the closed form of a capsule. Where the orientation turns, the search starts from the best
-/// of samples spaced by at most 5 degrees. So fast strokes never break and slow strokes cost no
+/// of the tool's distance in the moving frame. A sphere turns into itself: its swept volume is
+/// a capsule per segment, turning or not, in closed form. For the other shapes, with a fixed
+/// orientation that function of t is convex (the tools are convex), so a golden-section search
+/// finds its minimum; where the orientation turns, the search starts from the best of samples
+/// spaced by at most 5 degrees. So fast strokes never break and slow strokes cost no
 /// more than their length: 2 samples or 200 along the same path give the same volume.
 /// Segments sit in a bounding-volume hierarchy; a query visits only those that can matter.
 /// Immutable; thread-safe. Complexity: O(log segments + segments near p) per query.
@@ -59,7 +60,7 @@ private:
     struct Segment {
         ToolSample a, b;
         glm::dmat3 inverseA;    ///< world to tool frame at a
-        glm::dvec3 moveA;       ///< b - a in the tool frame at a (fixed orientations)
+        glm::dvec3 moveA;       ///< b - a in the tool frame at a (other shapes, fixed orientations)
         double moveA2;          ///< its squared length
         glm::dvec3 axis;        ///< world axis of the turn from a to b (unit)
         double angle;           ///< radians turned from a to b

@@ -479,6 +479,35 @@ TEST(Tile, BricksStoredAlikeAreTheOnesWithTheSameValues) {
     for (int16_t v : q) shifted.push_back(int16_t(v + t->leafStep()));
     const TilePtr same = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), {}, q, t->scale(), 1, kCell);
     const TilePtr moved = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), {}, shifted, t->scale(), 1, kCell);
+    // One value of the first narrow brick moved by a leaf step: the same form and centre, one
+    // step changed (its last field, in the last byte of its steps).
+    std::vector<int16_t> oneStep = q;
+    oneStep[26] = int16_t(oneStep[26] + t->leafStep());
+    const TilePtr stepped = Tile::createQuantised(t->level(), t->latticeOrigin(), t->nodeWords(), {}, oneStep, t->scale(), 1, kCell);
+    ASSERT_EQ(stepped->narrowBrickCount(), t->narrowBrickCount()) << "brick 0 stays narrow";
+    ASSERT_EQ(stepped->brickValue(0, 13), t->brickValue(0, 13));
+    ASSERT_EQ(stepped->brickValue(0, 26), oneStep[26]);
+    EXPECT_FALSE(t->storesBrickAs(0, *stepped, 0)) << "one step differs";
+    for (uint32_t b = 1; b < t->brickCount(); ++b) EXPECT_TRUE(t->storesBrickAs(b, *stepped, b)) << "brick " << b;
+    // The same bricks numbered differently in the other tile (its first child a leaf instead):
+    // found alike at their own numbers, whatever the layouts.
+    std::vector<int16_t> leaf(8);
+    std::vector<float> leafFloats(8);
+    const uint32_t firstBrick = node::brickIndex(t->node(1));
+    for (int c = 0; c < 8; ++c) {
+        leaf[std::size_t(c)] = t->brickValue(firstBrick, brickPoint(0, c));
+        leafFloats[std::size_t(c)] = float(leaf[std::size_t(c)]) * t->scale();
+    }
+    std::vector<uint32_t> fewerNodes{1, node::makeLeaf(0, cellTypeOf(std::span<const float, 8>(leafFloats.data(), 8)))};
+    std::vector<int16_t> fewerValues;
+    for (uint32_t b = 1; b < 8; ++b) {
+        const uint32_t i = node::brickIndex(t->node(1 + b));
+        for (int g = 0; g < 27; ++g) fewerValues.push_back(t->brickValue(i, g));
+        fewerNodes.push_back(node::makeBrick(b - 1));
+    }
+    const TilePtr fewer = Tile::createQuantised(t->level(), t->latticeOrigin(), fewerNodes, leaf, fewerValues, t->scale(), 1, kCell);
+    for (uint32_t b = 1; b < 8; ++b)
+        EXPECT_TRUE(t->storesBrickAs(node::brickIndex(t->node(1 + b)), *fewer, node::brickIndex(fewer->node(1 + b)))) << "brick " << b;
     for (uint32_t b = 0; b < t->brickCount(); ++b) {
         EXPECT_TRUE(t->storesBrickAs(b, *same, b)) << "brick " << b;
         ASSERT_NE(moved->brickValue(b, 13), t->brickValue(b, 13));
