@@ -18,6 +18,19 @@
 namespace kizamu::sculpt {
 namespace {
 
+/// A unit domain at level 6 in 8-cell tiles, and a snapshot of a sphere in it (the old field
+/// the lattice tests edit).
+adf::Domain smallDomain() {
+    adf::Domain d;
+    d.originWorld = glm::dvec3(0.0);
+    d.maxLevel = 6;
+    d.tileSpanLevels = 3;
+    return d;
+}
+adf::AdfPtr sphereSnapshot(const adf::Domain& d) {
+    return adf::generate(*adf::makeTranslated(adf::makeSphere(0.3), glm::dvec3(0.5)), d, adf::GenerationSettings{});
+}
+
 glm::dquat randomRotation(std::mt19937_64& rng) {
     std::normal_distribution<double> n(0.0, 1.0);
     return glm::normalize(glm::dquat(n(rng), n(rng), n(rng), n(rng)));
@@ -80,12 +93,8 @@ TEST(StrokeEdit, AnswersTheOldFieldWhereverItSaysItStands) {
 TEST(StrokeEdit, AtLatticePointsAnswersWhatItAnswersAtTheirWorldPositions) {
     // An edit of a snapshot is asked for lattice points (the generator's cheaper way); it must
     // give the same bits as at the points' world positions, for every tool and a mask.
-    adf::Domain d;
-    d.originWorld = glm::dvec3(0.0);
-    d.maxLevel = 6;
-    d.tileSpanLevels = 3;
-    const adf::AdfPtr snapshot = adf::generate(*adf::makeTranslated(adf::makeSphere(0.3), glm::dvec3(0.5)), d, adf::GenerationSettings{});
-    const adf::SourcePtr old = adf::makeAdfSource(snapshot);
+    const adf::Domain d = smallDomain();
+    const adf::SourcePtr old = adf::makeAdfSource(sphereSnapshot(d));
     ASSERT_TRUE(old->answersLattice(d));
     adf::Domain other = d;
     other.maxLevel = 7;
@@ -125,12 +134,8 @@ TEST(StrokeEdit, AtLatticePointsAnswersWhatItAnswersAtTheirWorldPositions) {
 TEST(StrokeEdit, PlainCarvesAndAdditionsInRunsAnswerWhatEachPointAnswers) {
     // A carve or an addition with neither symmetry nor limits asks the tool for a run of points
     // at once (the common dab); it must give what combining point by point gives.
-    adf::Domain d;
-    d.originWorld = glm::dvec3(0.0);
-    d.maxLevel = 6;
-    d.tileSpanLevels = 3;
-    const adf::AdfPtr snapshot = adf::generate(*adf::makeTranslated(adf::makeSphere(0.3), glm::dvec3(0.5)), d, adf::GenerationSettings{});
-    const adf::SourcePtr old = adf::makeAdfSource(snapshot);
+    const adf::Domain d = smallDomain();
+    const adf::SourcePtr old = adf::makeAdfSource(sphereSnapshot(d));
     std::mt19937_64 rng(13);
     std::uniform_int_distribution<uint32_t> at(0, d.latticeSize());
     const glm::dquat turned = glm::angleAxis(0.7, glm::normalize(glm::dvec3(1.0, 2.0, 0.5)));
