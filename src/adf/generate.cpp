@@ -579,6 +579,11 @@ private:
             if (keep[c] == Keep::No) pts[n++] = o + childOffset(c) * childSize + gridOffset(kCentre) * q;
         evaluate(pts, n);
         n = 0;
+        // The face and edge points' index steps and offsets at this size, worked out for the
+        // first child that needs them (not per child and point).
+        uint32_t faceStep[18];
+        glm::uvec3 faceOffset[18];
+        bool faceReady = false;
         for (int c = 0; c < 8; ++c) {
             const glm::uvec3 co = o + childOffset(c) * childSize;
             const uint32_t base = index(co);
@@ -590,8 +595,15 @@ private:
             for (int k = 0; k < 8; ++k) corners[k] = mValues[base + q * mGridStep[cornerToGrid(k)]];
             if (mRule.farFromSurfaceAtFirstLook(corners, centre, childLevel) && !mRule.hidesFeature(mSource, mBase + co, childLevel))
                 continue;
-            for (int g : kFaceEdgePoints)  // only those not evaluated yet: most are, by a sibling or a neighbour
-                if (!valid(base + q * mGridStep[g])) pts[n++] = co + gridOffset(g) * q;
+            if (!faceReady) {
+                for (int j = 0; j < 18; ++j) {
+                    faceStep[j] = q * mGridStep[kFaceEdgePoints[std::size_t(j)]];
+                    faceOffset[j] = gridOffset(kFaceEdgePoints[std::size_t(j)]) * q;
+                }
+                faceReady = true;
+            }
+            for (int j = 0; j < 18; ++j)  // only those not evaluated yet: most are, by a sibling or a neighbour
+                if (!valid(base + faceStep[j])) pts[n++] = co + faceOffset[j];
         }
         evaluate(pts, n);
     }
