@@ -386,7 +386,7 @@ public:
         for (int i = 0; i < kNeighbours; ++i)
             if (neighbours[i]) importFrom(*neighbours[i], i);
         mHandsOverBorder = true;
-        subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false);
+        subdivide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false, oldRoot());
         groupBorder(border);
         return finish(version);
     }
@@ -425,7 +425,7 @@ public:
     /// generated, else null and fills `split`.
     TilePtr planRoot(const TileJob& job, Split& split, uint64_t version) {
         begin(job);
-        if (decide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false, nullptr, split)) return finish(version);
+        if (decide(0, glm::uvec3(0), mSpan, mDomain.tileLevel(), false, false, oldRoot(), split)) return finish(version);
         return nullptr;
     }
 
@@ -695,20 +695,10 @@ private:
         return a.x > hi.x || a.y > hi.y || a.z > hi.z || a.x + int(s) < lo.x || a.y + int(s) < lo.y || a.z + int(s) < lo.z;
     }
 
-    /// Where the old tile holds the cell at `o` (level `level`), by a descent from its root.
-    OldCell findOld(glm::uvec3 o, int level) const {
-        uint32_t w = mOld->node(0);
-        for (int l = mDomain.tileLevel(); l < level; ++l) {
-            if (node::isInternal(w)) {
-                w = mOld->node(w + uint32_t(childAt(o, l)));
-                continue;
-            }
-            if (node::isLeaf(w)) return {w, -1, true};
-            return {w, childAt(o, l), l + 1 != level};  // a brick: the cell is (inside) one of its children
-        }
-        return {w, -1, false};
-    }
-    /// findOld of child `c` of the cell the old tile holds at `parent`, without a descent.
+    /// Where the old tile holds the tile's root: its root word. Below, each cell's comes from its
+    /// parent's (oldChild), never a descent.
+    OldCell oldRoot() const { return mOld ? OldCell{mOld->node(0), -1, false} : OldCell{}; }
+    /// Where the old tile holds child `c` of the cell it holds at `parent`.
     OldCell oldChild(const OldCell& parent, int c) const {
         if (parent.coarser || parent.brickChild >= 0) return {parent.word, parent.brickChild, true};
         if (node::isInternal(parent.word)) return {mOld->node(parent.word + uint32_t(c)), -1, false};
@@ -722,7 +712,7 @@ private:
     /// exact and stop there too). Cells clear of the region are copied; inside it, cells where
     /// the source says it equals the old field for every value the old cells hold there, and
     /// where no new feature asks for finer cells, are kept too.
-    /// `cell`: where the old tile holds it (findOld).
+    /// `cell`: where the old tile holds it.
     Keep keepsOld(glm::uvec3 o, uint32_t s, int level, const OldCell& cell) const {
         if (!mOld) return Keep::No;
         if (outsideRegion(o, s)) return Keep::Copy;
@@ -781,12 +771,6 @@ private:
         return Keep::Copy;
     }
 
-    /// Child index of the cell at local `o` inside its parent at `level`.
-    int childAt(glm::uvec3 o, int level) const {
-        const uint32_t shift = uint32_t(mDomain.maxLevel - level - 1);
-        return int(((o.x >> shift) & 1u) | (((o.y >> shift) & 1u) << 1) | (((o.z >> shift) & 1u) << 2));
-    }
-
     /// Sub-tile regeneration: a cell outside the region keeps the old tile's cells there, when
     /// the old tile has this cell (or it is one of an old brick's children). The source equals
     /// the old field outside the region, so generating would only re-derive them, at the cost
@@ -826,9 +810,9 @@ private:
     /// `keepChecked`: the parent already asked keepsOld for this cell (and was told no, or
     /// the copy failed). `prefetched`: the parent's prefetchChildren evaluated what this cell
     /// looks at (decide then only loads it).
-    /// `old`: where the old tile holds the cell (its parent's Split::old), or null.
+    /// `old`: where the old tile holds the cell (its parent's Split::old; oldRoot at the root).
     void subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched,
-                   const OldCell* old = nullptr) {
+                   const OldCell& old) {
         Split split;
         if (!decide(nodeIndex, o, s, level, keepChecked, prefetched, old, split)) children(nodeIndex, o, s, level, split);
     }
@@ -847,12 +831,10 @@ private:
 
     /// The cell's own decision: true when settled (node `nodeIndex` written), else `split` says
     /// what its children need.
-    bool decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched, const OldCell* old,
+    bool decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched, const OldCell& old,
                 Split& split) {
-        if (!keepChecked && mOld) {  // a tile's root (its children are checked by their parent)
-            const OldCell cell = findOld(o, level);
-            if (keepsOld(o, s, level, cell) == Keep::Copy && copyOld(nodeIndex, cell)) return true;
-        }
+        // (A tile's root: its children are checked by their parent.)
+        if (!keepChecked && keepsOld(o, s, level, old) == Keep::Copy && copyOld(nodeIndex, old)) return true;
         float* v = split.v;
         const uint32_t base = index(o), dy = mDim * s, dz = mDim * mDim * s;
         const uint32_t cornerAt[8] = {base, base + s, base + dy, base + s + dy, base + dz, base + s + dz, base + dy + dz, base + s + dy + dz};
@@ -878,9 +860,8 @@ private:
         ensure(o, half, kFaceEdgePoints.data(), 18, v, prefetched);
         if ((mRule.farFromSurface(v, level) || CellRule::error(v) <= look.threshold) && !hides()) return leaf();
 
-        const OldCell here = !mOld ? OldCell{} : old ? *old : findOld(o, level);
         for (int c = 0; c < 8; ++c) {
-            if (mOld) split.old[c] = oldChild(here, c);
+            if (mOld) split.old[c] = oldChild(old, c);
             split.keep[c] = keepsOld(o + childOffset(c) * half, half, level + 1, split.old[c]);
         }
         split.nearBand = look.nearBand;
@@ -900,7 +881,7 @@ private:
             for (int k = 0; k < 8; ++k) childCorners[k] = split.v[brickPoint(c, k)];
             makeLeaf(nodeIndex, childCorners);
         } else if (!(split.keep[c] == Keep::Copy && copyOld(nodeIndex, split.old[c]))) {
-            subdivide(nodeIndex, co, half, childLevel, true, prefetched && split.keep[c] == Keep::No, mOld ? &split.old[c] : nullptr);
+            subdivide(nodeIndex, co, half, childLevel, true, prefetched && split.keep[c] == Keep::No, split.old[c]);
         }
     }
 

@@ -417,7 +417,7 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
         int8_t* d = deltas.data() + 27 * std::size_t(b);
         if (from && copies.bricks[b] != TileCopies::kNotCopied) {
             const uint32_t i = copies.bricks[b];
-            form[b] = i < from->mNarrowCount ? kNarrow : i < from->mCoarseEnd ? kCoarse : i < from->mPackedCount ? kFar : kWide;
+            form[b] = uint8_t(from->brickForm(i));
             if (form[b] != kWide) copiedSteps[b] = from->at<unsigned char>(from->mBrickDeltasAt) + gridStepsOffset(from->mNarrowCount, i);
             continue;
         }

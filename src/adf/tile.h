@@ -278,9 +278,8 @@ public:
     /// centre, steps and leaf step): then their values are the same, without decoding them
     /// (a rebuilt tile copies most of its bricks so). False says nothing.
     bool storesBrickAs(uint32_t brick, const Tile& other, uint32_t otherBrick) const {
-        auto form = [](const Tile& t, uint32_t i) { return i < t.mNarrowCount ? 0 : i < t.mCoarseEnd ? 1 : i < t.mPackedCount ? 2 : 3; };
-        const int f = form(*this, brick);
-        if (f != form(other, otherBrick) || mStep != other.mStep) return false;
+        const int f = brickForm(brick);
+        if (f != other.brickForm(otherBrick) || mStep != other.mStep) return false;
         if (f == 3)
             return std::memcmp(at<int16_t>(mWideBricksAt) + 27 * std::size_t(brick - mPackedCount),
                                other.at<int16_t>(other.mWideBricksAt) + 27 * std::size_t(otherBrick - other.mPackedCount), 54) == 0;
@@ -429,6 +428,11 @@ private:
     template <class T>
     const T* at(uint32_t offset) const {
         return reinterpret_cast<const T*>(reinterpret_cast<const unsigned char*>(this) + offset);
+    }
+    /// How brick `brick` is stored, by its number: 0 narrow, 1 coarse-narrow, 2 far, 3 wide
+    /// (tile.cpp's GridForm order).
+    int brickForm(uint32_t brick) const {
+        return brick < mNarrowCount ? 0 : brick < mCoarseEnd ? 1 : brick < mPackedCount ? 2 : 3;
     }
     static Tile* allocate(const Counts& n);
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed

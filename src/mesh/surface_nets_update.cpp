@@ -103,10 +103,11 @@ public:
                 const Slot* s = slot(p >> mShift);
                 if (!s) return false;
                 if (s->whole) return true;
-                if (mShift == 6) {  // 64-cube slots (the app's tiles): a row is a word, x - 1 and x in it
-                    const uint64_t* w = s->bits.data() + ((std::size_t(local.z) << 6) | local.y);
-                    return ((w[0] | w[-1] | w[-64] | w[-65]) >> (local.x - 1)) & 3u;
-                }
+                if (mShift <= 6)  // rows within words: x - 1 and x in each of the 4 rows' words
+                    return ((row(s, local.y, local.z) | row(s, local.y - 1, local.z) | row(s, local.y, local.z - 1) |
+                             row(s, local.y - 1, local.z - 1)) >>
+                            (local.x - 1)) &
+                           3u;
                 for (uint32_t dz = 0; dz < 2; ++dz)
                     for (uint32_t dy = 0; dy < 2; ++dy) {
                         const std::size_t at = bit(local - glm::uvec3(1, dy, dz));
@@ -135,22 +136,20 @@ public:
                     if (pointChanged(lo + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * size)) return true;
                 return false;
             }
-            if (mShift == 6) {
-                // 64-cube slots (the app's tiles) with every cube around the corners in lo's
-                // slot (nearly always): the rows at the 2-4 y and z coordinates ORed, one mask.
-                const glm::uvec3 local = lo & 63u;
-                if (local.x > 0 && local.y > 0 && local.z > 0 && local.x + size < 64 && local.y + size < 64 && local.z + size < 64) {
-                    const Slot* s = slot(lo >> mShift);
-                    if (!s) return false;
-                    if (s->whole) return true;
-                    const uint32_t y[4] = {local.y - 1, local.y, local.y + size - 1, local.y + size};
-                    const uint32_t z[4] = {local.z - 1, local.z, local.z + size - 1, local.z + size};
-                    uint64_t rows = 0;
-                    for (uint32_t zi : z)
-                        for (uint32_t yi : y) rows |= s->bits[(std::size_t(zi) << 6) | yi];
-                    const uint64_t xs = (uint64_t(3) << (local.x - 1)) | (uint64_t(3) << (local.x + size - 1));
-                    return (rows & xs) != 0;
-                }
+            // Every cube around the corners in lo's slot (nearly always): the rows at the 2-4 y
+            // and z coordinates ORed, one mask.
+            const uint32_t span = 1u << mShift;
+            const glm::uvec3 in = lo & (span - 1);
+            if (in.x > 0 && in.y > 0 && in.z > 0 && in.x + size < span && in.y + size < span && in.z + size < span) {
+                const Slot* s = slot(lo >> mShift);
+                if (!s) return false;
+                if (s->whole) return true;
+                const uint32_t y[4] = {in.y - 1, in.y, in.y + size - 1, in.y + size};
+                const uint32_t z[4] = {in.z - 1, in.z, in.z + size - 1, in.z + size};
+                uint64_t rows = 0;
+                for (uint32_t zi : z)
+                    for (uint32_t yi : y) rows |= row(s, yi, zi);
+                return ((rows >> (in.x - 1)) & ((uint64_t(3) << size) | 3u)) != 0;
             }
             // Per axis, the cube coordinates in the domain by slot: its index and the bits within it.
             struct Axis {
@@ -158,7 +157,7 @@ public:
                 uint64_t bits[4];
                 int n = 0;
             } axis[3];
-            const uint32_t span = 1u << mShift, mask = span - 1;
+            const uint32_t mask = span - 1;
             for (int k = 0; k < 3; ++k) {
                 Axis& a = axis[k];
                 const uint32_t local = lo[k] & mask;
@@ -193,6 +192,11 @@ public:
         }
 
     private:
+        /// Row (y, z) of slot `s`'s bitmap, x at bit 0 (a row is at most a word: mShift <= 6).
+        uint64_t row(const Slot* s, uint32_t y, uint32_t z) const {
+            const std::size_t at = bit({0, y, z});
+            return s->bits[at >> 6] >> (at & 63);
+        }
         const Slot* slot(glm::uvec3 s) const {
             const uint64_t key = slotKey(s);
             if (key != mLastKey) {

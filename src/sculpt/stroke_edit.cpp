@@ -39,6 +39,7 @@ public:
     double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
     void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
         mOld->distances(p, out);
+        if (plainCsg()) return combineRun(p, out);
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(p[i], out[i]);
     }
     /// At lattice points when the old field answers them (a snapshot's own lattice): the tool
@@ -52,23 +53,11 @@ public:
             for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(adf::Domain::latticeToWorld(origin, cell, p[i]), out[i]);
             return;
         }
-        // combine() for a carve or an addition without symmetry or limits, the tool asked for a
-        // run of points at once (SweptTool::distancesBelow): the same values.
-        constexpr std::size_t kRun = 64;
         glm::dvec3 world[kRun];
-        double tool[kRun];
-        const bool carve = mOp == ToolOp::Carve;
         for (std::size_t first = 0; first < p.size(); first += kRun) {
             const std::size_t n = std::min(kRun, p.size() - first);
-            for (std::size_t k = 0; k < n; ++k) {
-                world[k] = adf::Domain::latticeToWorld(origin, cell, p[first + k]);
-                tool[k] = carve ? -out[first + k] : out[first + k];  // the limit: where the tool decides
-            }
-            mTool->distancesBelow({world, n}, {tool, n});
-            for (std::size_t k = 0; k < n; ++k) {
-                double& v = out[first + k];
-                v = carve ? std::max(v, -tool[k]) : std::min(v, tool[k]);
-            }
+            for (std::size_t k = 0; k < n; ++k) world[k] = adf::Domain::latticeToWorld(origin, cell, p[first + k]);
+            combineRun({world, n}, out.subspan(first, n));
         }
     }
     double featureSize(const glm::dvec3& c, double radius) const override {
@@ -104,6 +93,22 @@ public:
 private:
     /// A carve or an addition with neither symmetry nor limits: min/max with the tool alone.
     bool plainCsg() const { return (mOp == ToolOp::Carve || mOp == ToolOp::Add) && mReflect == 0 && mLimits.empty(); }
+    static constexpr std::size_t kRun = 64;
+    /// combine() of world points `p` with the old values in `out` when plainCsg(), the tool asked
+    /// for a run of at most kRun points at once (SweptTool::distancesBelow): the same values.
+    void combineRun(std::span<const glm::dvec3> p, std::span<double> out) const {
+        double tool[kRun];
+        const bool carve = mOp == ToolOp::Carve;
+        for (std::size_t first = 0; first < p.size(); first += kRun) {
+            const std::size_t n = std::min(kRun, p.size() - first);
+            for (std::size_t k = 0; k < n; ++k) tool[k] = carve ? -out[first + k] : out[first + k];  // where the tool decides
+            mTool->distancesBelow(p.subspan(first, n), {tool, n});
+            for (std::size_t k = 0; k < n; ++k) {
+                double& v = out[first + k];
+                v = carve ? std::max(v, -tool[k]) : std::min(v, tool[k]);
+            }
+        }
+    }
     glm::dvec3 mirrored(const glm::dvec3& p) const { return mirroredPoint(p, mReflect, mCentre); }
     /// The swept tool's distance at p (q: p mirrored) where below `limit`, cut by the limits:
     /// intersected with the outside of every mask and with the allowed side of the offset of

@@ -116,7 +116,7 @@ uint32_t SweptTool::build(uint32_t first, uint32_t count) {
 double SweptTool::capsuleDistance(const Segment& s, const glm::dvec3& p) const {
     const glm::dvec3 q = p - s.a.position;
     const double t = s.move2 > 0.0 ? std::clamp(glm::dot(q, s.move) / s.move2, 0.0, 1.0) : 0.0;
-    return toolDistance(mTool, q - t * s.move);
+    return sphereDistance(mTool, q - t * s.move);
 }
 
 double SweptTool::segmentDistance(const Segment& s, const glm::dvec3& p) const {
@@ -190,17 +190,9 @@ void SweptTool::distancesBelow(std::span<const glm::dvec3> p, std::span<double> 
         for (std::size_t i = 0; i < p.size(); ++i) limitInOut[i] = distanceBelow(p[i], limitInOut[i]);
         return;
     }
-    // capsuleDistance and toolDistance's sphere, the same operations in the same order (so the
-    // same bits), with what does not depend on the point read once.
+    // The capsule per point, without the search and the switch on the shape.
     const Segment& s = mSegments[0];
-    const glm::dvec3 a = s.a.position, w = s.move;
-    const double move2 = s.move2, radius = mTool.radius, shrink = (1.0 - mTool.strength) * mTool.radius;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const glm::dvec3 q = p[i] - a;
-        const double t = move2 > 0.0 ? std::clamp(glm::dot(q, w) / move2, 0.0, 1.0) : 0.0;
-        const double d = glm::length(q - t * w) - radius + shrink;
-        limitInOut[i] = std::min(limitInOut[i], d);
-    }
+    for (std::size_t i = 0; i < p.size(); ++i) limitInOut[i] = std::min(limitInOut[i], capsuleDistance(s, p[i]));
 }
 
 double SweptTool::lowerBound(const glm::dvec3& p, double limit) const {

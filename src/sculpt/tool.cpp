@@ -41,7 +41,7 @@ double toolDistance(const Tool& tool, const glm::dvec3& q) {
     // Strength shrinks the tool uniformly inward: the same shape, offset by (1 - s) * radius.
     const double shrink = (1.0 - tool.strength) * tool.radius;
     switch (tool.shape) {
-    case ToolShape::Sphere: return glm::length(q) - tool.radius + shrink;
+    case ToolShape::Sphere: return sphereDistance(tool, q);
     case ToolShape::Cube: {
         const glm::dvec3 d = glm::abs(q) - glm::dvec3(tool.radius);
         return glm::length(glm::max(d, 0.0)) + std::min(std::max(d.x, std::max(d.y, d.z)), 0.0) + shrink;

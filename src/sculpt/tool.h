@@ -7,6 +7,7 @@
 /// along local z. Plain values; any thread.
 #pragma once
 
+#include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_precision.hpp>
 #include <glm/vec3.hpp>
@@ -54,6 +55,12 @@ struct ToolSample {
 /// strength applied. Exact for the sphere and the cylinder, exact outside and a lower bound
 /// inside the cube (the usual box distance). Convex in `local` for every shape.
 double toolDistance(const Tool& tool, const glm::dvec3& local);
+/// toolDistance of a sphere (inline: a swept sphere's loops run it per point). Strength shrinks
+/// the tool uniformly inward, by (1 - strength) * radius.
+inline double sphereDistance(const Tool& tool, const glm::dvec3& local) {
+    const double shrink = (1.0 - tool.strength) * tool.radius;
+    return glm::length(local) - tool.radius + shrink;
+}
 
 /// The gradual tools' weight at depth `inside` (m, positive inside the tool): 0 at the tool's
 /// boundary (and outside), 1 at depth `core` (m) and deeper, a smoothstep between, so what a
