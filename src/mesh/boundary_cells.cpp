@@ -40,9 +40,10 @@ constexpr auto kChildPointMasks = [] {
     return t;
 }();
 
-/// The walk, descending only into cells for which `keep(origin, size)` holds.
-template <class Keep>
-void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, Keep keep) {
+/// The walk, descending only into cells for which `keep(origin, size)` holds, and recording
+/// only the sign-changing leaves for which `keepLeaf(origin, size)` holds as well.
+template <class Keep, class KeepLeaf>
+void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, Keep keep, KeepLeaf keepLeaf) {
     namespace node = adf::node;
     struct Item {
         uint32_t node;
@@ -64,7 +65,7 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
         } else if (node::isLeaf(w)) {
             // A leaf's word holds its type (set from, and on load checked against, its corner
             // signs): most leaves are decided without decoding their corners.
-            if (node::leafType(w) != adf::CellType::Boundary) continue;
+            if (node::leafType(w) != adf::CellType::Boundary || !keepLeaf(it.origin, it.size)) continue;
             int16_t q[8];
             t.leafValues(node::leafIndex(w), q);
             BoundaryCell b{it.origin, it.size, {}, false};
@@ -85,7 +86,7 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
                 int16_t raw[8];
                 for (int c = 0; c < 8; ++c) raw[c] = q[kBrickPoints[child][c]];
                 const glm::uvec3 o = it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half;
-                if (!keep(o, half)) continue;
+                if (!keep(o, half) || !keepLeaf(o, half)) continue;
                 BoundaryCell b{o, half, {}, true};
                 for (int c = 0; c < 8; ++c) b.corners[c] = float(raw[c]) * scale;
                 out.push_back(b);
@@ -97,16 +98,21 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
 }  // namespace
 
 void appendBoundaryCells(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out) {
-    appendIf(t, maxLevel, out, [](glm::uvec3, uint32_t) { return true; });
+    auto all = [](glm::uvec3, uint32_t) { return true; };
+    appendIf(t, maxLevel, out, all, all);
 }
 
 void appendBoundaryCellsTouching(const adf::Tile& t, int maxLevel, const std::vector<LatticeBox>& boxes,
-                                 std::vector<BoundaryCell>& out) {
-    appendIf(t, maxLevel, out, [&](glm::uvec3 o, uint32_t size) {
+                                 std::vector<BoundaryCell>& out, LeafFilter filter) {
+    auto touching = [&](glm::uvec3 o, uint32_t size) {
         for (const LatticeBox& b : boxes)
             if (touches(b, o, size)) return true;
         return false;
-    });
+    };
+    if (filter.keep)
+        appendIf(t, maxLevel, out, touching, [&](glm::uvec3 o, uint32_t size) { return filter.keep(filter.context, o, size); });
+    else
+        appendIf(t, maxLevel, out, touching, [](glm::uvec3, uint32_t) { return true; });
 }
 
 }  // namespace kizamu::mesh

@@ -25,12 +25,20 @@ struct BoundaryCell {
 
 struct LatticeBox;
 
+/// A test of a sign-changing leaf's box (lattice origin and size), made before its corners are
+/// decoded: a leaf it refuses costs no decoding and no record.
+struct LeafFilter {
+    bool (*keep)(const void* context, glm::uvec3 origin, uint32_t size) = nullptr;
+    const void* context = nullptr;
+};
+
 /// Appends the sign-changing leaves of `tile` (depth-first order) to `out`.
 void appendBoundaryCells(const adf::Tile& tile, int maxLevel, std::vector<BoundaryCell>& out);
 
-/// The same, restricted to leaves whose closed box shares a point with one of `boxes` (closed):
-/// subtrees clear of every box are not visited. Complexity: O(nodes near the boxes × boxes).
+/// The same, restricted to leaves whose closed box shares a point with one of `boxes` (closed)
+/// and, with a filter, that it keeps: subtrees clear of every box are not visited.
+/// Complexity: O(nodes near the boxes × boxes).
 void appendBoundaryCellsTouching(const adf::Tile& tile, int maxLevel, const std::vector<LatticeBox>& boxes,
-                                 std::vector<BoundaryCell>& out);
+                                 std::vector<BoundaryCell>& out, LeafFilter filter = {});
 
 }  // namespace kizamu::mesh

@@ -397,10 +397,12 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         const Touched box = scanBox[i];
         const glm::uvec3 hi = glm::min(box.hi, glm::uvec3(a.domain().latticeSize()));
         const std::vector<LatticeBox> region{{box.lo, std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z})}};
-        // Only a leaf with a corner on a changed cell can emit (or have emitted) such a crossing.
-        auto dropUnchanged = [&](std::vector<BoundaryCell>& leaves) {
-            std::erase_if(leaves, [&](const BoundaryCell& b) { return !changedAt.cornerChanged(b.origin, b.size); });
-        };
+        // Only a leaf with a corner on a changed cell can emit (or have emitted) such a crossing:
+        // the walks test it before decoding a leaf (more than half of those in the box fail).
+        const LeafFilter cornerOnChanged{[](const void* q, glm::uvec3 lo, uint32_t size) {
+                                             return static_cast<const ChangedCells::Query*>(q)->cornerChanged(lo, size);
+                                         },
+                                         &changedAt};
         // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
         // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
         UpdateScratch& buffers = updateScratch();
@@ -412,8 +414,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         if (tm.liveCrossings > 0) {
             was = tileOfKey(oldAdf, tm.key);
             if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
-            appendBoundaryCellsTouching(*was, maxLevel, region, leaves);
-            dropUnchanged(leaves);
+            appendBoundaryCellsTouching(*was, maxLevel, region, leaves, cornerOnChanged);
             for (const BoundaryCell& e : leaves) {
                 const uint64_t cell = packLattice(e.origin);
                 const uint32_t* firstVertex = tm.cellVertex.find(cell);
@@ -434,8 +435,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         if (tileOfKey(a, tm.key) == tm.tile) {
             if (was != tm.tile) {  // a rebuilt tile (a neighbour the edit left alone has the same leaves)
                 leaves.clear();
-                appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves);
-                dropUnchanged(leaves);
+                appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves, cornerOnChanged);
             }
             out.st.boundaryLeaves = leaves.size();
             const StartFilter onChanged{[](const void* q, glm::uvec3 p) {

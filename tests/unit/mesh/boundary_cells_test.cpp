@@ -96,5 +96,29 @@ TEST(BoundaryCells, TouchingABoxAreThoseOfTheWholeTileThatTouchIt) {
     EXPECT_GT(cells, 0u);
 }
 
+TEST(BoundaryCells, TouchingABoxWithAFilterAreThoseTheFilterKeeps) {
+    const Domain d = testPartDomain(8);
+    const AdfPtr a = generate(*makeTestPart(d), d, testPartSettings());
+    const std::vector<LatticeBox> boxes{{glm::uvec3(100, 90, 120), 37}, {glm::uvec3(20, 140, 60), 5}};
+    // Keeps a leaf by its box alone (its position in units of its size), so lone leaves and
+    // brick children are both kept and refused.
+    auto keep = [](glm::uvec3 o, uint32_t size) { return (o.x / size + o.y / size + o.z / size) % 3 != 0; };
+    const LeafFilter filter{[](const void* k, glm::uvec3 o, uint32_t size) { return (*static_cast<const decltype(keep)*>(k))(o, size); },
+                            &keep};
+    std::size_t kept[2] = {}, refused[2] = {};  // [brick child]
+    a->forEachTile([&](const Tile& t) {
+        std::vector<BoundaryCell> got, all;
+        appendBoundaryCellsTouching(t, d.maxLevel, boxes, got, filter);
+        appendBoundaryCellsTouching(t, d.maxLevel, boxes, all);
+        for (const BoundaryCell& b : all) ++(keep(b.origin, b.size) ? kept : refused)[b.brickChild];
+        std::erase_if(all, [&](const BoundaryCell& b) { return !keep(b.origin, b.size); });
+        expectSameCells(got, all);
+    });
+    for (int brickChild = 0; brickChild < 2; ++brickChild) {
+        EXPECT_GT(kept[brickChild], 0u);
+        EXPECT_GT(refused[brickChild], 0u);
+    }
+}
+
 }  // namespace
 }  // namespace kizamu::mesh
