@@ -15,6 +15,8 @@
 #include <bit>
 #include <chrono>
 #include <cmath>
+#include <functional>
+#include <numeric>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -829,6 +831,36 @@ void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked) {
 
 }  // namespace detail
 
+namespace {
+
+/// Splits `tiles`, in key order, into `threads` runs of about equal weight; run k's tiles get
+/// home k.
+template <class Weight>
+void assignHomes(const std::vector<TileMesh*>& tiles, Weight weight, unsigned threads) {
+    std::vector<std::size_t> byKey(tiles.size());
+    std::iota(byKey.begin(), byKey.end(), std::size_t(0));
+    std::sort(byKey.begin(), byKey.end(), [&](std::size_t l, std::size_t r) { return tiles[l]->key < tiles[r]->key; });
+    uint64_t total = 0, before = 0;
+    for (std::size_t i = 0; i < tiles.size(); ++i) total += uint64_t(weight(i));
+    for (std::size_t i : byKey) {
+        // The run holding the middle of this tile's weight.
+        const uint64_t middle = before + uint64_t(weight(i)) / 2;
+        tiles[i]->home = total > 0 ? unsigned(std::min<uint64_t>(threads - 1, middle * threads / total)) : 0u;
+        before += uint64_t(weight(i));
+    }
+}
+
+/// fn(i) for every tile, each on its home thread, the heaviest of each home first.
+template <class Weight>
+void inHomes(util::ThreadPool* pool, const std::vector<TileMesh*>& tiles, Weight weight,
+             const std::function<void(std::size_t)>& fn) {
+    const std::vector<std::size_t> order = util::heaviestFirst(tiles.size(), weight);
+    util::parallelForHomes(pool, order.size(), [&](std::size_t k) { return tiles[order[k]]->home; },
+                           [&](std::size_t k) { fn(order[k]); });
+}
+
+}  // namespace
+
 SurfaceMesher::SurfaceMesher(util::ThreadPool* pool) : mPool(pool) {}
 SurfaceMesher::~SurfaceMesher() = default;
 
@@ -845,13 +877,19 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         if (!(t.singleLeaf() && t.rootType() != adf::CellType::Boundary))
             scanTiles.push_back(ensureTile(packLattice(t.latticeOrigin())));
     });
-    // Each phase hands out its largest tiles first (one of a LOD's 8 tiles had ended phases
-    // alone; docs/PERFORMANCE.md, "Thirteenth session"): the scan by nodes, the others by
-    // boundary leaves. A task writes only its tile's records and its own quadrants of other
-    // tiles' crossings, so the order changes no result.
+    // Every phase, the assembly included, runs a tile on its home thread (util::parallelForHomes):
+    // the threads take runs of tiles in key order (neighbours, which read each other's
+    // crossings, mostly share one) of about equal node counts. Each phase reads what the last
+    // one wrote for the same tile, and from the other core such a read took 10-12 % of the
+    // vertex and relaxation phases (docs/PERFORMANCE.md, "Twentieth session"). Within a
+    // thread's share the largest tiles go first (one of a LOD's 8 tiles had ended phases alone;
+    // "Thirteenth session"): the scan by nodes, the others by boundary leaves. A task writes
+    // only its tile's records and its own quadrants of other tiles' crossings, so neither the
+    // thread nor the order changes a result.
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
     auto nodes = [&](std::size_t i) { return scanTiles[i]->tile->nodeCount(); };
-    util::parallelForHeaviestFirst(mPool, scanTiles.size(), nodes, [&](std::size_t i) {
+    assignHomes(scanTiles, nodes, mPool ? mPool->threadCount() : 1u);
+    inHomes(mPool, scanTiles, nodes, [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
         thread_local std::vector<BoundaryCell> walk;  // reused across tiles and builds
         thread_local std::vector<uint64_t> keys;
@@ -892,7 +930,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     for (std::size_t i = 0; i < meshTiles.size(); ++i) leaves[i] = meshTiles[i]->leaves.size();
     auto byLeaves = [&](std::size_t i) { return leaves[i]; };
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
-    util::parallelForHeaviestFirst(mPool, meshTiles.size(), byLeaves, [&](std::size_t i) {
+    inHomes(mPool, meshTiles, byLeaves, [&](std::size_t i) {
         std::vector<uint64_t>& nbrs = vertexScratch().nbrs;
         nbrs.clear();
         neighbourKeys(a, meshTiles[i]->slotMin, meshTiles[i]->slotEnd, nbrs);
@@ -904,7 +942,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
 
     const auto tPhase2 = std::chrono::steady_clock::now();
     // 3. Relaxation reads neighbours' projected vertices.
-    util::parallelForHeaviestFirst(mPool, meshTiles.size(), byLeaves, [&](std::size_t i) {
+    inHomes(mPool, meshTiles, byLeaves, [&](std::size_t i) {
         TileMesh& tm = *meshTiles[i];
         splitFaces(tm);
         relaxInOrder(tm.vertices.size(), [&](std::size_t k) { return VertexRef{&tm, uint32_t(k)}; });
@@ -999,7 +1037,7 @@ MeshBuffers SurfaceMesher::mesh() const {
         std::size_t triangleOffset = 0;
     };
     std::vector<Share> share(order.size());
-    util::parallelFor(mPool, order.size(), [&](std::size_t t) {
+    util::parallelForHomes(mPool, order.size(), [&](std::size_t t) { return order[t]->home; }, [&](std::size_t t) {
         TileMesh& tm = *order[t];
         tm.outNumber.assign(tm.vertices.size() + tm.splits.size(), UINT32_MAX);
         uint32_t next = 0;
@@ -1034,7 +1072,7 @@ MeshBuffers SurfaceMesher::mesh() const {
     const glm::dvec3 origin = mAdf->domain().originWorld;
     const double h = mAdf->domain().finestCellSize();
     auto world = [&](const glm::vec3& lattice) { return glm::vec3(origin + glm::dvec3(lattice) * h); };
-    util::parallelFor(mPool, order.size(), [&](std::size_t t) {
+    util::parallelForHomes(mPool, order.size(), [&](std::size_t t) { return order[t]->home; }, [&](std::size_t t) {
         const TileMesh& tm = *order[t];
         uint32_t out = tm.offset;
         for (const Vertex& v : tm.vertices) {
@@ -1061,7 +1099,7 @@ MeshBuffers SurfaceMesher::mesh() const {
         const TileMesh& owner = *mTiles.at(x.faceOwner(q));
         return owner.offset + owner.outNumber.at(owner.vertices.size() + x.split[q]);
     };
-    util::parallelFor(mPool, order.size(), [&](std::size_t t) {
+    util::parallelForHomes(mPool, order.size(), [&](std::size_t t) { return order[t]->home; }, [&](std::size_t t) {
         const TileMesh& tm = *order[t];
         uint32_t* tri = m.indices.data() + 3 * share[t].triangleOffset;
         uint32_t centre = share[t].centreOffset;

@@ -126,6 +126,7 @@ struct SurfaceMesher::TileMesh {
     const adf::Tile* tile = nullptr;
     uint64_t key = 0;
     glm::uvec3 slotMin{0}, slotEnd{0};  ///< slots covered
+    unsigned home = 0;  ///< the pool thread that builds it and assembles its share (util::parallelForHomes)
     std::vector<BoundaryCell> leaves;   ///< during a build only, sorted by cell key
     SlotPool<detail::Crossing> crossings;  ///< emitted by this tile's leaves
     uint32_t liveCrossings = 0;

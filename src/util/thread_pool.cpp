@@ -48,13 +48,21 @@ bool pollFor(std::chrono::microseconds limit, Done done) {
 /// still running items.
 constexpr std::chrono::microseconds kPoll{500};
 
+thread_local unsigned tThreadIndex = 0;  ///< set once by each worker (ThreadPool::threadIndex)
+
 }  // namespace
+
+unsigned ThreadPool::threadIndex() { return tThreadIndex; }
 
 ThreadPool::ThreadPool(unsigned threads) {
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
     if (threads == 0) threads = cores;
     mPoll = threads <= cores ? kPoll : std::chrono::microseconds(0);
-    for (unsigned i = 1; i < threads; ++i) mWorkers.emplace_back([this] { workerLoop(); });
+    for (unsigned i = 1; i < threads; ++i)
+        mWorkers.emplace_back([this, i] {
+            tThreadIndex = i;
+            workerLoop();
+        });
 }
 
 ThreadPool::~ThreadPool() {

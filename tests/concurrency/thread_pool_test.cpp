@@ -146,6 +146,53 @@ TEST(ThreadPool, HeaviestFirstRunsEveryItemOnceUnderItsOwnIndex) {
     EXPECT_EQ(order, (std::vector<std::size_t>{0, 1, 2, 3, 4, 5}));
 }
 
+TEST(ThreadPool, HomesRunEveryItemOnce) {
+    // Homes beyond the thread count wrap; serially (no pool) items run in plain order.
+    ThreadPool pool(3);
+    for (std::size_t loop = 0; loop < 2000; ++loop) {
+        const std::size_t n = loop % 37;
+        std::vector<std::atomic<int>> runs(n);
+        kizamu::util::parallelForHomes(&pool, n, [&](std::size_t i) { return (i * 7 + loop) % 5; },
+                                       [&](std::size_t i) { runs[i].fetch_add(1, std::memory_order_relaxed); });
+        for (std::size_t i = 0; i < n; ++i) ASSERT_EQ(runs[i].load(), 1) << "loop " << loop << " index " << i;
+    }
+    std::vector<std::size_t> order;
+    kizamu::util::parallelForHomes(nullptr, 5, [](std::size_t i) { return 4 - i; }, [&](std::size_t i) { order.push_back(i); });
+    EXPECT_EQ(order, (std::vector<std::size_t>{0, 1, 2, 3, 4}));
+}
+
+TEST(ThreadPool, HomesRunOnTheirThreadFirst) {
+    // Item 0 (home 0) holds the caller until the worker's items (home 1: 2..8) are done, so
+    // the worker runs them, and only then takes item 1, the caller's other item, which is
+    // left (a thread takes its own items before anyone else's).
+    ThreadPool pool(2);
+    EXPECT_EQ(ThreadPool::threadIndex(), 0u);
+    for (int round = 0; round < 20; ++round) {
+        constexpr std::size_t n = 9;
+        std::vector<std::atomic<unsigned>> ranOn(n);
+        std::vector<std::atomic<int>> ranAt(n);
+        std::atomic<int> clock{0}, workerItemsDone{0};
+        std::atomic<bool> done{false};
+        kizamu::util::parallelForHomes(&pool, n, [](std::size_t i) { return i < 2 ? 0 : 1; }, [&](std::size_t i) {
+            ranOn[i].store(ThreadPool::threadIndex());
+            ranAt[i].store(clock.fetch_add(1));
+            if (i == 0) {
+                const auto until = std::chrono::steady_clock::now() + 2s;
+                while (workerItemsDone.load() < int(n - 2) && std::chrono::steady_clock::now() < until) std::this_thread::yield();
+                done.store(workerItemsDone.load() == int(n - 2));
+            } else if (i >= 2) {
+                workerItemsDone.fetch_add(1);
+            }
+        });
+        ASSERT_TRUE(done.load()) << "round " << round;
+        EXPECT_EQ(ranOn[0].load(), 0u);
+        for (std::size_t i = 2; i < n; ++i) {
+            EXPECT_EQ(ranOn[i].load(), 1u) << "round " << round << " item " << i;
+            EXPECT_LT(ranAt[i].load(), ranAt[1].load()) << "round " << round << " item " << i;
+        }
+    }
+}
+
 TEST(ThreadPool, HeaviestFirstOrdersByWeightAndTiesByIndex) {
     const std::vector<unsigned> w{3, 9, 0, 9, 5, 3};
     EXPECT_EQ(kizamu::util::heaviestFirst(w.size(), [&](std::size_t i) { return w[i]; }),
