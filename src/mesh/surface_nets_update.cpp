@@ -311,7 +311,13 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     });
     sortUnique(dirty);
     std::vector<std::vector<LatticeBox>> boxesOf(dirty.size());
-    util::parallelFor(mPool, dirty.size(), [&](std::size_t i) {
+    // The largest rebuilt tile first (nearly always the edit's crater): the caller takes it, as
+    // it takes the crater in every later phase and, usually, in the edit that rebuilt it.
+    auto nodes = [&](std::size_t i) {
+        const Tile* t = tileOfKey(a, dirty[i]);
+        return t ? t->nodeCount() : 0u;
+    };
+    util::parallelForHeaviestFirst(mPool, dirty.size(), nodes, [&](std::size_t i) {
         const Tile* was = tileOfKey(oldAdf, dirty[i]);
         const Tile* now = tileOfKey(a, dirty[i]);
         if (was && now && was->level() == now->level()) {
