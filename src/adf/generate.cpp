@@ -325,8 +325,10 @@ struct TileScratch {
     std::vector<BorderRecord> border;
 };
 
-/// Process-wide free list of scratch volumes, so that an edit (a few tiles) does not pay for
-/// allocating and zeroing megabytes each time. Thread-safe (a mutex, held for a push or pop).
+/// Free scratch volumes, so that an edit (a few tiles) does not pay for allocating and zeroing
+/// megabytes each time: per thread the one it released last, then a process-wide list.
+/// Thread-safe (a mutex, held for a push or pop of the list). Memory: up to kKeep volumes in
+/// the list and one per thread that generated.
 class ScratchPool {
 public:
     static ScratchPool& instance() {
@@ -348,11 +350,8 @@ public:
         return std::make_unique<TileScratch>(dim);
     }
     void release(std::unique_ptr<TileScratch> s) {
-        std::unique_ptr<TileScratch>& mine = threadsOwn();
-        if (!mine) {
-            mine = std::move(s);
-            return;
-        }
+        std::swap(threadsOwn(), s);  // this thread's from now on; the one it had goes to the list
+        if (!s) return;
         std::lock_guard lock(mMutex);
         if (mFree.size() < kKeep) mFree.push_back(std::move(s));
     }

@@ -25,8 +25,9 @@ struct BoundaryCell {
 
 struct LatticeBox;
 
-/// A test of a sign-changing leaf's box (lattice origin and size), made before its corners are
-/// decoded: a leaf it refuses costs no decoding and no record.
+/// A test of a sign-changing leaf's box (lattice origin and size), made before a lone leaf's
+/// corners are decoded (a brick child's after its brick's 27 values, which tell its sign
+/// change): a leaf it refuses costs no decoding of its own and no record.
 struct LeafFilter {
     bool (*keep)(const void* context, glm::uvec3 origin, uint32_t size) = nullptr;
     const void* context = nullptr;

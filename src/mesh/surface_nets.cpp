@@ -850,10 +850,12 @@ void assignHomes(const std::vector<TileMesh*>& tiles, Weight weight, unsigned th
     }
 }
 
-/// fn(i) for every tile, each on its home thread, the heaviest of each home first.
+/// fn(i) for every tile, each on its home thread, the heaviest of each home first (serially:
+/// index order).
 template <class Weight>
 void inHomes(util::ThreadPool* pool, const std::vector<TileMesh*>& tiles, Weight weight,
              const std::function<void(std::size_t)>& fn) {
+    if (!pool || pool->threadCount() < 2) return util::parallelFor(nullptr, tiles.size(), fn);
     const std::vector<std::size_t> order = util::heaviestFirst(tiles.size(), weight);
     util::parallelForHomes(pool, order.size(), [&](std::size_t k) { return tiles[order[k]]->home; },
                            [&](std::size_t k) { fn(order[k]); });
@@ -1037,7 +1039,9 @@ MeshBuffers SurfaceMesher::mesh() const {
         std::size_t triangleOffset = 0;
     };
     std::vector<Share> share(order.size());
-    util::parallelForHomes(mPool, order.size(), [&](std::size_t t) { return order[t]->home; }, [&](std::size_t t) {
+    // Each tile's share on the thread that built it (build()).
+    auto homeOf = [&](std::size_t t) { return order[t]->home; };
+    util::parallelForHomes(mPool, order.size(), homeOf, [&](std::size_t t) {
         TileMesh& tm = *order[t];
         tm.outNumber.assign(tm.vertices.size() + tm.splits.size(), UINT32_MAX);
         uint32_t next = 0;
@@ -1072,7 +1076,7 @@ MeshBuffers SurfaceMesher::mesh() const {
     const glm::dvec3 origin = mAdf->domain().originWorld;
     const double h = mAdf->domain().finestCellSize();
     auto world = [&](const glm::vec3& lattice) { return glm::vec3(origin + glm::dvec3(lattice) * h); };
-    util::parallelForHomes(mPool, order.size(), [&](std::size_t t) { return order[t]->home; }, [&](std::size_t t) {
+    util::parallelForHomes(mPool, order.size(), homeOf, [&](std::size_t t) {
         const TileMesh& tm = *order[t];
         uint32_t out = tm.offset;
         for (const Vertex& v : tm.vertices) {
@@ -1099,7 +1103,7 @@ MeshBuffers SurfaceMesher::mesh() const {
         const TileMesh& owner = *mTiles.at(x.faceOwner(q));
         return owner.offset + owner.outNumber.at(owner.vertices.size() + x.split[q]);
     };
-    util::parallelForHomes(mPool, order.size(), [&](std::size_t t) { return order[t]->home; }, [&](std::size_t t) {
+    util::parallelForHomes(mPool, order.size(), homeOf, [&](std::size_t t) {
         const TileMesh& tm = *order[t];
         uint32_t* tri = m.indices.data() + 3 * share[t].triangleOffset;
         uint32_t centre = share[t].centreOffset;

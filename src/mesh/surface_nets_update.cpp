@@ -311,8 +311,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     });
     sortUnique(dirty);
     std::vector<std::vector<LatticeBox>> boxesOf(dirty.size());
-    // The largest rebuilt tile first (nearly always the edit's crater): the caller takes it, as
-    // it takes the crater in every later phase and, usually, in the edit that rebuilt it.
+    // The largest rebuilt tile first (nearly always the edit's crater): usually the caller takes
+    // it, as it usually takes the crater in every later phase and in the edit that rebuilt it.
     auto nodes = [&](std::size_t i) {
         const Tile* t = tileOfKey(a, dirty[i]);
         return t ? t->nodeCount() : 0u;

@@ -43,8 +43,9 @@ public:
     void parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
 
     unsigned threadCount() const { return unsigned(mWorkers.size()) + 1; }
-    /// The calling thread's place in its pool: k for worker k (1..threadCount() - 1), 0 for any
-    /// other thread (the caller of parallelFor runs items as thread 0).
+    /// The calling thread's place in its pool: k for worker k (1..threadCount() - 1), 0 for a
+    /// thread that is no pool's worker (the caller of parallelFor runs items as thread 0). A
+    /// worker of another pool answers its index there (a home is only a preference).
     static unsigned threadIndex();
 
 private:
@@ -95,20 +96,25 @@ inline void parallelFor(ThreadPool* pool, std::size_t n, const std::function<voi
 /// phase) whose items read what the same item wrote in an earlier loop: on the 2-vCPU machine a
 /// cache line written by the other core took about 250 ns to reach (docs/PERFORMANCE.md,
 /// "Twentieth session"). As with parallelFor, no result may depend on which thread runs an
-/// item. Serially: index order. Complexity: O(n) plus one parallelFor of threadCount() items.
+/// item. An exception ends the share of the thread it was thrown on (items it had not taken
+/// may then not run) and reaches the caller after the loop. Serially: index order.
+/// Complexity: O(n) plus one parallelFor of threadCount() items.
 template <class Home>
 void parallelForHomes(ThreadPool* pool, std::size_t n, Home home, const std::function<void(std::size_t)>& fn) {
     if (!pool || pool->threadCount() < 2 || n < 2) return parallelFor(pool, n, fn);
     const unsigned threads = pool->threadCount();
     std::vector<std::vector<std::size_t>> own(threads);
     for (std::size_t i = 0; i < n; ++i) own[std::size_t(home(i)) % threads].push_back(i);
-    const std::unique_ptr<std::atomic<std::size_t>[]> next(new std::atomic<std::size_t>[threads]);
-    for (unsigned g = 0; g < threads; ++g) next[g].store(0, std::memory_order_relaxed);
+    // One cache line each: a shared line would cross between the cores at every item taken.
+    struct alignas(64) Cursor {
+        std::atomic<std::size_t> next{0};
+    };
+    const std::unique_ptr<Cursor[]> cursor(new Cursor[threads]);
     pool->parallelFor(threads, [&](std::size_t) {
         const unsigned me = ThreadPool::threadIndex() % threads;
         for (unsigned k = 0; k < threads; ++k) {
             const unsigned g = (me + k) % threads;
-            for (std::size_t j; (j = next[g].fetch_add(1, std::memory_order_relaxed)) < own[g].size();) fn(own[g][j]);
+            for (std::size_t j; (j = cursor[g].next.fetch_add(1, std::memory_order_relaxed)) < own[g].size();) fn(own[g][j]);
         }
     });
 }
