@@ -109,10 +109,8 @@ void appendBoundaryCellsTouching(const adf::Tile& t, int maxLevel, const std::ve
             if (touches(b, o, size)) return true;
         return false;
     };
-    if (filter.keep)
-        appendIf(t, maxLevel, out, touching, [&](glm::uvec3 o, uint32_t size) { return filter.keep(filter.context, o, size); });
-    else
-        appendIf(t, maxLevel, out, touching, [](glm::uvec3, uint32_t) { return true; });
+    appendIf(t, maxLevel, out, touching,
+             [&](glm::uvec3 o, uint32_t size) { return !filter.keep || filter.keep(filter.context, o, size); });
 }
 
 }  // namespace kizamu::mesh
