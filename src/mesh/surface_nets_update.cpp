@@ -239,6 +239,36 @@ inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
     return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
 }
 
+/// Appends the keys of the leaves of `t` inside the cell `box`, where `t` holds the node word
+/// `word` (appendChangedCells' beforeWords: a leaf's word for a brick's child).
+/// Complexity: O(cells inside).
+void appendLeafCellsIn(const Tile& t, uint32_t word, const LatticeBox& box, std::vector<uint64_t>& out) {
+    namespace node = adf::node;
+    struct Item {
+        uint32_t word;
+        glm::uvec3 origin;
+        uint32_t size;
+    };
+    Item stack[8 * (adf::kMaxSupportedLevel + 1)];
+    int top = 0;
+    stack[top++] = {word, box.lo, box.size};
+    while (top > 0) {
+        const Item it = stack[--top];
+        if (node::isLeaf(it.word)) {
+            out.push_back(packLattice(it.origin));
+            continue;
+        }
+        const uint32_t half = it.size >> 1;
+        for (int c = 0; c < 8; ++c) {
+            const glm::uvec3 o = it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half;
+            if (node::isBrick(it.word))
+                out.push_back(packLattice(o));
+            else
+                stack[top++] = {t.node(it.word + uint32_t(c)), o, half};
+        }
+    }
+}
+
 /// A cell to re-mesh (each once), numbered as it was queued; re-meshed by tile, then cell.
 struct CellTask {
     uint64_t owner, cell;
@@ -251,7 +281,8 @@ struct CellTask {
 /// for undo take the space they freed), so every update paid first-touch page faults for them.
 /// Not reentrant: a task must not start another update (none does).
 struct UpdateScratch {
-    std::vector<BoundaryCell> leaves;
+    std::vector<BoundaryCell> leaves, oldLeaves;
+    std::vector<uint64_t> oldCells;
     std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot or index)
     std::vector<Crossing> fresh;
     std::vector<Incidence> inc;
@@ -311,6 +342,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     });
     sortUnique(dirty);
     std::vector<std::vector<LatticeBox>> boxesOf(dirty.size());
+    std::vector<std::vector<uint32_t>> oldWordsOf(dirty.size());  // the old tile's node at each box
     // The largest rebuilt tile first (nearly always the edit's crater): usually the caller takes
     // it, as it usually takes the crater in every later phase and in the edit that rebuilt it.
     auto nodes = [&](std::size_t i) {
@@ -321,7 +353,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         const Tile* was = tileOfKey(oldAdf, dirty[i]);
         const Tile* now = tileOfKey(a, dirty[i]);
         if (was && now && was->level() == now->level()) {
-            appendChangedCells(*was, *now, maxLevel, boxesOf[i]);
+            appendChangedCells(*was, *now, maxLevel, boxesOf[i], &oldWordsOf[i]);
         } else {
             if (was) boxesOf[i].push_back({was->latticeOrigin(), extentOf(*was)});
             if (now) boxesOf[i].push_back({now->latticeOrigin(), extentOf(*now)});
@@ -411,18 +443,43 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                                          &changedAt};
         // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
         // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
+        // Where the tile was rebuilt at its level, such a leaf is either in the new tile too (the
+        // new walk finds it) or lies inside one of the cells the tile comparison found changed:
+        // the old tile is not walked again (a sixth of an update's instructions).
         UpdateScratch& buffers = updateScratch();
         std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
-        std::vector<BoundaryCell>& leaves = buffers.leaves;
+        std::vector<BoundaryCell>& leaves = buffers.leaves;  // the new tile's, or the old one's
+        std::vector<uint64_t>& oldCells = buffers.oldCells;
         old.clear();
         leaves.clear();
+        oldCells.clear();
+        const Tile* now = tileOfKey(a, tm.key);
+        const bool current = now == tm.tile;  // else the tile is gone: only old crossings go
         const Tile* was = nullptr;
         if (tm.liveCrossings > 0) {
             was = tileOfKey(oldAdf, tm.key);
             if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
-            appendBoundaryCellsTouching(*was, maxLevel, region, leaves, cornerOnChanged);
-            for (const BoundaryCell& e : leaves) {
-                const uint64_t cell = packLattice(e.origin);
+        }
+        if (current) appendBoundaryCellsTouching(*now, maxLevel, region, leaves, cornerOnChanged);
+        if (was) {
+            std::size_t compared = dirty.size();  // the tile comparison's entry for it
+            if (current && was != now && was->level() == now->level()) {
+                compared = std::size_t(std::lower_bound(dirty.begin(), dirty.end(), tm.key) - dirty.begin());
+                if (compared == dirty.size() || dirty[compared] != tm.key)
+                    throw std::logic_error("surface nets: a rebuilt tile was not compared");
+            }
+            if (was == now || compared < dirty.size()) {
+                for (const BoundaryCell& e : leaves) oldCells.push_back(packLattice(e.origin));
+                if (compared < dirty.size())
+                    for (std::size_t k = 0; k < boxesOf[compared].size(); ++k)
+                        appendLeafCellsIn(*was, oldWordsOf[compared][k], boxesOf[compared][k], oldCells);
+            } else {
+                std::vector<BoundaryCell>& wasLeaves = buffers.oldLeaves;
+                wasLeaves.clear();
+                appendBoundaryCellsTouching(*was, maxLevel, region, wasLeaves, cornerOnChanged);
+                for (const BoundaryCell& e : wasLeaves) oldCells.push_back(packLattice(e.origin));
+            }
+            for (const uint64_t cell : oldCells) {
                 const uint32_t* firstVertex = tm.cellVertex.find(cell);
                 if (!firstVertex) continue;
                 for (uint32_t vi = *firstVertex; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
@@ -438,11 +495,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         }
         std::vector<Crossing>& fresh = buffers.fresh;
         fresh.clear();
-        if (tileOfKey(a, tm.key) == tm.tile) {
-            if (was != tm.tile) {  // a rebuilt tile (a neighbour the edit left alone has the same leaves)
-                leaves.clear();
-                appendBoundaryCellsTouching(*tm.tile, maxLevel, region, leaves, cornerOnChanged);
-            }
+        if (current) {
             out.st.boundaryLeaves = leaves.size();
             const StartFilter onChanged{[](const void* q, glm::uvec3 p) {
                                             return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
@@ -450,7 +503,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                                         &changedAt};
             computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
         }
-        std::sort(old.begin(), old.end());
+        sortUnique(old);  // a cell of both tiles may come twice
         std::vector<std::pair<uint64_t, uint32_t>>& order = buffers.order;  // (key, index): no record moves
         order.resize(fresh.size());
         for (uint32_t j = 0; j < fresh.size(); ++j) order[j] = {fresh[j].key(), j};

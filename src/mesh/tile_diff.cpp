@@ -57,14 +57,24 @@ inline glm::uvec3 childOrigin(glm::uvec3 origin, int c, uint32_t half) {
     return origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half;
 }
 
-void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bool sameScale, std::vector<LatticeBox>& out) {
+/// Where a walk records the changed cells (and, if asked, the old tile's words there).
+struct Changed {
+    std::vector<LatticeBox>& boxes;
+    std::vector<uint32_t>* words;
+    void add(const Cursor& a, glm::uvec3 origin, uint32_t size) {
+        boxes.push_back({origin, size});
+        if (words) words->push_back(a.brickChild >= 0 ? adf::node::kLeafBit : a.word);
+    }
+};
+
+void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bool sameScale, Changed& out) {
     const bool leafA = a.isLeaf(), leafB = b.isLeaf();
     if (leafA != leafB) {
-        out.push_back({origin, size});
+        out.add(a, origin, size);
         return;
     }
     if (leafA) {
-        if (cornersDiffer(a, b, sameScale)) out.push_back({origin, size});
+        if (cornersDiffer(a, b, sameScale)) out.add(a, origin, size);
         return;
     }
     const uint32_t half = size >> 1;
@@ -82,7 +92,7 @@ void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bo
                 ca[k] = qa[adf::brickPoint(c, k)];
                 cb[k] = qb[adf::brickPoint(c, k)];
             }
-            if (valuesDiffer(ca, a.tile->scale(), cb, b.tile->scale(), sameScale)) out.push_back({childOrigin(origin, c, half), half});
+            if (valuesDiffer(ca, a.tile->scale(), cb, b.tile->scale(), sameScale)) out.add(a.child(c), childOrigin(origin, c, half), half);
         }
         return;
     }
@@ -91,11 +101,13 @@ void walk(const Cursor& a, const Cursor& b, glm::uvec3 origin, uint32_t size, bo
 
 }  // namespace
 
-void appendChangedCells(const adf::Tile& before, const adf::Tile& after, int maxLevel, std::vector<LatticeBox>& out) {
+void appendChangedCells(const adf::Tile& before, const adf::Tile& after, int maxLevel, std::vector<LatticeBox>& out,
+                        std::vector<uint32_t>* beforeWords) {
     assert(before.level() == after.level() && before.latticeOrigin() == after.latticeOrigin() &&
            "appendChangedCells compares two versions of one tile slot");
+    Changed changed{out, beforeWords};
     walk(Cursor::node(&before, 0), Cursor::node(&after, 0), after.latticeOrigin(), 1u << uint32_t(maxLevel - after.level()),
-         before.scale() == after.scale(), out);
+         before.scale() == after.scale(), changed);
 }
 
 }  // namespace kizamu::mesh

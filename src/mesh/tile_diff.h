@@ -32,7 +32,10 @@ struct LatticeBox {
 /// Appends to `out` the boxes of the largest cells of `before`/`after` (same level and origin,
 /// asserted) below which the two tiles differ: a leaf whose decoded corners changed, or a cell
 /// that is a leaf in one and subdivided in the other. No box where the tiles read the same.
-void appendChangedCells(const adf::Tile& before, const adf::Tile& after, int maxLevel, std::vector<LatticeBox>& out);
+/// With `beforeWords`, also appends for each box the node word `before` holds at that cell (a
+/// leaf's word for a brick's child), so that its cells there can be listed without a search.
+void appendChangedCells(const adf::Tile& before, const adf::Tile& after, int maxLevel, std::vector<LatticeBox>& out,
+                        std::vector<uint32_t>* beforeWords = nullptr);
 
 /// Whether lattice point `p` lies in the closed box.
 inline bool contains(const LatticeBox& b, glm::uvec3 p) {
