@@ -112,6 +112,9 @@ private:
     std::unordered_map<uint64_t, std::unique_ptr<TileMesh>> mTiles;
     uint32_t mRelaxStamp = 0;  ///< update counter marking vertices queued for relaxation
     SurfaceNetsStats mStats;
+    /// An update's scanned tiles' leaves, one set per tile (kept across updates for their room).
+    struct ScannedLeaves;
+    std::vector<std::unique_ptr<ScannedLeaves>> mScanned;
 };
 
 /// Convenience: the SurfaceNets mesh of one snapshot.

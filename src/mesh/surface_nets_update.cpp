@@ -281,7 +281,7 @@ struct CellTask {
 /// for undo take the space they freed), so every update paid first-touch page faults for them.
 /// Not reentrant: a task must not start another update (none does).
 struct UpdateScratch {
-    std::vector<BoundaryCell> leaves, oldLeaves;
+    std::vector<BoundaryCell> oldLeaves;
     std::vector<uint64_t> oldCells;
     std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot or index)
     std::vector<Crossing> fresh;
@@ -414,6 +414,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         scanBox.push_back(touched[k]);
     }
 
+    while (mScanned.size() < scanTiles.size()) mScanned.push_back(std::make_unique<ScannedLeaves>());
+
     // 1. Crossings starting on a changed cell: recomputed by the tiles that can emit them.
     struct ScanOut {
         std::vector<Crossing*> removed, added, kept;
@@ -448,7 +450,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         // the old tile is not walked again (a sixth of an update's instructions).
         UpdateScratch& buffers = updateScratch();
         std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
-        std::vector<BoundaryCell>& leaves = buffers.leaves;  // the new tile's, or the old one's
+        ScannedLeaves& scanned = *mScanned[i];
+        std::vector<BoundaryCell>& leaves = scanned.leaves;  // the new tile's, or the old one's
         std::vector<uint64_t>& oldCells = buffers.oldCells;
         old.clear();
         leaves.clear();
@@ -502,6 +505,11 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                                         },
                                         &changedAt};
             computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
+        }
+        scanned.byCell.clear();
+        if (current) {
+            scanned.byCell.reserve(leaves.size());
+            for (uint32_t j = 0; j < leaves.size(); ++j) scanned.byCell.assign(packLattice(leaves[j].origin), j);
         }
         sortUnique(old);  // a cell of both tiles may come twice
         std::vector<std::pair<uint64_t, uint32_t>>& order = buffers.order;  // (key, index): no record moves
@@ -618,6 +626,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     const uint32_t relaxMark = mRelaxStamp;
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     std::vector<std::vector<VertexRef>> made(meshTiles.size());
+    // A re-meshed cell near a changed one is nearly always a leaf its tile's scan found.
+    FlatMap64 scanOf;  // tile key -> its index in scanTiles
+    for (uint32_t i = 0; i < scanTiles.size(); ++i) scanOf.assign(scanTiles[i]->key, i);
     auto cellsToMesh = [&](std::size_t ti) { return taskBegin[ti + 1] - taskBegin[ti]; };  // most first, as the scan
     util::parallelForHeaviestFirst(mPool, meshTiles.size(), cellsToMesh, [&](std::size_t ti) {
         TileMesh& tm = *meshTiles[ti];
@@ -633,6 +644,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         cellScratch.freshCrossings = false;
         std::vector<Incidence>& inc = buffers.inc;
         const ChangedCells::Query cellChanged(changed);
+        const uint32_t* scanIndex = scanOf.find(tm.key);
+        const ScannedLeaves* scanned = scanIndex ? mScanned[*scanIndex].get() : nullptr;
         for (std::size_t t = taskBegin[ti]; t < taskBegin[ti + 1]; ++t) {
             const uint64_t cell = tasks[t].cell;
             ++ms.cellsMeshed;
@@ -670,8 +683,12 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
             if (inc.empty()) continue;
             if (!haveCorners) {
-                const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));
-                std::copy(leaf.corners, leaf.corners + 8, corners);
+                if (const uint32_t* j = scanned ? scanned->byCell.find(cell) : nullptr) {
+                    std::copy(scanned->leaves[*j].corners, scanned->leaves[*j].corners + 8, corners);
+                } else {  // a cell without a sign change, or in a tile not scanned
+                    const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));
+                    std::copy(leaf.corners, leaf.corners + 8, corners);
+                }
             }
             bool anyIn = false, anyOut = false;
             for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
