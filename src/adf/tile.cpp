@@ -203,11 +203,23 @@ int32_t leafStepOf(float scale, double finestCell) {
     return steps >= 2.0 ? int32_t(std::min(steps, 32767.0)) : 2;
 }
 
+/// Division by a step (1 to 65535) of a numerator below 2^17 as one multiply: with
+/// m = floor(2^40 / step) + 1, a * m / 2^40 exceeds a / step by under 2^-23, less than the
+/// 1 / step that lies between a / step and the next whole number, so the floor is exact. (The
+/// integer division it replaces took a third of the time of packing a tile's values.)
+struct StepDivision {
+    int32_t step;
+    uint64_t magic;
+    explicit StepDivision(int32_t s) : step(s), magic((uint64_t(1) << 40) / uint64_t(s) + 1) {}
+    int32_t quotient(int32_t a) const { return int32_t((uint64_t(a) * magic) >> 40); }  ///< a / step, a in [0, 2^17)
+};
+
 /// Steps from `base` to the value nearest `q` with q's sign (inside stays inside), or false
 /// when that needs more than 127 steps or leaves the 16-bit range.
-inline bool narrowDelta(int32_t q, int32_t base, int32_t step, int8_t& out) {
-    const int32_t diff = q - base;
-    int32_t k = diff >= 0 ? (diff + step / 2) / step : -((-diff + step / 2) / step);
+inline bool narrowDelta(int32_t q, int32_t base, const StepDivision& d, int8_t& out) {
+    const int32_t step = d.step;
+    const int32_t diff = q - base;  // |diff| + step / 2 < 2^17: 16-bit values, steps below 2^16
+    int32_t k = diff >= 0 ? d.quotient(diff + step / 2) : -d.quotient(-diff + step / 2);
     const int32_t v = base + k * step;
     if (q < 0 && v >= 0) --k;
     if (q >= 0 && v < 0) ++k;
@@ -222,8 +234,9 @@ inline bool narrowDelta(int32_t q, int32_t base, int32_t step, int8_t& out) {
 /// Packs `n` values as signed-byte steps from `base` (narrowDelta each); false if one misses.
 /// (Inlined: every brick, group and leaf of every tile built asks.)
 [[gnu::always_inline]] inline bool packs(const int16_t* q, int n, int32_t base, int32_t step, int8_t* out) {
+    const StepDivision d(step);
     for (int i = 0; i < n; ++i)
-        if (!narrowDelta(q[i], base, step, out[i])) return false;
+        if (!narrowDelta(q[i], base, d, out[i])) return false;
     return true;
 }
 
