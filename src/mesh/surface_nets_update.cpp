@@ -239,33 +239,21 @@ inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
     return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
 }
 
-/// Appends the keys of the leaves of `t` inside the cell `box`, where `t` holds the node word
-/// `word` (appendChangedCells' beforeWords: a leaf's word for a brick's child).
+/// Appends the keys of the leaves of `t` inside the cell at `origin` of `size`, where `t` holds
+/// the node word `word` (appendChangedCells' beforeWords: a leaf's word for a brick's child).
 /// Complexity: O(cells inside).
-void appendLeafCellsIn(const Tile& t, uint32_t word, const LatticeBox& box, std::vector<uint64_t>& out) {
-    namespace node = adf::node;
-    struct Item {
-        uint32_t word;
-        glm::uvec3 origin;
-        uint32_t size;
-    };
-    Item stack[8 * (adf::kMaxSupportedLevel + 1)];
-    int top = 0;
-    stack[top++] = {word, box.lo, box.size};
-    while (top > 0) {
-        const Item it = stack[--top];
-        if (node::isLeaf(it.word)) {
-            out.push_back(packLattice(it.origin));
-            continue;
-        }
-        const uint32_t half = it.size >> 1;
-        for (int c = 0; c < 8; ++c) {
-            const glm::uvec3 o = it.origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half;
-            if (node::isBrick(it.word))
-                out.push_back(packLattice(o));
-            else
-                stack[top++] = {t.node(it.word + uint32_t(c)), o, half};
-        }
+void appendLeafCellsIn(const Tile& t, uint32_t word, glm::uvec3 origin, uint32_t size, std::vector<uint64_t>& out) {
+    if (adf::node::isLeaf(word)) {
+        out.push_back(packLattice(origin));
+        return;
+    }
+    const uint32_t half = size >> 1;
+    for (uint32_t c = 0; c < 8; ++c) {
+        const glm::uvec3 o = origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half;
+        if (adf::node::isBrick(word))
+            out.push_back(packLattice(o));
+        else
+            appendLeafCellsIn(t, t.node(word + c), o, half, out);
     }
 }
 
@@ -474,8 +462,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             if (was == now || compared < dirty.size()) {
                 for (const BoundaryCell& e : leaves) oldCells.push_back(packLattice(e.origin));
                 if (compared < dirty.size())
-                    for (std::size_t k = 0; k < boxesOf[compared].size(); ++k)
-                        appendLeafCellsIn(*was, oldWordsOf[compared][k], boxesOf[compared][k], oldCells);
+                    for (std::size_t k = 0; k < boxesOf[compared].size(); ++k) {
+                        const LatticeBox& b = boxesOf[compared][k];
+                        appendLeafCellsIn(*was, oldWordsOf[compared][k], b.lo, b.size, oldCells);
+                    }
             } else {
                 std::vector<BoundaryCell>& wasLeaves = buffers.oldLeaves;
                 wasLeaves.clear();
