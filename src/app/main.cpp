@@ -12,9 +12,11 @@
 
 #include <cstdio>
 #include <exception>
+#include <thread>
 
-int main(int argc, char** argv) {
-    kizamu::app::applyMemoryPolicy();
+namespace {
+
+int runCommand(int argc, char** argv) {
     CLI::App app{"Kizamu: sculpt digital clay held in an adaptively sampled distance field.\n"
                  "Run `kizamu <command> --help` for the options of each command."};
     app.require_subcommand(1);
@@ -36,4 +38,17 @@ int main(int argc, char** argv) {
         return 1;
     }
     return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    kizamu::app::applyMemoryPolicy();
+    // The command runs on a thread started after the policy. The main thread's heap began
+    // before it (the C++ runtime allocates while it starts) in 4 KiB pages, which an edit's
+    // growth then touched one at a time: a dab with its re-mesh 8 % slower on the 2-vCPU machine
+    // (docs/PERFORMANCE.md, "Twenty-first session").
+    int code = 0;
+    std::thread([&] { code = runCommand(argc, argv); }).join();
+    return code;
 }

@@ -32,6 +32,11 @@ void applyMemoryPolicy() {
     // Segments mapped from now on are advised as huge pages (the few made during static
     // initialisation keep 4 KiB pages). Where transparent huge pages are off, nothing changes.
     mi_option_enable(mi_option_large_os_pages);
+    // A thread's first segment too: by default it is committed a piece at a time (for short
+    // threads), and pieces cannot be huge pages, so the edit's and the pool's first 32 MiB were
+    // touched 4 KiB at a time (10-15 us a fault on the 2-vCPU virtual machine; a dab with its
+    // re-mesh 8 % slower, docs/PERFORMANCE.md, "Twenty-first session").
+    mi_option_set(mi_option_eager_commit_delay, 0);
     // And freed memory stays committed, as under glibc below: handed back after mimalloc's
     // delay, a freed 2 MiB page came back zeroed again (800k points +12 %, the one-tile re-mesh
     // +32 % without this; docs/PERFORMANCE.md, "Twelfth session").
@@ -61,7 +66,8 @@ std::string memoryPolicySummary() {
     const int v = mi_version();  // 209: 2.0.9
     std::string s = "memory: mimalloc " + std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
     s += mi_is_in_heap_region(probe.get()) ? " serves malloc" : " linked but NOT serving malloc";
-    s += mi_option_is_enabled(mi_option_large_os_pages) ? ", huge pages advised, " : ", 4 KiB pages, ";
+    const bool huge = mi_option_is_enabled(mi_option_large_os_pages) && mi_option_get(mi_option_eager_commit_delay) == 0;
+    s += huge ? ", huge pages advised, " : ", 4 KiB pages, ";
     return s + freed;
 #elif defined(KIZAMU_SANITIZER_MALLOC)
     return "memory: the sanitizer's malloc (no policy set)";

@@ -16,7 +16,8 @@ namespace kizamu::app {
 /// Sets the policy. Built with mimalloc (KIZAMU_MIMALLOC, the default outside sanitizer
 /// builds): mimalloc serves every allocation and backs its segments with transparent huge pages
 /// (2 MiB, madvise), so the mesher's and the snapshots' scattered records share few TLB
-/// entries. Either way freed memory is kept in the process instead of being handed back to the
+/// entries and a growing session faults its memory in 2 MiB at a time. The main thread's heap
+/// predates the policy (main.cpp runs commands on a thread of their own). Either way freed memory is kept in the process instead of being handed back to the
 /// kernel and faulted in again (under glibc a page at a time). Call before any thread starts.
 void applyMemoryPolicy();
 
