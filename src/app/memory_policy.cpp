@@ -3,7 +3,10 @@
 /// @brief applyMemoryPolicy: mimalloc with huge pages, or glibc keeping its freed memory.
 #include "app/memory_policy.h"
 
+#include <cstdint>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 
 #if KIZAMU_MIMALLOC
@@ -59,6 +62,29 @@ void applyMemoryPolicy() {
 #endif
 }
 
+namespace {
+/// What the kernel says of the mapping holding `p` (/proc/self/smaps, THPeligible): whether it
+/// may back it with huge pages, or "unknown" where it cannot be read.
+std::string pagesAt(const void* p) {
+    const auto at = reinterpret_cast<uintptr_t>(p);
+    std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen("/proc/self/smaps", "r"), &std::fclose);
+    if (!f) return "unknown";
+    char line[512];
+    bool inside = false;
+    while (std::fgets(line, sizeof line, f.get())) {
+        unsigned long lo = 0, hi = 0;
+        char perms[8];
+        if (std::sscanf(line, "%lx-%lx %7s", &lo, &hi, perms) == 3) {
+            inside = lo <= at && at < hi;
+            continue;
+        }
+        int eligible = 0;
+        if (inside && std::sscanf(line, "THPeligible: %d", &eligible) == 1) return eligible ? "huge pages" : "4 KiB pages";
+    }
+    return "unknown";
+}
+}  // namespace
+
 std::string memoryPolicySummary() {
     const char* freed = gFreedMemoryKept ? "freed memory kept" : "freed memory returned";
 #if KIZAMU_MIMALLOC
@@ -68,7 +94,8 @@ std::string memoryPolicySummary() {
     s += mi_is_in_heap_region(probe.get()) ? " serves malloc" : " linked but NOT serving malloc";
     const bool huge = mi_option_is_enabled(mi_option_large_os_pages) && mi_option_get(mi_option_eager_commit_delay) == 0;
     s += huge ? ", huge pages advised, " : ", 4 KiB pages, ";
-    return s + freed;
+    // The heap of the thread asking (a command's, main.cpp): where its blocks lie, as the kernel maps it.
+    return s + freed + "; this thread's heap: " + pagesAt(probe.get());
 #elif defined(KIZAMU_SANITIZER_MALLOC)
     return "memory: the sanitizer's malloc (no policy set)";
 #elif defined(__GLIBC__)

@@ -23,6 +23,8 @@ void applyMemoryPolicy();
 
 /// One line saying which allocator serves `malloc` in this process and how: checked by asking
 /// the allocator about a fresh block, not taken from the build settings (`kizamu --version`).
+/// With mimalloc it ends with how the kernel maps the calling thread's heap ("huge pages",
+/// "4 KiB pages" or "unknown").
 std::string memoryPolicySummary();
 
 }  // namespace kizamu::app
