@@ -12,21 +12,24 @@
 
 #include <cstdio>
 #include <exception>
+#include <system_error>
 #include <thread>
 
 namespace {
 
+/// Parses the command line and runs the command; no exception leaves it (a thread's body).
 int runCommand(int argc, char** argv) {
     CLI::App app{"Kizamu: sculpt digital clay held in an adaptively sampled distance field.\n"
                  "Run `kizamu <command> --help` for the options of each command."};
-    app.require_subcommand(1);
-    app.set_version_flag("--version", [] { return "kizamu " KIZAMU_VERSION "\n" + kizamu::app::memoryPolicySummary(); });
-    kizamu::app::addInfoCommand(app);
-    kizamu::app::addGenerateCommand(app);
-    kizamu::app::addConvertCommand(app);
-    kizamu::app::addRunCommand(app);
-    kizamu::app::addBenchCommand(app);
     try {
+        app.require_subcommand(1);
+        app.set_version_flag("--version",
+                             [] { return "kizamu " KIZAMU_VERSION "\n" + kizamu::app::memoryPolicySummary(); });
+        kizamu::app::addInfoCommand(app);
+        kizamu::app::addGenerateCommand(app);
+        kizamu::app::addConvertCommand(app);
+        kizamu::app::addRunCommand(app);
+        kizamu::app::addBenchCommand(app);
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
@@ -35,6 +38,9 @@ int runCommand(int argc, char** argv) {
         return 2;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "kizamu: error: %s\n", e.what());
+        return 1;
+    } catch (...) {
+        std::fprintf(stderr, "kizamu: error: an unknown exception\n");
         return 1;
     }
     return 0;
@@ -47,8 +53,14 @@ int main(int argc, char** argv) {
     // The command runs on a thread started after the policy. The main thread's heap began
     // before it (the C++ runtime allocates while it starts) in 4 KiB pages, which an edit's
     // growth then touched one at a time: a dab with its re-mesh 8 % slower on the 2-vCPU machine
-    // (docs/PERFORMANCE.md, "Twenty-first session").
+    // (docs/PERFORMANCE.md, "Twenty-first session"). The thread gets the default stack of new
+    // threads (the main thread's limit, or 2 MiB without one); a command that must own the main
+    // thread (a window, on some platforms) will have to run here instead.
     int code = 0;
-    std::thread([&] { code = runCommand(argc, argv); }).join();
+    try {
+        std::thread([&] { code = runCommand(argc, argv); }).join();
+    } catch (const std::system_error&) {  // no thread to be had: the main thread does
+        code = runCommand(argc, argv);
+    }
     return code;
 }

@@ -62,16 +62,21 @@ void applyMemoryPolicy() {
 #endif
 }
 
+#if KIZAMU_MIMALLOC
 namespace {
-/// What the kernel says of the mapping holding `p` (/proc/self/smaps, THPeligible): whether it
-/// may back it with huge pages, or "unknown" where it cannot be read.
+/// Whether the kernel may back the mapping holding `p` with huge pages (/proc/self/smaps,
+/// THPeligible), or "unknown" where it does not say (no /proc, kernels before 5.0).
 std::string pagesAt(const void* p) {
     const auto at = reinterpret_cast<uintptr_t>(p);
-    std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen("/proc/self/smaps", "r"), &std::fclose);
+    const std::unique_ptr<FILE, decltype(&std::fclose)> f(std::fopen("/proc/self/smaps", "r"),
+                                                          &std::fclose);
     if (!f) return "unknown";
     char line[512];
-    bool inside = false;
+    bool inside = false, lineStart = true;  // a long path comes in pieces: read line starts only
     while (std::fgets(line, sizeof line, f.get())) {
+        const bool start = lineStart;
+        lineStart = std::strchr(line, '\n') != nullptr;
+        if (!start) continue;
         unsigned long lo = 0, hi = 0;
         char perms[8];
         if (std::sscanf(line, "%lx-%lx %7s", &lo, &hi, perms) == 3) {
@@ -79,14 +84,16 @@ std::string pagesAt(const void* p) {
             continue;
         }
         int eligible = 0;
-        if (inside && std::sscanf(line, "THPeligible: %d", &eligible) == 1) return eligible ? "huge pages" : "4 KiB pages";
+        if (inside && std::sscanf(line, "THPeligible: %d", &eligible) == 1)
+            return eligible ? "huge pages allowed" : "4 KiB pages only";
     }
     return "unknown";
 }
 }  // namespace
+#endif
 
 std::string memoryPolicySummary() {
-    const char* freed = gFreedMemoryKept ? "freed memory kept" : "freed memory returned";
+    [[maybe_unused]] const char* freed = gFreedMemoryKept ? "freed memory kept" : "freed memory returned";
 #if KIZAMU_MIMALLOC
     const std::unique_ptr<void, decltype(&std::free)> probe(std::malloc(64), &std::free);
     const int v = mi_version();  // 209: 2.0.9
@@ -94,7 +101,7 @@ std::string memoryPolicySummary() {
     s += mi_is_in_heap_region(probe.get()) ? " serves malloc" : " linked but NOT serving malloc";
     const bool huge = mi_option_is_enabled(mi_option_large_os_pages) && mi_option_get(mi_option_eager_commit_delay) == 0;
     s += huge ? ", huge pages advised, " : ", 4 KiB pages, ";
-    // The heap of the thread asking (a command's, main.cpp): where its blocks lie, as the kernel maps it.
+    // The heap of the thread asking (a command's, main.cpp), as the kernel maps it.
     return s + freed + "; this thread's heap: " + pagesAt(probe.get());
 #elif defined(KIZAMU_SANITIZER_MALLOC)
     return "memory: the sanitizer's malloc (no policy set)";

@@ -17,14 +17,15 @@ namespace kizamu::app {
 /// builds): mimalloc serves every allocation and backs its segments with transparent huge pages
 /// (2 MiB, madvise), so the mesher's and the snapshots' scattered records share few TLB
 /// entries and a growing session faults its memory in 2 MiB at a time. The main thread's heap
-/// predates the policy (main.cpp runs commands on a thread of their own). Either way freed memory is kept in the process instead of being handed back to the
-/// kernel and faulted in again (under glibc a page at a time). Call before any thread starts.
+/// predates the policy (main.cpp runs commands on a thread of their own). Either way freed
+/// memory is kept in the process instead of being handed back to the kernel and faulted in
+/// again (under glibc a page at a time). Call before any thread starts.
 void applyMemoryPolicy();
 
 /// One line saying which allocator serves `malloc` in this process and how: checked by asking
 /// the allocator about a fresh block, not taken from the build settings (`kizamu --version`).
-/// With mimalloc it ends with how the kernel maps the calling thread's heap ("huge pages",
-/// "4 KiB pages" or "unknown").
+/// With mimalloc it ends with how the kernel maps the calling thread's heap ("huge pages
+/// allowed", "4 KiB pages only" or "unknown").
 std::string memoryPolicySummary();
 
 }  // namespace kizamu::app

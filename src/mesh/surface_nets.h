@@ -35,7 +35,9 @@
 /// vertex (plus its incidences) and 16-21 per cell index entry (a flat hash at most 3/4 full).
 /// A build also keeps, per pool thread, scratch
 /// the size of the largest tile's boundary leaves and incidences, reused by the next tile and
-/// the next build (growing them per tile cost most of a small LOD mesh's allocations).
+/// the next build (growing them per tile cost most of a small LOD mesh's allocations), and an
+/// update keeps the boundary leaves its scan found near the changed cells, per tile scanned,
+/// until the next update (its cells phase takes their corners).
 #pragma once
 
 #include "adf/adf.h"
@@ -112,7 +114,8 @@ private:
     std::unordered_map<uint64_t, std::unique_ptr<TileMesh>> mTiles;
     uint32_t mRelaxStamp = 0;  ///< update counter marking vertices queued for relaxation
     SurfaceNetsStats mStats;
-    /// An update's scanned tiles' leaves, one set per tile (kept across updates for their room).
+    /// An update's scanned tiles' leaves, one set per tile: as many as the last update scanned
+    /// stay, for their vectors' room.
     struct ScannedLeaves;
     std::vector<std::unique_ptr<ScannedLeaves>> mScanned;
 };

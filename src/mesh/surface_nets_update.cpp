@@ -439,7 +439,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         UpdateScratch& buffers = updateScratch();
         std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
         ScannedLeaves& scanned = *mScanned[i];
-        std::vector<BoundaryCell>& leaves = scanned.leaves;  // the new tile's, or the old one's
+        std::vector<BoundaryCell>& leaves = scanned.leaves;  // the new tile's (none if it is gone)
         std::vector<uint64_t>& oldCells = buffers.oldCells;
         old.clear();
         leaves.clear();
@@ -749,6 +749,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     relaxBlocks(besides, nullptr);
     st.verticesRelaxed = newVertices.size() + besides.size();
 
+    // The scans' leaf sets stay for the next update's room, as many as this one scanned (one
+    // large edit does not keep hundreds of them for every dab after it).
+    mScanned.resize(scanTiles.size());
     // Released crossings can be reused from the next update on. Gone tiles must be empty; they
     // and tiles left empty (only a visited tile can become empty) are dropped.
     for (std::size_t i = 0; i < scanTiles.size(); ++i) {
