@@ -278,15 +278,32 @@ public:
     /// centre, steps and leaf step): then their values are the same, without decoding them
     /// (a rebuilt tile copies most of its bricks so). False says nothing.
     bool storesBrickAs(uint32_t brick, const Tile& other, uint32_t otherBrick) const {
-        const int f = brickForm(brick);
-        if (f != other.brickForm(otherBrick) || mStep != other.mStep) return false;
-        if (f == 3)
-            return std::memcmp(at<int16_t>(mWideBricksAt) + 27 * std::size_t(brick - mPackedCount),
-                               other.at<int16_t>(other.mWideBricksAt) + 27 * std::size_t(otherBrick - other.mPackedCount), 54) == 0;
-        return at<int16_t>(mBrickBasesAt)[brick] == other.at<int16_t>(other.mBrickBasesAt)[otherBrick] &&
-               std::memcmp(at<unsigned char>(mBrickDeltasAt) + gridStepsOffset(mNarrowCount, brick),
-                           other.at<unsigned char>(other.mBrickDeltasAt) + gridStepsOffset(other.mNarrowCount, otherBrick),
-                           f == 0 ? kNarrowGridSteps : kCoarseGridSteps) == 0;
+        return mStep == other.mStep &&
+               storesGridAs(mBrickBasesAt, mBrickDeltasAt, mWideBricksAt, mNarrowCount, mCoarseEnd, mPackedCount, brick,
+                            other, other.mBrickBasesAt, other.mBrickDeltasAt, other.mWideBricksAt, other.mNarrowCount,
+                            other.mCoarseEnd, other.mPackedCount, otherBrick);
+    }
+    /// The same for lone leaf `leaf` and lone leaf `otherLeaf` of `other`: own leaves stored in
+    /// the same form with the same bytes, or grouped ones the same child of groups stored alike.
+    bool storesLeafAs(uint32_t leaf, const Tile& other, uint32_t otherLeaf) const {
+        const uint32_t grouped = 8 * mGroupCount, otherGrouped = 8 * other.mGroupCount;
+        if (mStep != other.mStep || (leaf < grouped) != (otherLeaf < otherGrouped)) return false;
+        if (leaf < grouped)
+            return (leaf & 7u) == (otherLeaf & 7u) &&
+                   storesGridAs(mGroupBasesAt, mGroupDeltasAt, mWideGroupsAt, mNarrowGroupCount, mCoarseGroupEnd,
+                                mPackedGroupCount, leaf >> 3, other, other.mGroupBasesAt, other.mGroupDeltasAt,
+                                other.mWideGroupsAt, other.mNarrowGroupCount, other.mCoarseGroupEnd,
+                                other.mPackedGroupCount, otherLeaf >> 3);
+        const uint32_t i = leaf - grouped, j = otherLeaf - otherGrouped;
+        const bool narrow = i < mNarrowLeafCount;
+        if (narrow != (j < other.mNarrowLeafCount)) return false;
+        if (!narrow)
+            return std::memcmp(at<int16_t>(mWideLeavesAt) + 8 * std::size_t(i - mNarrowLeafCount),
+                               other.at<int16_t>(other.mWideLeavesAt) + 8 * std::size_t(j - other.mNarrowLeafCount),
+                               kWideLeafBytes) == 0;
+        return at<int16_t>(mLeafBasesAt)[i] == other.at<int16_t>(other.mLeafBasesAt)[j] &&
+               std::memcmp(at<int8_t>(mLeafDeltasAt) + 7 * std::size_t(i), other.at<int8_t>(other.mLeafDeltasAt) + 7 * std::size_t(j),
+                           7) == 0;
     }
     float scale() const { return mScale; }               ///< m per quantisation step
     uint64_t version() const { return mVersion; }
@@ -370,6 +387,27 @@ private:
             const int16_t* q = at<int16_t>(wideAt) + 27 * std::size_t(index - packedEnd) + first;
             for (std::size_t k = 0; k < N; ++k) out[k] = q[points[k]];
         }
+    }
+    /// Whether half grid `index` of one array family (bricks or groups: their offsets and form
+    /// ends) is stored as `otherIndex` of `other`'s: the same form, and the same centre and
+    /// steps, or the same 27 values when wide.
+    bool storesGridAs(uint32_t basesAt, uint32_t stepsAt, uint32_t wideAt, uint32_t narrowEnd, uint32_t coarseEnd,
+                      uint32_t packedEnd, uint32_t index, const Tile& other, uint32_t otherBasesAt,
+                      uint32_t otherStepsAt, uint32_t otherWideAt, uint32_t otherNarrowEnd, uint32_t otherCoarseEnd,
+                      uint32_t otherPackedEnd, uint32_t otherIndex) const {
+        auto form = [](uint32_t i, uint32_t narrow, uint32_t coarse, uint32_t packed) {
+            return i < narrow ? 0 : i < coarse ? 1 : i < packed ? 2 : 3;
+        };
+        const int f = form(index, narrowEnd, coarseEnd, packedEnd);
+        if (f != form(otherIndex, otherNarrowEnd, otherCoarseEnd, otherPackedEnd)) return false;
+        if (f == 3)
+            return std::memcmp(at<int16_t>(wideAt) + 27 * std::size_t(index - packedEnd),
+                               other.at<int16_t>(otherWideAt) + 27 * std::size_t(otherIndex - otherPackedEnd),
+                               kWideGridBytes) == 0;
+        return at<int16_t>(basesAt)[index] == other.at<int16_t>(otherBasesAt)[otherIndex] &&
+               std::memcmp(at<unsigned char>(stepsAt) + gridStepsOffset(narrowEnd, index),
+                           other.at<unsigned char>(otherStepsAt) + gridStepsOffset(otherNarrowEnd, otherIndex),
+                           f == 0 ? kNarrowGridSteps : kCoarseGridSteps) == 0;
     }
     /// A packed half grid stores the steps of its 26 points other than the centre (point 13,
     /// whose step is 0), in point order: field j holds point gridPointOf(j).

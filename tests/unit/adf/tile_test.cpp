@@ -4,9 +4,14 @@
 /// leaf steps), narrow lone leaves (8-bit steps from corner 0) and the wide fallback.
 #include "adf/tile.h"
 
+#include "adf/adf_source.h"
+#include "adf/generate.h"
+#include "adf/test_part.h"
+
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <vector>
@@ -952,4 +957,65 @@ TEST(Tile, CopiedLeavesThatWereWideOnlyForTheirSiblingsArePackedAgain) {
     EXPECT_EQ(copied->narrowLeafCount(), 3u);
     EXPECT_EQ(copied->checksum(), fresh->checksum());
     EXPECT_EQ(rebuiltDense(*copied)->checksum(), copied->checksum());
+}
+
+TEST(Tile, LeavesStoredAlikeReadTheSame) {
+    // storesLeafAs lets the mesher's tile comparison skip decoding lone leaves. Against a
+    // regenerated part: every pair it calls alike decodes alike (grouped, narrow and wide own
+    // leaves all met), and it calls alike most of the leaves the edit copied.
+    const Domain d = testPartDomain(8);
+    const AdfPtr a = generate(*makeTestPart(d), d, testPartSettings());
+    const glm::dvec3 c = d.originWorld + glm::dvec3(0.5, 0.47, 0.5) * d.sizeWorld;
+    const double r = 5.0 * d.finestCellSize();
+    const BoxWorld region{c - glm::dvec3(r + 2 * d.finestCellSize()),
+                          c + glm::dvec3(r + 2 * d.finestCellSize())};
+    const SourcePtr old = makeAdfSource(a);
+    const AdfPtr b = regenerate(
+        *a,
+        *makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)),
+                           region),
+        region);
+    std::size_t alike[3] = {};  // pairs called alike, by storage: grouped, narrow own, wide own
+    std::size_t pairs = 0, sameValues = 0;
+    b->forEachTile([&](const Tile& after) {
+        const Tile& before =
+            *a->tileAtSlot(after.latticeOrigin() >> uint32_t(d.maxLevel - d.tileLevel()));
+        if (&before == &after || before.level() != after.level() || before.scale() != after.scale())
+            return;
+        // Lone leaves at the same node of both tiles (before the edited subtree, the same cell).
+        const uint32_t n = std::min(before.nodeCount(), after.nodeCount());
+        for (uint32_t i = 0; i < n; ++i) {
+            const uint32_t wa = before.node(i), wb = after.node(i);
+            if (!node::isLeaf(wa) || !node::isLeaf(wb)) continue;
+            const uint32_t la = node::leafIndex(wa), lb = node::leafIndex(wb);
+            int16_t qa[8], qb[8];
+            before.leafValues(la, qa);
+            after.leafValues(lb, qb);
+            const bool same = std::equal(qa, qa + 8, qb);
+            ++pairs;
+            sameValues += same;
+            if (!before.storesLeafAs(la, after, lb)) continue;
+            EXPECT_TRUE(same) << "leaf " << la << " against " << lb << " called alike";
+            const uint32_t grouped = 8 * before.groupCount();
+            ++alike[la < grouped ? 0 : la - grouped < before.narrowLeafCount() ? 1 : 2];
+        }
+        // A tile against itself: every lone leaf alike with itself, and two children of one
+        // leaf group (the same bytes) alike only where their corners are the same.
+        for (uint32_t l = 0; l < after.leafCount(); ++l) {
+            EXPECT_TRUE(after.storesLeafAs(l, after, l)) << "leaf " << l;
+            if (l >= 8 * after.groupCount()) continue;
+            for (uint32_t m = l & ~7u; m < (l & ~7u) + 8; ++m) {
+                if (m == l || !after.storesLeafAs(l, after, m)) continue;
+                int16_t ql[8], qm[8];
+                after.leafValues(l, ql);
+                after.leafValues(m, qm);
+                EXPECT_TRUE(std::equal(ql, ql + 8, qm)) << "children " << l << " and " << m << " called alike";
+            }
+        }
+    });
+    EXPECT_GT(pairs, 100u);
+    EXPECT_GT(alike[0], 0u);
+    EXPECT_GT(alike[1], 0u);
+    EXPECT_GT(alike[0] + alike[1] + alike[2], sameValues / 2)
+        << "most copies are found without decoding";
 }
