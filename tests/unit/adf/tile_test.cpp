@@ -4,9 +4,8 @@
 /// leaf steps), narrow lone leaves (8-bit steps from corner 0) and the wide fallback.
 #include "adf/tile.h"
 
-#include "adf/adf_source.h"
-#include "adf/generate.h"
 #include "adf/test_part.h"
+#include "tests/util/dabbed.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -966,15 +965,7 @@ TEST(Tile, LeavesStoredAlikeReadTheSame) {
     const Domain d = testPartDomain(8);
     const AdfPtr a = generate(*makeTestPart(d), d, testPartSettings());
     const glm::dvec3 c = d.originWorld + glm::dvec3(0.5, 0.47, 0.5) * d.sizeWorld;
-    const double r = 5.0 * d.finestCellSize();
-    const BoxWorld region{c - glm::dvec3(r + 2 * d.finestCellSize()),
-                          c + glm::dvec3(r + 2 * d.finestCellSize())};
-    const SourcePtr old = makeAdfSource(a);
-    const AdfPtr b = regenerate(
-        *a,
-        *makeRegionLimited(old, makeCsg(CsgOp::Difference, old, makeTranslated(makeSphere(r), c)),
-                           region),
-        region);
+    const AdfPtr b = dabbed(a, CsgOp::Difference, c, 5.0 * d.finestCellSize());
     std::size_t alike[3] = {};  // pairs called alike, by storage: grouped, narrow own, wide own
     std::size_t pairs = 0, sameValues = 0;
     b->forEachTile([&](const Tile& after) {

@@ -4,6 +4,7 @@
 #include "adf/adf_source.h"
 #include "adf/generate.h"
 #include "adf/test_part.h"
+#include "tests/util/dabbed.h"
 #include "tests/util/mesh_check.h"
 #include "util/thread_pool.h"
 
@@ -272,14 +273,6 @@ std::size_t tilesWithNewScale(const Adf& a, const Adf& b) {
         if (old != &t && old->level() == t.level() && old->scale() != t.scale()) ++n;
     });
     return n;
-}
-
-/// `a` with a sphere of radius `r` at `c` carved (Difference) or added (Union).
-AdfPtr dabbed(const AdfPtr& a, CsgOp op, glm::dvec3 c, double r, util::ThreadPool* pool = nullptr) {
-    const double cell = a->domain().finestCellSize();
-    const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
-    const SourcePtr old = makeAdfSource(a);
-    return regenerate(*a, *makeRegionLimited(old, makeCsg(op, old, makeTranslated(makeSphere(r), c)), region), region, pool);
 }
 
 /// After `mesher` (on a pool) and `serial` were both updated to `a`: the spliced mesh is closed

@@ -3,9 +3,10 @@
 /// @brief appendChangedCells: its boxes against a plain comparison of every leaf of both tiles,
 /// and the old tile's node words it reports at them against a search from the root.
 #include "mesh/tile_diff.h"
-#include "adf/adf_source.h"
+
 #include "adf/generate.h"
 #include "adf/test_part.h"
+#include "tests/util/dabbed.h"
 
 #include <gtest/gtest.h>
 
@@ -18,16 +19,6 @@ namespace kizamu::mesh {
 namespace {
 
 using namespace adf;
-
-/// `a` with a sphere of radius `r` at `c` carved (Difference) or added (Union).
-AdfPtr dabbed(const AdfPtr& a, CsgOp op, glm::dvec3 c, double r) {
-    const double cell = a->domain().finestCellSize();
-    const BoxWorld region{c - glm::dvec3(r + 2 * cell), c + glm::dvec3(r + 2 * cell)};
-    const SourcePtr old = makeAdfSource(a);
-    return regenerate(
-        *a, *makeRegionLimited(old, makeCsg(op, old, makeTranslated(makeSphere(r), c)), region),
-        region);
-}
 
 using CellKey = std::tuple<uint32_t, uint32_t, uint32_t, uint32_t>;  // origin, size
 
