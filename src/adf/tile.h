@@ -278,10 +278,7 @@ public:
     /// centre, steps and leaf step): then their values are the same, without decoding them
     /// (a rebuilt tile copies most of its bricks so). False says nothing.
     bool storesBrickAs(uint32_t brick, const Tile& other, uint32_t otherBrick) const {
-        return mStep == other.mStep &&
-               storesGridAs(mBrickBasesAt, mBrickDeltasAt, mWideBricksAt, mNarrowCount, mCoarseEnd, mPackedCount, brick,
-                            other, other.mBrickBasesAt, other.mBrickDeltasAt, other.mWideBricksAt, other.mNarrowCount,
-                            other.mCoarseEnd, other.mPackedCount, otherBrick);
+        return mStep == other.mStep && storesGridAs(bricks(), brick, other, other.bricks(), otherBrick);
     }
     /// The same for lone leaf `leaf` and lone leaf `otherLeaf` of `other`: own leaves stored in
     /// the same form with the same bytes, or grouped ones the same child of groups stored alike.
@@ -289,11 +286,7 @@ public:
         const uint32_t grouped = 8 * mGroupCount, otherGrouped = 8 * other.mGroupCount;
         if (mStep != other.mStep || (leaf < grouped) != (otherLeaf < otherGrouped)) return false;
         if (leaf < grouped)
-            return (leaf & 7u) == (otherLeaf & 7u) &&
-                   storesGridAs(mGroupBasesAt, mGroupDeltasAt, mWideGroupsAt, mNarrowGroupCount, mCoarseGroupEnd,
-                                mPackedGroupCount, leaf >> 3, other, other.mGroupBasesAt, other.mGroupDeltasAt,
-                                other.mWideGroupsAt, other.mNarrowGroupCount, other.mCoarseGroupEnd,
-                                other.mPackedGroupCount, otherLeaf >> 3);
+            return (leaf & 7u) == (otherLeaf & 7u) && storesGridAs(groups(), leaf >> 3, other, other.groups(), otherLeaf >> 3);
         const uint32_t i = leaf - grouped, j = otherLeaf - otherGrouped;
         const bool narrow = i < mNarrowLeafCount;
         if (narrow != (j < other.mNarrowLeafCount)) return false;
@@ -388,25 +381,28 @@ private:
             for (std::size_t k = 0; k < N; ++k) out[k] = q[points[k]];
         }
     }
-    /// Whether half grid `index` of one array family (bricks or groups: their offsets and form
-    /// ends) is stored as `otherIndex` of `other`'s: the same form, and the same centre and
-    /// steps, or the same 27 values when wide.
-    bool storesGridAs(uint32_t basesAt, uint32_t stepsAt, uint32_t wideAt, uint32_t narrowEnd, uint32_t coarseEnd,
-                      uint32_t packedEnd, uint32_t index, const Tile& other, uint32_t otherBasesAt,
-                      uint32_t otherStepsAt, uint32_t otherWideAt, uint32_t otherNarrowEnd, uint32_t otherCoarseEnd,
-                      uint32_t otherPackedEnd, uint32_t otherIndex) const {
-        auto form = [](uint32_t i, uint32_t narrow, uint32_t coarse, uint32_t packed) {
-            return i < narrow ? 0 : i < coarse ? 1 : i < packed ? 2 : 3;
-        };
-        const int f = form(index, narrowEnd, coarseEnd, packedEnd);
-        if (f != form(otherIndex, otherNarrowEnd, otherCoarseEnd, otherPackedEnd)) return false;
+    /// One family of half grids (bricks, or leaf groups): where its arrays start, and where the
+    /// numbers of each form end (narrow, coarse-narrow, far, then wide).
+    struct Grids {
+        uint32_t basesAt, stepsAt, wideAt, narrowEnd, coarseEnd, packedEnd;
+        int form(uint32_t i) const { return i < narrowEnd ? 0 : i < coarseEnd ? 1 : i < packedEnd ? 2 : 3; }
+    };
+    Grids bricks() const { return {mBrickBasesAt, mBrickDeltasAt, mWideBricksAt, mNarrowCount, mCoarseEnd, mPackedCount}; }
+    Grids groups() const {
+        return {mGroupBasesAt, mGroupDeltasAt, mWideGroupsAt, mNarrowGroupCount, mCoarseGroupEnd, mPackedGroupCount};
+    }
+    /// Whether half grid `index` of `mine` is stored as `otherIndex` of `other`'s `theirs`: the
+    /// same form, and the same centre and steps, or the same 27 values when wide.
+    bool storesGridAs(const Grids& mine, uint32_t index, const Tile& other, const Grids& theirs, uint32_t otherIndex) const {
+        const int f = mine.form(index);
+        if (f != theirs.form(otherIndex)) return false;
         if (f == 3)
-            return std::memcmp(at<int16_t>(wideAt) + 27 * std::size_t(index - packedEnd),
-                               other.at<int16_t>(otherWideAt) + 27 * std::size_t(otherIndex - otherPackedEnd),
+            return std::memcmp(at<int16_t>(mine.wideAt) + 27 * std::size_t(index - mine.packedEnd),
+                               other.at<int16_t>(theirs.wideAt) + 27 * std::size_t(otherIndex - theirs.packedEnd),
                                kWideGridBytes) == 0;
-        return at<int16_t>(basesAt)[index] == other.at<int16_t>(otherBasesAt)[otherIndex] &&
-               std::memcmp(at<unsigned char>(stepsAt) + gridStepsOffset(narrowEnd, index),
-                           other.at<unsigned char>(otherStepsAt) + gridStepsOffset(otherNarrowEnd, otherIndex),
+        return at<int16_t>(mine.basesAt)[index] == other.at<int16_t>(theirs.basesAt)[otherIndex] &&
+               std::memcmp(at<unsigned char>(mine.stepsAt) + gridStepsOffset(mine.narrowEnd, index),
+                           other.at<unsigned char>(theirs.stepsAt) + gridStepsOffset(theirs.narrowEnd, otherIndex),
                            f == 0 ? kNarrowGridSteps : kCoarseGridSteps) == 0;
     }
     /// A packed half grid stores the steps of its 26 points other than the centre (point 13,
@@ -469,9 +465,7 @@ private:
     }
     /// How brick `brick` is stored, by its number: 0 narrow, 1 coarse-narrow, 2 far, 3 wide
     /// (tile.cpp's GridForm order).
-    int brickForm(uint32_t brick) const {
-        return brick < mNarrowCount ? 0 : brick < mCoarseEnd ? 1 : brick < mPackedCount ? 2 : 3;
-    }
+    int brickForm(uint32_t brick) const { return bricks().form(brick); }
     static Tile* allocate(const Counts& n);
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed
     /// (`copies`, whose source must share the scale: take its packing; of a copied packed brick
