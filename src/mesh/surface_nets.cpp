@@ -9,6 +9,9 @@
 #include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
+#if defined(__SSE__)
+#include <immintrin.h>
+#endif
 
 #include <algorithm>
 #include <array>
@@ -27,11 +30,13 @@ using namespace detail;
 
 namespace {
 
+/// A leaf as a crossing records it: packed origins of the leaf and of its tile (what the ring
+/// arrays hold), size in lattice units, level.
 struct CellLoc {
-    const Tile* tile;
-    glm::uvec3 origin;
+    uint64_t cell;
+    uint64_t owner;
     uint32_t size;
-    int level;
+    uint32_t level;
 };
 
 /// The leaf containing a lattice point (like Adf::locateLeaf), for the neighbours of a leaf of
@@ -53,7 +58,10 @@ public:
         std::fill(std::begin(mKeys), std::end(mKeys), kEmpty);
     }
 
-    CellLoc locate(glm::uvec3 p, uint32_t size) {
+    /// The reference stays valid until the next call. (Returning a copy made the compiler
+    /// move it through the stack in overlapping pieces: a stalled load took a sixth of the
+    /// crossing phase.)
+    const CellLoc& locate(glm::uvec3 p, uint32_t size) {
         // Lattice coordinates stay below 2^17: bits 57 up of a packed point are free.
         const uint64_t key = packLattice(p & ~glm::uvec3(size - 1)) | (uint64_t(std::countr_zero(size)) << 58);
         const uint32_t i = uint32_t((key * 0x9e3779b97f4a7c15ull) >> (64 - kCacheBits));
@@ -89,7 +97,8 @@ private:
         }
         const int depth = mDepth - 1 + int(adf::node::isBrick(w));  // a brick: its child holding p
         const uint32_t shift = uint32_t(mRootShift - depth);
-        return {mTile, (p >> shift) << shift, 1u << shift, mTile->level() + depth};
+        return {packLattice((p >> shift) << shift), packLattice(mTile->latticeOrigin()), 1u << shift,
+                uint32_t(mTile->level() + depth)};
     }
 
     const Adf& mAdf;
@@ -105,6 +114,20 @@ private:
     int mDepth = 0;
     uint32_t mNode[adf::kMaxSupportedLevel + 2];
 };
+
+/// Bit c: corner c negative (as the crossings' signs). Eight compares in two instructions
+/// where SSE has them: the scalar loop took 40.
+inline uint32_t insideCorners(const float* c) {
+#if defined(__SSE__)
+    const __m128 zero = _mm_setzero_ps();
+    return uint32_t(_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(c), zero))) |
+           uint32_t(_mm_movemask_ps(_mm_cmplt_ps(_mm_loadu_ps(c + 4), zero))) << 4;
+#else
+    uint32_t inside = 0;
+    for (int i = 0; i < 8; ++i) inside |= uint32_t(c[i] < 0.0f) << i;
+    return inside;
+#endif
+}
 
 inline bool isBoundary(const float* c) {
     bool anyIn = false, anyOut = false;
@@ -412,6 +435,42 @@ constexpr std::array<uint16_t, 256> kSignChangingEdges = [] {
             t[inside] |= uint16_t((((inside >> kCellEdges[i].c0) ^ (inside >> kCellEdges[i].c1)) & 1u) << i);
     return t;
 }();
+/// The edge of kCellEdges along `axis` that the cell fills quadrant q around.
+constexpr auto kEdgeAt = [] {
+    std::array<std::array<uint8_t, 4>, 3> t{};
+    for (int i = 0; i < 12; ++i) t[kCellEdges[i].axis][kCellEdges[i].mine] = uint8_t(i);
+    return t;
+}();
+/// By the cell's inside corners: its sign-changing edges make one cycle across its faces (two
+/// on a face are joined), and no face has four of them (their pairing needs the points).
+constexpr std::array<bool, 256> kOneSheet = [] {
+    std::array<bool, 256> t{};
+    for (uint32_t inside = 0; inside < 256; ++inside) {
+        const uint16_t edges = kSignChangingEdges[inside];
+        uint8_t parent[12];
+        for (int i = 0; i < 12; ++i) parent[i] = uint8_t(i);
+        auto find = [&](int i) {
+            while (parent[i] != i) i = parent[i];
+            return i;
+        };
+        int components = std::popcount(edges);
+        bool ambiguous = false;
+        for (int j = 0; j < 3; ++j)  // the faces where coordinate j is 0 or 1
+            for (int side = 0; side < 2; ++side) {
+                int on[4], m = 0;
+                for (int i = 0; i < 12; ++i)
+                    if (((edges >> i) & 1) && kCellEdges[i].axis != j && ((kCellEdges[i].c0 >> j) & 1) == side) on[m++] = i;
+                if (m == 4) ambiguous = true;
+                if (m == 2 && find(on[0]) != find(on[1])) {
+                    parent[find(on[0])] = uint8_t(find(on[1]));
+                    --components;
+                }
+            }
+        t[inside] = !ambiguous && components == 1;
+    }
+    return t;
+}();
+
 /// For a brick child (by its position in the brick) and each edge: the quadrants whose unit
 /// cube lies in a sibling (same size, same tile: no lookup), and whether one of them comes
 /// before the child's own quadrant, so that the sibling emits the crossing (12-bit mask).
@@ -445,8 +504,7 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
     const int maxLevel = adf.domain().maxLevel;
     LeafLocator locator(adf);
     for (const BoundaryCell& leaf : leaves) {
-        uint32_t inside = 0;  // bit c: corner c negative
-        for (int c = 0; c < 8; ++c) inside |= uint32_t(leaf.corners[c] < 0.0f) << c;
+        const uint32_t inside = insideCorners(leaf.corners);
         uint32_t todo = kSignChangingEdges[inside];
         // Away from the domain's border no quadrant can leave it; there a brick child knows its
         // siblings from its position, and skips the edges a sibling emits without a lookup.
@@ -497,7 +555,8 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             // Any one of these settles it, so siblings are asked first and lookups stop at the
             // first; only where a quadrant leaves the domain does the quadrant order decide
             // (whether the crossing is counted open).
-            CellLoc ring[4];
+            const CellLoc* ring[4];
+            CellLoc siblings[4];
             const uint32_t others = 0xfu & ~(1u << mine);
             const uint32_t asks = openAt ? others : (siblingAt & others) | ((~siblingAt & others) << 4);  // in order
             bool skip = false, open = false;
@@ -507,9 +566,13 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                     open = true;
                     break;
                 }
-                if ((siblingAt >> q) & 1) ring[q] = {nullptr, cube[q] & ~glm::uvec3(leaf.size - 1), leaf.size, 0};
-                else ring[q] = locator.locate(cube[q], leaf.size);
-                skip = ring[q].size < leaf.size || (ring[q].size == leaf.size && q < mine);
+                if ((siblingAt >> q) & 1) {
+                    siblings[q] = {packLattice(cube[q] & ~glm::uvec3(leaf.size - 1)), tileKey, leaf.size, leafLevel};
+                    ring[q] = &siblings[q];
+                } else {
+                    ring[q] = &locator.locate(cube[q], leaf.size);
+                }
+                skip = ring[q]->size < leaf.size || (ring[q]->size == leaf.size && q < mine);
             }
             if (open) {
                 ++st.openCrossings;
@@ -522,16 +585,12 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             x.axis = uint8_t(k);
             x.startInside = (inside >> c0) & 1;
             x.emitter = uint8_t(mine);
+            const CellLoc self{packLattice(leaf.origin), tileKey, leaf.size, leafLevel};
+            ring[mine] = &self;
             for (int q = 0; q < 4; ++q) {
-                if (q == mine || !ring[q].tile) {  // this leaf, or a brick sibling
-                    x.ringCell[q] = packLattice(q == mine ? leaf.origin : ring[q].origin);
-                    x.ringOwner[q] = tileKey;
-                    x.ringLevel[q] = leafLevel;
-                } else {
-                    x.ringCell[q] = packLattice(ring[q].origin);
-                    x.ringOwner[q] = packLattice(ring[q].tile->latticeOrigin());
-                    x.ringLevel[q] = uint8_t(ring[q].level);
-                }
+                x.ringCell[q] = ring[q]->cell;
+                x.ringOwner[q] = ring[q]->owner;
+                x.ringLevel[q] = uint8_t(ring[q]->level);
             }
             const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
             const float t = v0 / (v0 - v1);
@@ -563,6 +622,9 @@ void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
 uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n, const float corners[8],
                   CellScratch& s, SurfaceNetsStats& st) {
     if (n == 0) return UINT32_MAX;
+    glm::uvec3 origin;
+    uint32_t size;
+    ringBox(adf, *inc[0].x, inc[0].first, origin, size);
     // Nearly every cell has a handful of crossings: stack buffers, the scratch only beyond.
     constexpr uint32_t kSmall = 16;
     CellScratch::FaceEntry faceBuf[2 * kSmall];
@@ -611,104 +673,123 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
             if (c.cell < c.x->ringCell[qa]) c.x->split[qa] = Crossing::kNoSplit;
             if (c.cell < c.x->ringCell[qb]) c.x->split[c.last] = Crossing::kNoSplit;
         }
-    // Nearly every face carries two crossings: pair the entries by neighbour through a small
-    // open-addressed table (no sort, no search). Any other count on a face regroups all
-    // entries in order below, from scratch.
-    constexpr uint32_t kTable = 32;  // twice the most entries taken here
-    uint64_t tableKey[kTable];
-    uint32_t tableEntry[kTable], partner[kTable / 2];  // partner: the other entry on the face
-    uint32_t used = 0, closed = 0;  // bit t: slot t holds a neighbour; its second entry came
-    bool paired = nf <= kTable / 2;
-    for (uint32_t f = 0; f < nf && paired; ++f) {
-        const uint64_t neighbour = inc[f / 2].x->ringCell[faceRing(f)];
-        uint32_t t = uint32_t((neighbour * 0x9E3779B97F4A7C15ull) >> 59);
-        while (((used >> t) & 1) && tableKey[t] != neighbour) t = (t + 1) % kTable;
-        if (!((used >> t) & 1)) {
-            used |= 1u << t;
-            tableKey[t] = neighbour;
-            tableEntry[t] = f;
-        } else if ((closed >> t) & 1) {
-            paired = false;  // a third entry on this face
-        } else {
-            closed |= 1u << t;
-            partner[f] = tableEntry[t];
-            partner[tableEntry[t]] = f;
-        }
+    // Most cells need no pairing: where the crossings are exactly the cell's own sign-changing
+    // edges, a face carrying two of them has one leaf behind it (a smaller one would split the
+    // face's edges, and their crossings would be shorter than the cell), so the cycles are the
+    // cube's, known from the corner signs (kOneSheet).
+    // A crossing as long as the cell, with the cell in one quadrant around it, lies on the
+    // cell's edge at that quadrant (edges start at multiples of their length).
+    const uint32_t inside = insideCorners(corners);
+    const uint32_t edges = kSignChangingEdges[inside];
+    bool oneSheet = kOneSheet[inside] && n == uint32_t(std::popcount(edges));
+    for (uint32_t j = 0, seen = 0; j < n && oneSheet; ++j) {
+        const Incidence& in = inc[j];
+        const uint32_t bit = 1u << kEdgeAt[in.x->axis][in.first];
+        oneSheet = in.x->length == size && in.first == in.last && (edges & ~seen & bit);
+        seen |= bit;
     }
-    paired = paired && used == closed;
-    if (paired) {
-        // One cycle when the walk from crossing 0, across a face to the partner entry and out
-        // through its crossing's other face, meets every crossing before it is back.
-        uint32_t met = 1;
-        for (uint32_t f = partner[1]; f / 2 != 0; f = partner[f ^ 1]) ++met;
-        if (met == n) {
-            cycles = 1;
+    if (oneSheet) {
+        cycles = 1;
+    } else {
+        // Otherwise nearly every face carries two crossings: pair the entries by neighbour through
+        // a small open-addressed table (no sort, no search). Any other count on a face regroups all
+        // entries in order below, from scratch.
+        constexpr uint32_t kTable = 32;  // twice the most entries taken here
+        uint64_t tableKey[kTable];
+        uint32_t tableEntry[kTable], partner[kTable / 2];  // partner: the other entry on the face
+        uint32_t used = 0, closed = 0;  // bit t: slot t holds a neighbour; its second entry came
+        bool paired = nf <= kTable / 2;
+        for (uint32_t f = 0; f < nf && paired; ++f) {
+            const uint64_t neighbour = inc[f / 2].x->ringCell[faceRing(f)];
+            uint32_t t = uint32_t((neighbour * 0x9E3779B97F4A7C15ull) >> 59);
+            while (((used >> t) & 1) && tableKey[t] != neighbour) t = (t + 1) % kTable;
+            if (!((used >> t) & 1)) {
+                used |= 1u << t;
+                tableKey[t] = neighbour;
+                tableEntry[t] = f;
+            } else if ((closed >> t) & 1) {
+                paired = false;  // a third entry on this face
+            } else {
+                closed |= 1u << t;
+                partner[f] = tableEntry[t];
+                partner[tableEntry[t]] = f;
+            }
+        }
+        paired = paired && used == closed;
+        if (paired) {
+            // One cycle when the walk from crossing 0, across a face to the partner entry and out
+            // through its crossing's other face, meets every crossing before it is back.
+            uint32_t met = 1;
+            for (uint32_t f = partner[1]; f / 2 != 0; f = partner[f ^ 1]) ++met;
+            if (met == n) {
+                cycles = 1;
+            } else {
+                separate();
+                for (uint32_t f = 0; f < nf; ++f)
+                    if (f < partner[f]) unite(f / 2, partner[f] / 2);
+            }
         } else {
             separate();
-            for (uint32_t f = 0; f < nf; ++f)
-                if (f < partner[f]) unite(f / 2, partner[f] / 2);
+            for (uint32_t f = 0; f < nf; ++f) faces[f] = {inc[f / 2].x->ringCell[faceRing(f)], faceRing(f), f / 2};
         }
-    } else {
-        separate();
-        for (uint32_t f = 0; f < nf; ++f) faces[f] = {inc[f / 2].x->ringCell[faceRing(f)], faceRing(f), f / 2};
-    }
-    // Group the entries by face (stable: within a face they stay in crossing order).
-    auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
-    if (paired) {
-        // done
-    } else if (nf > 32) {
-        std::stable_sort(faces, faces + nf, before);
-    } else {
-        for (uint32_t i = 1; i < nf; ++i) {
-            const CellScratch::FaceEntry v = faces[i];
-            uint32_t j = i;
-            for (; j > 0 && before(v, faces[j - 1]); --j) faces[j] = faces[j - 1];
-            faces[j] = v;
-        }
-    }
-    for (uint32_t f0 = 0; f0 < nf && !paired;) {
-        uint32_t f1 = f0 + 1;
-        while (f1 < nf && faces[f1].neighbour == faces[f0].neighbour) ++f1;
-        const uint32_t m = f1 - f0;
-        if (m == 2) {
-            unite(faces[f0].local, faces[f0 + 1].local);
+        // Group the entries by face (stable: within a face they stay in crossing order).
+        auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
+        if (paired) {
+            // done
+        } else if (nf > 32) {
+            std::stable_sort(faces, faces + nf, before);
         } else {
-            bool ok = false;
-            if (m >= 4 && m % 2 == 0) {
-                ++st.multiCrossingFaces;
-                const Incidence& any = inc[faces[f0].local];
-                glm::uvec3 loA, loB;
-                uint32_t sizeA, sizeB;
-                ringBox(adf, *any.x, any.first, loA, sizeA);
-                ringBox(adf, *any.x, faces[f0].q, loB, sizeB);
-                s.faceXs.clear();
-                s.pairs.clear();
-                for (uint32_t f = f0; f < f1; ++f) s.faceXs.push_back(inc[faces[f].local].x);
-                ok = pairOnFace(loA, sizeA, loB, sizeB, s.faceXs, s.pairs);
-                if (ok) {
-                    for (auto [e, l] : s.pairs) unite(faces[f0 + e].local, faces[f0 + l].local);
-                    if (inc[0].cell < faces[f0].neighbour) {
-                        MultiFace mf;
-                        mf.cellA = inc[0].cell;
-                        mf.cellB = faces[f0].neighbour;
-                        auto end = [&](uint32_t e) {
-                            const CellScratch::FaceEntry& fe = faces[f0 + e];
-                            const Incidence& c = inc[fe.local];
-                            const uint8_t qB = uint8_t(fe.q);
-                            const uint8_t qA = qB == (c.first + 3) % 4 ? c.first : c.last;
-                            return MultiFace::End{c.x, qA, qB};
-                        };
-                        for (auto [e, l] : s.pairs) mf.segments.emplace_back(end(e), end(l));
-                        tm.multiFaces.push_back(std::move(mf));
+            for (uint32_t i = 1; i < nf; ++i) {
+                const CellScratch::FaceEntry v = faces[i];
+                uint32_t j = i;
+                for (; j > 0 && before(v, faces[j - 1]); --j) faces[j] = faces[j - 1];
+                faces[j] = v;
+            }
+        }
+        for (uint32_t f0 = 0; f0 < nf && !paired;) {
+            uint32_t f1 = f0 + 1;
+            while (f1 < nf && faces[f1].neighbour == faces[f0].neighbour) ++f1;
+            const uint32_t m = f1 - f0;
+            if (m == 2) {
+                unite(faces[f0].local, faces[f0 + 1].local);
+            } else {
+                bool ok = false;
+                if (m >= 4 && m % 2 == 0) {
+                    ++st.multiCrossingFaces;
+                    const Incidence& any = inc[faces[f0].local];
+                    glm::uvec3 loA, loB;
+                    uint32_t sizeA, sizeB;
+                    ringBox(adf, *any.x, any.first, loA, sizeA);
+                    ringBox(adf, *any.x, faces[f0].q, loB, sizeB);
+                    s.faceXs.clear();
+                    s.pairs.clear();
+                    for (uint32_t f = f0; f < f1; ++f) s.faceXs.push_back(inc[faces[f].local].x);
+                    ok = pairOnFace(loA, sizeA, loB, sizeB, s.faceXs, s.pairs);
+                    if (ok) {
+                        for (auto [e, l] : s.pairs) unite(faces[f0 + e].local, faces[f0 + l].local);
+                        if (inc[0].cell < faces[f0].neighbour) {
+                            MultiFace mf;
+                            mf.cellA = inc[0].cell;
+                            mf.cellB = faces[f0].neighbour;
+                            auto end = [&](uint32_t e) {
+                                const CellScratch::FaceEntry& fe = faces[f0 + e];
+                                const Incidence& c = inc[fe.local];
+                                const uint8_t qB = uint8_t(fe.q);
+                                const uint8_t qA = qB == (c.first + 3) % 4 ? c.first : c.last;
+                                return MultiFace::End{c.x, qA, qB};
+                            };
+                            for (auto [e, l] : s.pairs) mf.segments.emplace_back(end(e), end(l));
+                            tm.multiFaces.push_back(std::move(mf));
+                        }
                     }
                 }
+                if (!ok) {
+                    ++st.oddFaces;
+                    for (uint32_t f = f0 + 1; f < f1; ++f) unite(faces[f0].local, faces[f].local);
+                }
             }
-            if (!ok) {
-                ++st.oddFaces;
-                for (uint32_t f = f0 + 1; f < f1; ++f) unite(faces[f0].local, faces[f].local);
-            }
+            f0 = f1;
         }
-        f0 = f1;
     }
     // One vertex per cycle, numbered by the cycle's first crossing (incidences are sorted).
     // The common single cycle needs no labels: every crossing is its own.
@@ -729,9 +810,6 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
     }
     for (uint32_t c = 0; c < cycles; ++c) madeAt[c] = tm.allocateVertex();
     st.verticesComputed += cycles;
-    glm::uvec3 origin;
-    uint32_t size;
-    ringBox(adf, *inc[0].x, inc[0].first, origin, size);
     for (uint32_t c = 0; c < cycles; ++c) {
         const uint32_t vi = madeAt[c];
         Vertex& v = tm.vertices[vi];
