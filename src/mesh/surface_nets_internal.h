@@ -262,8 +262,9 @@ void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked = {});
 
 /// Relaxes vertices at(0..n-1) in order (`at` gives each one's VertexRef). Relaxation chases
 /// pointers (incidence, crossing, neighbour vertex), so the crossings are asked for a few
-/// vertices ahead and the neighbours one vertex ahead: a build's relaxation phase took 16 %
-/// less (docs/PERFORMANCE.md, "Eleventh session").
+/// vertices ahead: a build's relaxation phase took 16 % less on the AMD host (docs/PERFORMANCE.md,
+/// "Eleventh session"). Asking for the neighbours one vertex ahead as well paid there and cost
+/// 12 % on the Intel host ("Twenty-second session"), whose larger caches hold them anyway.
 template <class At>
 void relaxInOrder(std::size_t n, At at, UnmarkedNeighbours unmarked = {}) {
     constexpr std::size_t kCrossingsAhead = 4;
@@ -273,15 +274,6 @@ void relaxInOrder(std::size_t n, At at, UnmarkedNeighbours unmarked = {}) {
             const VertexRef r = at(k + kCrossingsAhead);
             const Vertex& v = vertexOf(r);
             for (uint32_t j = v.incBegin; j < v.incEnd; ++j) __builtin_prefetch(&r.tile->incidences[j].x->ringVertex);
-        }
-        if (k + 1 < n) {
-            const VertexRef r = at(k + 1);
-            const Vertex& v = vertexOf(r);
-            for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
-                const VertexIncidence& c = r.tile->incidences[j];
-                for (const VertexRef& nb : {c.x->ringVertex[(c.first + 3) % 4], c.x->ringVertex[(c.last + 1) % 4]})
-                    if (nb.tile) __builtin_prefetch(&vertexOf(nb).projected);
-            }
         }
         const VertexRef r = at(k);
         relaxVertex(*r.tile, vertexOf(r), unmarked);
