@@ -61,13 +61,14 @@ public:
     /// The reference stays valid until the next call. (Returning a copy made the compiler
     /// move it through the stack in overlapping pieces: a stalled load took a sixth of the
     /// crossing phase.)
-    const CellLoc& locate(glm::uvec3 p, uint32_t size) {
+    /// `block`: the packed origin of a block of `size` (aligned to it).
+    const CellLoc& locate(uint64_t block, uint32_t size) {
         // Lattice coordinates stay below 2^17: bits 57 up of a packed point are free.
-        const uint64_t key = packLattice(p & ~glm::uvec3(size - 1)) | (uint64_t(std::countr_zero(size)) << 58);
+        const uint64_t key = block | (uint64_t(std::countr_zero(size)) << 58);
         const uint32_t i = uint32_t((key * 0x9e3779b97f4a7c15ull) >> (64 - kCacheBits));
         if (mKeys[i] != key) {
             mKeys[i] = key;
-            mFound[i] = search(p);
+            mFound[i] = search(unpackLattice(block));
         }
         return mFound[i];
     }
@@ -404,6 +405,7 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
 struct CellEdge {
     uint8_t c0, c1, axis, a, b, mine;
     glm::uvec3 step[4];
+    uint64_t packedStep[4];  ///< packLattice(step[q])
 };
 /// Quadrant q lies on the -a (-b) side of an edge.
 constexpr bool kMinusA[4] = {false, true, true, false}, kMinusB[4] = {false, false, true, true};
@@ -417,15 +419,22 @@ constexpr std::array<CellEdge, 12> kCellEdges = [] {
             const bool plusA = !((c0 >> a) & 1), plusB = !((c0 >> b) & 1);
             const int mine = plusA ? (plusB ? 0 : 3) : (plusB ? 1 : 2);
             CellEdge& x = e[i++];
-            x = {uint8_t(c0), uint8_t(c0 | (1 << k)), uint8_t(k), uint8_t(a), uint8_t(b), uint8_t(mine), {}};
+            x = {uint8_t(c0), uint8_t(c0 | (1 << k)), uint8_t(k), uint8_t(a), uint8_t(b), uint8_t(mine), {}, {}};
             for (int q = 0; q < 4; ++q) {
                 uint32_t d[3] = {0, 0, 0};
                 d[a] = kMinusA[q];
                 d[b] = kMinusB[q];
                 x.step[q] = glm::uvec3(d[0], d[1], d[2]);
+                x.packedStep[q] = uint64_t(d[0]) | (uint64_t(d[1]) << 20) | (uint64_t(d[2]) << 40);  // packLattice
             }
         }
     return e;
+}();
+/// Corner c's offset from a cell's origin in a cell's size, packed (packLattice).
+constexpr std::array<uint64_t, 8> kPackedCorner = [] {
+    std::array<uint64_t, 8> t{};
+    for (uint64_t c = 0; c < 8; ++c) t[c] = (c & 1) | (((c >> 1) & 1) << 20) | ((c >> 2) << 40);  // packLattice
+    return t;
 }();
 /// Bit i: edge i of kCellEdges changes sign, by the cell's inside corners (bit c: corner c).
 constexpr std::array<uint16_t, 256> kSignChangingEdges = [] {
@@ -518,19 +527,24 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
         }
         const glm::uvec3 parent = leaf.origin & ~glm::uvec3(2 * leaf.size - 1);
         const uint8_t leafLevel = uint8_t(maxLevel - std::countr_zero(leaf.size));
+        // Points and blocks as packed integers (packLattice): where no field can go below zero
+        // a step is one multiply-subtract, and a packed block is what the ring records.
+        const uint64_t origin = packLattice(leaf.origin), size = leaf.size;
         for (; todo; todo &= todo - 1) {
             const CellEdge& edge = kCellEdges[std::countr_zero(todo)];
             const int c0 = edge.c0, c1 = edge.c1, k = edge.axis, a = edge.a, b = edge.b, mine = edge.mine;
-            const glm::uvec3 p = leaf.origin + glm::uvec3(c0 & 1, (c0 >> 1) & 1, c0 >> 2) * leaf.size;
-            if (filter.keep && !filter.keep(filter.context, p)) continue;
-            // The unit cube next to p in each quadrant; whether it leaves the domain; whether it
-            // lies in a sibling of the same brick.
-            glm::uvec3 cube[4];
+            const uint64_t start = origin + size * kPackedCorner[c0];
+            if (filter.keep && !filter.keep(filter.context, unpackLattice(start))) continue;
+            // The block of the leaf's size next to the edge's start in each quadrant (a leaf
+            // holding its unit cube there is no smaller than the block, or lies inside it);
+            // whether it leaves the domain; whether it is a sibling of the same brick.
+            uint64_t block[4];
             uint32_t openAt = 0, siblingAt = 0;
-            if (interior) {
-                for (int q = 0; q < 4; ++q) cube[q] = p - edge.step[q];
+            if (interior) {  // the start is at least one leaf size from the domain's low faces
+                for (int q = 0; q < 4; ++q) block[q] = start - size * edge.packedStep[q];
                 if (brick) siblingAt = brick->siblings[std::countr_zero(todo)];
             } else {
+                const glm::uvec3 p = unpackLattice(start);
                 for (int q = 0; q < 4; ++q) {
                     if (q == mine) continue;
                     // Plain arrays: glm's operator[] on a run-time axis is a switch.
@@ -545,12 +559,13 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                         openAt |= 1u << q;
                         continue;
                     }
-                    cube[q] = glm::uvec3(s[0], s[1], s[2]);
-                    if (leaf.brickChild && glm::all(glm::lessThan(cube[q] - parent, glm::uvec3(2 * leaf.size))))
+                    const glm::uvec3 cube(s[0], s[1], s[2]);
+                    block[q] = packLattice(cube & ~glm::uvec3(leaf.size - 1));
+                    if (leaf.brickChild && glm::all(glm::lessThan(cube - parent, glm::uvec3(2 * leaf.size))))
                         siblingAt |= 1u << q;
                 }
             }
-            // Leaf at each quadrant: the one holding that cube. Not minimal: a smaller leaf
+            // Leaf at each quadrant: the one holding that block. Not minimal: a smaller leaf
             // splits this edge. Not canonical: an equal leaf earlier in quadrant order emits it.
             // Any one of these settles it, so siblings are asked first and lookups stop at the
             // first; only where a quadrant leaves the domain does the quadrant order decide
@@ -567,10 +582,10 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                     break;
                 }
                 if ((siblingAt >> q) & 1) {
-                    siblings[q] = {packLattice(cube[q] & ~glm::uvec3(leaf.size - 1)), tileKey, leaf.size, leafLevel};
+                    siblings[q] = {block[q], tileKey, leaf.size, leafLevel};
                     ring[q] = &siblings[q];
                 } else {
-                    ring[q] = &locator.locate(cube[q], leaf.size);
+                    ring[q] = &locator.locate(block[q], leaf.size);
                 }
                 skip = ring[q]->size < leaf.size || (ring[q]->size == leaf.size && q < mine);
             }
@@ -580,12 +595,13 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             }
             if (skip) continue;
             Crossing& x = out.emplace_back();
+            const glm::uvec3 p = unpackLattice(start);
             x.start = p;
             x.length = leaf.size;
             x.axis = uint8_t(k);
             x.startInside = (inside >> c0) & 1;
             x.emitter = uint8_t(mine);
-            const CellLoc self{packLattice(leaf.origin), tileKey, leaf.size, leafLevel};
+            const CellLoc self{origin, tileKey, leaf.size, leafLevel};
             ring[mine] = &self;
             for (int q = 0; q < 4; ++q) {
                 x.ringCell[q] = ring[q]->cell;
