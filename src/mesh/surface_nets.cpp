@@ -450,10 +450,11 @@ constexpr auto kEdgeAt = [] {
     for (int i = 0; i < 12; ++i) t[kCellEdges[i].axis][kCellEdges[i].mine] = uint8_t(i);
     return t;
 }();
-/// By the cell's inside corners: its sign-changing edges make one cycle across its faces (two
-/// on a face are joined), and no face has four of them (their pairing needs the points).
-constexpr std::array<bool, 256> kOneSheet = [] {
-    std::array<bool, 256> t{};
+/// By the cell's inside corners: how many sign-changing edges it has where they make one cycle
+/// across its faces (two on a face are joined) and no face has four of them (their pairing
+/// needs the points); otherwise 0.
+constexpr std::array<uint8_t, 256> kOneSheetEdges = [] {
+    std::array<uint8_t, 256> t{};
     for (uint32_t inside = 0; inside < 256; ++inside) {
         const uint16_t edges = kSignChangingEdges[inside];
         uint8_t parent[12];
@@ -475,7 +476,7 @@ constexpr std::array<bool, 256> kOneSheet = [] {
                     --components;
                 }
             }
-        t[inside] = !ambiguous && components == 1;
+        t[inside] = uint8_t(!ambiguous && components == 1 ? std::popcount(edges) : 0);
     }
     return t;
 }();
@@ -692,12 +693,12 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
     // Most cells need no pairing: where the crossings are exactly the cell's own sign-changing
     // edges, a face carrying two of them has one leaf behind it (a smaller one would split the
     // face's edges, and their crossings would be shorter than the cell), so the cycles are the
-    // cube's, known from the corner signs (kOneSheet).
+    // cube's, known from the corner signs (kOneSheetEdges).
     // A crossing as long as the cell, with the cell in one quadrant around it, lies on the
     // cell's edge at that quadrant (edges start at multiples of their length).
     const uint32_t inside = insideCorners(corners);
     const uint32_t edges = kSignChangingEdges[inside];
-    bool oneSheet = kOneSheet[inside] && n == uint32_t(std::popcount(edges));
+    bool oneSheet = n == kOneSheetEdges[inside];  // n > 0
     for (uint32_t j = 0, seen = 0; j < n && oneSheet; ++j) {
         const Incidence& in = inc[j];
         const uint32_t bit = 1u << kEdgeAt[in.x->axis][in.first];
