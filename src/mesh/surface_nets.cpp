@@ -257,7 +257,14 @@ inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient =
 /// tile's buffers grew from empty every time, thousands of allocations per small mesh.
 struct VertexScratch {
     std::vector<uint64_t> nbrs;
-    std::vector<Incidence> met, inc;       ///< incidences as gathered, then grouped by cell
+    /// A tile whose crossings are gathered: all (end == UINT32_MAX) or those its border list
+    /// names in [begin, end).
+    struct Source {
+        TileMesh* tile;
+        uint32_t begin, end;
+    };
+    std::vector<Source> sources;
+    std::vector<Incidence> met, inc;       ///< incidences as gathered, then grouped by cell (only grow)
     std::vector<uint32_t> metCell;         ///< per gathered incidence: its cell's number
     std::vector<std::pair<uint64_t, uint32_t>> cells;  ///< (key, number) of each cell met
     std::vector<uint32_t> rank;            ///< cell number -> position in key order
@@ -277,23 +284,50 @@ VertexScratch& vertexScratch() {
 /// and each cell's handful of incidences by insertion.
 void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles, TileMesh& tm,
                       const std::vector<uint64_t>& nbrs, VertexScratch& s) {
-    s.met.clear();
-    s.metCell.clear();
-    s.cells.clear();
+    // The crossings read: the tile's own, and the runs of its neighbours' border lists naming it.
+    s.sources.clear();
+    std::size_t bound = 0;  // incidences at most (4 a crossing)
+    for (uint64_t k : nbrs) {
+        auto it = tiles.find(k);
+        if (it == tiles.end()) continue;
+        TileMesh& src = *it->second;
+        if (src.key == tm.key) {
+            s.sources.push_back({&src, 0, UINT32_MAX});
+            bound += 4 * std::size_t(src.crossings.size());
+        } else {
+            const auto b = std::lower_bound(src.border.begin(), src.border.end(), TileMesh::BorderRef{tm.key, 0});
+            auto e = b;
+            while (e != src.border.end() && e->owner == tm.key) ++e;
+            s.sources.push_back({&src, uint32_t(b - src.border.begin()), uint32_t(e - src.border.begin())});
+            bound += 4 * std::size_t(e - b);
+        }
+    }
+    // Written through raw pointers into buffers that only grow: push_back's checks took a third
+    // of this function.
+    if (s.met.size() < bound) {
+        s.met.resize(bound);
+        s.metCell.resize(bound);
+        s.cells.resize(bound);
+    }
+    Incidence* met = s.met.data();
+    uint32_t* metCell = s.metCell.data();
+    std::pair<uint64_t, uint32_t>* cellsMet = s.cells.data();
+    uint32_t nMet = 0, nCells = 0;
     tm.cellVertex.clear();
     tm.cellVertex.reserve(tm.leaves.size() + tm.leaves.size() / 8 + 8);  // nearly every cell is a boundary leaf
-    auto add = [&](Crossing& x, int q, uint8_t first, uint8_t last) {
-        const uint32_t number = tm.cellVertex.findOrAssign(x.ringCell[q], uint32_t(s.cells.size()));
-        if (number == s.cells.size()) s.cells.emplace_back(x.ringCell[q], number);
-        s.met.push_back({x.ringCell[q], x.key(), &x, first, last});
-        s.metCell.push_back(number);
+    auto add = [&](Crossing& x, uint64_t key, int q, uint8_t first, uint8_t last) {
+        const uint32_t number = tm.cellVertex.findOrAssign(x.ringCell[q], nCells);
+        if (number == nCells) cellsMet[nCells++] = {x.ringCell[q], number};
+        met[nMet] = {x.ringCell[q], key, &x, first, last};
+        metCell[nMet++] = number;
     };
     auto take = [&](Crossing& x) {
+        const uint64_t key = x.key();
         // A leaf fills a run of adjacent quadrants: nearly always one each (four leaves).
         const uint64_t* c = x.ringCell;
         if (c[0] != c[1] && c[1] != c[2] && c[2] != c[3] && c[3] != c[0]) {
             for (int q = 0; q < 4; ++q)
-                if (x.ringOwner[q] == tm.key) add(x, q, uint8_t(q), uint8_t(q));
+                if (x.ringOwner[q] == tm.key) add(x, key, q, uint8_t(q), uint8_t(q));
             return;
         }
         uint8_t done = 0;
@@ -305,27 +339,24 @@ void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMes
                 done |= uint8_t(1u << r);
                 if (r == last) break;
             }
-            add(x, q, first, last);
+            add(x, key, q, first, last);
         }
     };
-    for (uint64_t k : nbrs) {
-        auto it = tiles.find(k);
-        if (it == tiles.end()) continue;
-        TileMesh& src = *it->second;
-        if (src.key == tm.key) {
-            for (uint32_t i = 0; i < src.crossings.size(); ++i) take(src.crossings[i]);
+    for (const VertexScratch::Source& from : s.sources) {
+        TileMesh& src = *from.tile;
+        if (from.end == UINT32_MAX) {
+            for (uint32_t j = 0; j < src.crossings.size(); ++j) take(src.crossings[j]);
         } else {
-            auto b = std::lower_bound(src.border.begin(), src.border.end(), TileMesh::BorderRef{tm.key, 0});
-            for (; b != src.border.end() && b->owner == tm.key; ++b) take(src.crossings[b->index]);
+            for (uint32_t b = from.begin; b < from.end; ++b) take(src.crossings[src.border[b].index]);
         }
     }
-    std::sort(s.cells.begin(), s.cells.end());
-    const std::size_t cells = s.cells.size();
+    std::sort(cellsMet, cellsMet + nCells);
+    const std::size_t cells = nCells;
     s.rank.resize(cells);
-    for (uint32_t i = 0; i < cells; ++i) s.rank[s.cells[i].second] = i;
-    s.inc.resize(s.met.size());
-    groupByRank(s.met.size(), s.rank, s.cellBegin, [&](std::size_t j) { return s.metCell[j]; },
-                [&](std::size_t j, uint32_t at) { s.inc[at] = s.met[j]; });
+    for (uint32_t i = 0; i < cells; ++i) s.rank[cellsMet[i].second] = i;
+    s.inc.resize(nMet);
+    groupByRank(nMet, s.rank, s.cellBegin, [&](std::size_t j) { return metCell[j]; },
+                [&](std::size_t j, uint32_t at) { s.inc[at] = met[j]; });
     for (std::size_t i = 0; i < cells; ++i) {
         Incidence* run = s.inc.data() + s.cellBegin[i];
         const uint32_t n = s.cellBegin[i + 1] - s.cellBegin[i];
