@@ -642,9 +642,11 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             }
             const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
             const float t = v0 / (v0 - v1);
-            float point[3] = {float(p.x), float(p.y), float(p.z)};
-            point[k] += t * float(leaf.size);
-            x.point = glm::vec3(point[0], point[1], point[2]);
+            // Added on its axis only (adding zero elsewhere changes nothing): written through an
+            // array indexed by the axis, the point was read back before the store had landed.
+            const float along = t * float(leaf.size);
+            x.point = glm::vec3(float(p.x) + (k == 0 ? along : 0.0f), float(p.y) + (k == 1 ? along : 0.0f),
+                                float(p.z) + (k == 2 ? along : 0.0f));
             x.alive = 1;
             ++st.crossingsComputed;
         }

@@ -15,6 +15,7 @@
 #include "mesh/slot_pool.h"
 #include "mesh/surface_nets.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -190,15 +191,18 @@ struct StartFilter {
     const void* context = nullptr;
 };
 
-/// Appends default records to a tile's crossing pool, numbering their slots (what a build
-/// writes computeCrossings into: no intermediate copy of the large records).
+/// Appends records to a tile's crossing pool, numbering their slots, with no vertices and no
+/// split vertices (what a build writes computeCrossings into: no intermediate copy of the large
+/// records). computeCrossings writes every other field, so the rest is not cleared first
+/// (zeroing the whole record took 7 % of the crossing phase).
 struct PoolAppender {
     SlotPool<Crossing>& pool;
     Crossing& emplace_back() {
         const uint32_t j = pool.append();
         Crossing& x = pool[j];
-        x = Crossing{};
         x.slot = j;
+        std::fill(x.ringVertex, x.ringVertex + 4, VertexRef{});
+        std::fill(x.split, x.split + 4, Crossing::kNoSplit);
         return x;
     }
 };
