@@ -247,6 +247,42 @@ TEST(SurfaceNets, IncrementalRemeshEqualsFullMeshAcrossTileCorners) {
     }
 }
 
+TEST(SurfaceNets, ASurfaceLeavingTheDomainMeshesOpenThereAndUpdatesEqualAFullMesh) {
+    // Spheres through the domain's faces and along an edge, and two smaller than a cell at its
+    // corners: crossings there are left open, and a boundary leaf whose only sign changes lie
+    // on the domain's border gets no vertex.
+    const Domain d = unitDomain(6, 3);
+    const double h = d.finestCellSize();
+    util::ThreadPool pool(2);
+    SourcePtr part = makeCsg(CsgOp::Union, makeTranslated(makeSphere(0.2), {0.5, 0.5, 0.03}),
+                             makeTranslated(makeSphere(0.15), {0.0, 0.0, 0.5}));
+    for (const glm::dvec3 corner : {glm::dvec3(0.0), glm::dvec3(1.0)})
+        part = makeCsg(CsgOp::Union, part, makeTranslated(makeSphere(0.6 * h), corner));
+    AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
+    SurfaceMesher mesher(&pool);
+    mesher.build(a);
+    EXPECT_GT(mesher.stats().openCrossings, 0u);
+    const MeshBuffers built = mesher.mesh();
+    ASSERT_GT(built.triangleCount(), 100u);
+    EXPECT_TRUE(built.valid());
+    for (std::size_t t = 0; t < built.triangleCount(); ++t) {
+        const uint32_t* v = &built.indices[3 * t];
+        EXPECT_TRUE(v[0] != v[1] && v[1] != v[2] && v[2] != v[0]) << "triangle " << t;
+    }
+    // Dabs across the faces, and at the corners: the cells that had no vertex get one.
+    const std::vector<std::pair<glm::dvec3, double>> dabs{
+        {{0.55, 0.5, 0.0}, 4 * h}, {{0.0, 0.1, 0.5}, 4 * h}, {{0.3, 0.5, 0.02}, 4 * h}, {glm::dvec3(0.0), 1.5 * h},
+        {glm::dvec3(1.0), 1.5 * h}};
+    for (const auto& [c, r] : dabs) {
+        a = dabbed(a, r < 2 * h ? CsgOp::Union : CsgOp::Difference, c, r, &pool);
+        mesher.update(a);
+        const MeshBuffers spliced = mesher.mesh();
+        const MeshBuffers fresh = mesh::meshAdf(a, &pool);
+        EXPECT_EQ(spliced.triangleCount(), fresh.triangleCount());
+        EXPECT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "dab at " << c.x << " " << c.y << " " << c.z;
+    }
+}
+
 TEST(SurfaceNets, UpdateWithTheSameSnapshotChangesNothingAndEmptyFieldsGiveEmptyMeshes) {
     const Domain d = unitDomain(6, 3);
     const AdfPtr a = generate(*makeTranslated(makeSphere(0.2), glm::dvec3(0.5)), d, GenerationSettings{});
