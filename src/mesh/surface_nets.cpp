@@ -1057,8 +1057,10 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         PoolAppender appender{tm.crossings};
         computeCrossings(a, tm.key, tm.leaves, appender, scanStats[i]);
         tm.liveCrossings = tm.crossings.size();
+        tm.plainTriangles = 0;
         for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
             const Crossing& x = tm.crossings[j];
+            tm.plainTriangles += plainTriangles(x);
             for (int q = 0; q < 4; ++q)
                 if (x.ringOwner[q] != tm.key && std::find(x.ringOwner, x.ringOwner + q, x.ringOwner[q]) == x.ringOwner + q)
                     tm.border.push_back({x.ringOwner[q], j});
@@ -1200,21 +1202,35 @@ MeshBuffers SurfaceMesher::mesh() const {
     auto homeOf = [&](std::size_t t) { return order[t]->home; };
     util::parallelForHomes(mPool, order.size(), homeOf, [&](std::size_t t) {
         TileMesh& tm = *order[t];
+        tm.share = uint32_t(t);
+        Share& sh = share[t];
+        sh.triangles = tm.plainTriangles;
+        if (tm.freeVertices.empty()) {  // every slot live (a build): numbers are slots
+            tm.outNumber.clear();
+            sh.vertices = uint32_t(tm.vertices.size() + tm.splits.size());
+            return;
+        }
         tm.outNumber.assign(tm.vertices.size() + tm.splits.size(), UINT32_MAX);
         uint32_t next = 0;
         for (uint32_t i = 0; i < tm.vertices.size(); ++i)
             if (tm.vertices[i].alive) tm.outNumber[i] = next++;
         for (uint32_t i = 0; i < tm.splits.size(); ++i) tm.outNumber[tm.vertices.size() + i] = next++;
-        Share& sh = share[t];
         sh.vertices = next;
-        for (uint32_t xi = 0; xi < tm.crossings.size(); ++xi) {
-            const Crossing& x = tm.crossings[xi];
-            if (!x.alive) continue;
-            const PolygonShape ps = polygonShape(x);
-            sh.triangles += ps.triangles;
-            sh.centres += ps.fan;
-        }
     });
+    // Polygons with split vertices (on the multi-crossing faces only) are fans: their tiles'
+    // shares grow by the difference.
+    std::vector<const Crossing*> split;
+    for (const TileMesh* tm : order)
+        for (const MultiFace& mf : tm->multiFaces)
+            for (const auto& [e, l] : mf.segments) split.insert(split.end(), {e.x, l.x});
+    sortUnique(split);
+    for (const Crossing* x : split) {
+        const PolygonShape ps = polygonShape(*x);
+        if (!ps.fan) continue;
+        Share& sh = share[mTiles.at(x->ringOwner[x->emitter])->share];
+        sh.triangles += ps.triangles - plainTriangles(*x);
+        ++sh.centres;
+    }
     std::size_t vertices = 0, triangles = 0;
     for (std::size_t t = 0; t < order.size(); ++t) {
         order[t]->offset = uint32_t(vertices);
@@ -1251,24 +1267,30 @@ MeshBuffers SurfaceMesher::mesh() const {
     });
     auto index = [](const VertexRef& r) {
         if (!r.tile) throw std::logic_error("surface nets: a crossing has no vertex");
-        const std::vector<uint32_t>& num = r.tile->outNumber;
+        const TileMesh& t = *r.tile;
+        const std::vector<uint32_t>& num = t.outNumber;
+        if (num.empty() && r.index < t.vertices.size()) return t.offset + r.index;
         if (r.index >= num.size() || num[r.index] == UINT32_MAX)
             throw std::logic_error("surface nets: a crossing refers to a released vertex");
-        return r.tile->offset + num[r.index];
+        return t.offset + num[r.index];
     };
     auto splitIndex = [&](const Crossing& x, int q) {
         const TileMesh& owner = *mTiles.at(x.faceOwner(q));
-        return owner.offset + owner.outNumber.at(owner.vertices.size() + x.split[q]);
+        const std::size_t slot = owner.vertices.size() + x.split[q];
+        if (owner.outNumber.empty() && x.split[q] < owner.splits.size()) return owner.offset + uint32_t(slot);
+        return owner.offset + owner.outNumber.at(slot);
     };
     util::parallelForHomes(mPool, order.size(), homeOf, [&](std::size_t t) {
         const TileMesh& tm = *order[t];
         uint32_t* tri = m.indices.data() + 3 * share[t].triangleOffset;
+        uint32_t* const triEnd = tri + 3 * std::size_t(share[t].triangles);
         uint32_t centre = share[t].centreOffset;
         uint32_t polygon[8];
         for (uint32_t xi = 0; xi < tm.crossings.size(); ++xi) {
             const Crossing& x = tm.crossings[xi];
             if (!x.alive) continue;
             auto emit = [&](uint32_t a, uint32_t b, uint32_t c) {
+                if (tri == triEnd) throw std::logic_error("surface nets: a tile's polygons exceed its count");
                 tri[0] = a;
                 tri[1] = x.startInside ? b : c;
                 tri[2] = x.startInside ? c : b;
@@ -1306,6 +1328,8 @@ MeshBuffers SurfaceMesher::mesh() const {
                 emit(i0, i2, i3);
             }
         }
+        if (tri != triEnd || centre != share[t].centreOffset + share[t].centres)
+            throw std::logic_error("surface nets: a tile's polygons differ from its count");
     });
     // Paint: one colour per vertex from its position, so an incremental mesh gets the same
     // colours as a full one; nothing at all (not even a branch per vertex) when unpainted.

@@ -149,8 +149,15 @@ struct SurfaceMesher::TileMesh {
     /// Cell key -> its first vertex, for every cell with a vertex (filled by a build, kept by
     /// updates): an update reaches the vertices and crossings around a changed cell through it.
     FlatMap64 cellVertex;
+    /// Triangles of its live crossings' polygons, were none of them split (plainTriangles),
+    /// kept by a build and updates as crossings come and go: the assembly counts only the few
+    /// split ones instead of reading every crossing.
+    uint32_t plainTriangles = 0;
     uint32_t offset = 0;  ///< first vertex in the assembled mesh
-    std::vector<uint32_t> outNumber;  ///< vertex slot (then split) -> number within the tile's share of the mesh
+    /// Vertex slot (then split) -> number within the tile's share of the mesh; empty where no
+    /// slot is released (the number is the slot).
+    std::vector<uint32_t> outNumber;
+    uint32_t share = 0;  ///< the tile's position in the assembly's order
 
     uint32_t allocateVertex() {
         ++liveVertices;
@@ -213,6 +220,14 @@ struct PoolAppender {
 template <class Out>
 void computeCrossings(const adf::Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves, Out& out,
                       SurfaceNetsStats& st, StartFilter filter = {});
+
+/// Triangles of a crossing's polygon without split vertices: a triangle where a larger leaf
+/// fills two quadrants, else a quad's two.
+inline uint32_t plainTriangles(const Crossing& x) {
+    const uint64_t* c = x.ringCell;
+    const uint32_t corners = (c[0] != c[3]) + (c[1] != c[0]) + (c[2] != c[1]) + (c[3] != c[2]);
+    return corners == 3 ? 1u : 2u;
+}
 
 /// The run of quadrants that ring cell q fills (a larger leaf fills two when the edge lies in
 /// its face), as Incidence::first/last.

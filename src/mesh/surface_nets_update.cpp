@@ -511,6 +511,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             Crossing& x = tm.crossings[j];
             x.alive = 0;
             --tm.liveCrossings;
+            tm.plainTriangles -= plainTriangles(x);
             out.removed.push_back(&x);
             out.released.push_back(j);
         };
@@ -521,6 +522,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             tm.crossings[j] = x;
             tm.crossings[j].slot = j;
             ++tm.liveCrossings;
+            tm.plainTriangles += plainTriangles(x);
             out.added.push_back(&tm.crossings[j]);
         };
         while (o < old.size() || f < order.size()) {
