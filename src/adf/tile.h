@@ -274,6 +274,15 @@ public:
     /// The 27 quantised values of brick `brick`, as brickValue gives them (one branch for all:
     /// readers comparing or scanning whole bricks).
     void brickValues(uint32_t brick, int16_t out[27]) const { decodeBrick(brick, 0, kBrickPoints, out); }
+    /// False where brick `brick`'s stored form alone shows its 27 values share a sign (all
+    /// negative or none): a packed brick's values lie within its steps' reach of its centre, so
+    /// a centre farther from zero than that needs no decoding. True says nothing.
+    bool brickMayChangeSign(uint32_t brick) const {
+        if (brick >= mPackedCount) return true;  // wide
+        const int32_t reach = brick < mNarrowCount ? 64 * mStep : brick < mCoarseEnd ? 128 * mStep : 256 * mStep;
+        const int32_t base = at<int16_t>(mBrickBasesAt)[brick];
+        return base - reach < 0 && base + reach >= 0;
+    }
     /// Whether brick `brick` and brick `otherBrick` of `other` are stored alike (the same form,
     /// centre, steps and leaf step): then their values are the same, without decoding them
     /// (a rebuilt tile copies most of its bricks so). False says nothing.

@@ -82,6 +82,7 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
             out.push_back(b);
         } else {
             // Padded to 32 (four whole vectors; the padding's bits are masked off).
+            if (!t.brickMayChangeSign(node::brickIndex(w))) continue;
             int16_t q[32];
             t.brickValues(node::brickIndex(w), q);
             std::fill(q + 27, q + 32, q[0]);

@@ -628,6 +628,43 @@ TEST(Tile, BrickFormsAreIdempotentAndKeepSignsForEvery16BitValue) {
     }
 }
 
+TEST(Tile, ABrickSettledBySignFromItsFormHasValuesOfOneSign) {
+    // Bricks of every packed form with centres around each form's reach (63, 127 and 254 leaf
+    // steps) on both sides of zero, one off-centre value across that reach: where the form says
+    // one sign (the boundary-cell walk then skips decoding), every decoded value has it; and
+    // the test settles bricks of each packed form.
+    int settled[4] = {0, 0, 0, 0};
+    for (const int32_t s : {1, 17}) {
+        const float scale = float(2.0 / (127.0 * (double(s) - 0.5)));  // finest cell 1: leaf step 2s
+        const int32_t leaf = 2 * s, half = std::max(1, s);
+        std::vector<int32_t> centres{0, -1};
+        for (const int32_t reach : {63, 127, 254})
+            for (int32_t c = (reach - 3) * leaf; c <= (reach + 3) * leaf; c += half)
+                if (c <= 32767) centres.insert(centres.end(), {c, -c});
+        for (const int32_t centre : centres) {
+            std::vector<int16_t> values;
+            std::vector<uint32_t> nodes;
+            for (int32_t q = std::max(-32767, centre - 260 * leaf); q <= std::min(32767, centre + 260 * leaf); q += half) {
+                nodes.push_back(node::makeBrick(uint32_t(nodes.size())));
+                for (int g = 0; g < 27; ++g) values.push_back(g == 4 ? int16_t(q) : int16_t(centre));
+            }
+            const TilePtr t = Tile::createQuantised(12, glm::uvec3(0), nodes, {}, values, scale, 1, 1.0);
+            for (uint32_t i = 0; i < nodes.size(); ++i) {
+                const uint32_t b = node::brickIndex(t->node(i));
+                if (t->brickMayChangeSign(b)) continue;
+                bool negative = false, other = false;
+                for (int g = 0; g < 27; ++g) (t->brickValue(b, g) < 0 ? negative : other) = true;
+                ASSERT_FALSE(negative && other) << "step " << s << " centre " << centre << " brick " << b;
+                ++settled[brickForm(*t, t->node(i))];
+            }
+        }
+    }
+    EXPECT_GT(settled[0], 0);
+    EXPECT_GT(settled[1], 0);
+    EXPECT_GT(settled[2], 0);
+    EXPECT_EQ(settled[3], 0);  // wide bricks are always decoded
+}
+
 TEST(Tile, NarrowBricksDecodeAlikeWholeOrPointByPoint) {
     // Random bricks whose every step fits 7 bits, at leaf step 32: the whole-brick decoder
     // (8 fields per 7-byte block) and the one-point one must agree on every field, the last
