@@ -142,29 +142,15 @@ void sortUnique(std::vector<T>& v) {
     v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
-/// A tile's boundary leaves sorted by cell key (the order crossings are emitted in). The walk
-/// gives them depth first; they are sorted as 64-bit keys (tile-local origin, index), which
-/// moves 8 bytes per comparison instead of a 52-byte record.
-void scanLeaves(const Adf& adf, TileMesh& tm, std::vector<BoundaryCell>& walk, std::vector<uint64_t>& keys) {
-    walk.clear();
-    appendBoundaryCells(*tm.tile, adf.domain().maxLevel, walk);
-    const glm::uvec3 o = tm.tile->latticeOrigin();
-    const int e = adf.domain().maxLevel - tm.tile->level();
-    if (3 * e > 32) {  // a very coarse tile: compare the records
-        tm.leaves = walk;
-        std::sort(tm.leaves.begin(), tm.leaves.end(), [](const BoundaryCell& l, const BoundaryCell& r) {
-            return packLattice(l.origin) < packLattice(r.origin);
-        });
-        return;
-    }
-    keys.resize(walk.size());
-    for (std::size_t i = 0; i < walk.size(); ++i) {
-        const glm::uvec3 r = walk[i].origin - o;  // below 2^e: the leaf lies in the tile
-        keys[i] = ((uint64_t(r.x) | (uint64_t(r.y) << e) | (uint64_t(r.z) << (2 * e))) << 32) | i;
-    }
-    std::sort(keys.begin(), keys.end());
-    tm.leaves.resize(walk.size());
-    for (std::size_t i = 0; i < keys.size(); ++i) tm.leaves[i] = walk[uint32_t(keys[i])];
+/// Position of a cell of a tile whose side spans 2^bits lattice units, at `local` (its origin
+/// less the tile's), in the boundary-cell walk's order: depth first, children by their x, y, z
+/// bits (interleaved bits, z highest). A build keeps cells in that order, as the walk gives the
+/// leaves: no sort, and neighbouring leaves come close together (the leaf locator's caches).
+uint64_t walkOrder(glm::uvec3 local, int bits) {
+    uint64_t k = 0;
+    for (int b = bits - 1; b >= 0; --b)
+        k = (k << 3) | (((local.z >> b) & 1u) << 2) | (((local.y >> b) & 1u) << 1) | ((local.x >> b) & 1u);
+    return k;
 }
 
 /// Lattice box of a ring cell.
@@ -267,9 +253,9 @@ struct VertexScratch {
     std::vector<Incidence> met, inc;       ///< incidences as gathered, then grouped by cell (only grow)
     std::vector<uint32_t> metCell;         ///< per gathered incidence: its cell's number
     std::vector<std::pair<uint64_t, uint32_t>> cells;  ///< (key, number) of each cell met that is no boundary leaf
-    std::vector<uint32_t> rank;            ///< cell number -> position in key order
-    std::vector<uint64_t> rankKey;         ///< position in key order -> the cell's key
-    std::vector<uint32_t> cellBegin;       ///< per cell in key order: its first incidence, then the end
+    std::vector<uint32_t> rank;            ///< cell number -> position in walk order
+    std::vector<uint64_t> rankKey;         ///< position in walk order -> the cell's key
+    std::vector<uint32_t> cellBegin;       ///< per cell in walk order: its first incidence, then the end
     CellScratch cell;
 };
 VertexScratch& vertexScratch() {
@@ -278,13 +264,13 @@ VertexScratch& vertexScratch() {
 }
 
 /// Incidences of cell-owner `tm` during a build: crossings in its own pool and its neighbours'
-/// border lists that have a leaf owned by it, into s.inc grouped by cell in key order (cell
+/// border lists that have a leaf owned by it, into s.inc grouped by cell in walk order (cell
 /// i's run is [s.cellBegin[i], s.cellBegin[i + 1]), its key s.rankKey[i]), each cell's sorted
 /// by crossing key. A counting sort: cells are numbered through tm.cellVertex (which maps them
 /// to their first vertex later), the tile's boundary leaves in their order and other cells as
 /// met, then merged in; each cell's handful of incidences is sorted by insertion. A boundary
 /// leaf may get an empty run (its crossings all leave the domain).
-void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles, TileMesh& tm,
+void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles, int maxLevel, TileMesh& tm,
                       const std::vector<uint64_t>& nbrs, VertexScratch& s) {
     // The crossings read: the tile's own, and the runs of its neighbours' border lists naming it.
     s.sources.clear();
@@ -364,18 +350,23 @@ void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMes
     s.rank.resize(cells);
     if (nExtra == 0) {
         std::iota(s.rank.begin(), s.rank.end(), 0u);
-    } else {  // merge the others into the leaves' order
-        std::sort(cellsMet, cellsMet + nExtra);
+    } else {  // merge the others into the leaves' (walk) order
+        const glm::uvec3 o = tm.tile->latticeOrigin();
+        const int bits = maxLevel - tm.tile->level();
+        auto order = [&](uint64_t key) { return walkOrder(unpackLattice(key) - o, bits); };
+        std::vector<std::pair<uint64_t, uint32_t>> extras(nExtra);  // (walk order, number)
+        for (uint32_t j = 0; j < nExtra; ++j) extras[j] = {order(cellsMet[j].first), cellsMet[j].second};
+        std::sort(extras.begin(), extras.end());
         std::vector<uint64_t> leafKeys(s.rankKey.begin(), s.rankKey.end());
         s.rankKey.resize(cells);
         uint32_t leaf = 0, extra = 0;
         for (uint32_t r = 0; r < cells; ++r) {
-            if (extra == nExtra || (leaf < nLeaves && leafKeys[leaf] < cellsMet[extra].first)) {
+            if (extra == nExtra || (leaf < nLeaves && order(leafKeys[leaf]) < extras[extra].first)) {
                 s.rank[leaf] = r;
                 s.rankKey[r] = leafKeys[leaf++];
             } else {
-                s.rank[cellsMet[extra].second] = r;
-                s.rankKey[r] = cellsMet[extra++].first;
+                s.rank[extras[extra].second] = r;
+                s.rankKey[r] = cellsMet[extras[extra++].second - nLeaves].first;
             }
         }
     }
@@ -398,7 +389,7 @@ void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMes
 void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
                      TileMesh& tm, const std::vector<uint64_t>& nbrs, SurfaceNetsStats& st) {
     VertexScratch& scratchAll = vertexScratch();
-    gatherIncidences(tiles, tm, nbrs, scratchAll);
+    gatherIncidences(tiles, adf.domain().maxLevel, tm, nbrs, scratchAll);
     const std::vector<Incidence>& inc = scratchAll.inc;
     const std::vector<uint32_t>& cellBegin = scratchAll.cellBegin;
     const std::size_t cells = cellBegin.size() - 1;
@@ -411,19 +402,20 @@ void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::uni
     tm.incidences.reserve(inc.size());       // each incidence goes to one vertex
     CellScratch& scratch = scratchAll.cell;
     scratch.freshCrossings = true;  // a build made every crossing this phase reads
-    std::size_t leafAt = 0;  // tm.leaves is sorted by cell key, like the cells
+    std::size_t leafAt = 0;  // the cells in walk order take tm.leaves in turn
     for (std::size_t i = 0; i < cells; ++i) {
         const uint32_t i0 = cellBegin[i], i1 = cellBegin[i + 1];
         const uint64_t cell = scratchAll.rankKey[i];
+        const BoundaryCell* leaf =
+            leafAt < tm.leaves.size() && packLattice(tm.leaves[leafAt].origin) == cell ? &tm.leaves[leafAt++] : nullptr;
         if (i0 == i1) {  // a boundary leaf whose crossings all leave the domain: no vertex
             tm.cellVertex.erase(cell);
             continue;
         }
         // The cell's corners: a boundary leaf of this tile, or (figure 9B) looked up.
-        while (leafAt < tm.leaves.size() && packLattice(tm.leaves[leafAt].origin) < cell) ++leafAt;
         float corners[8];
-        if (leafAt < tm.leaves.size() && packLattice(tm.leaves[leafAt].origin) == cell) {
-            std::copy(tm.leaves[leafAt].corners, tm.leaves[leafAt].corners + 8, corners);
+        if (leaf) {
+            std::copy(leaf->corners, leaf->corners + 8, corners);
         } else {
             const adf::LeafRef r = adf.findLeaf(unpackLattice(cell));
             std::copy(r.corners, r.corners + 8, corners);
@@ -1050,9 +1042,8 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     assignHomes(scanTiles, nodes, mPool ? mPool->threadCount() : 1u);
     inHomes(mPool, scanTiles, nodes, [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
-        thread_local std::vector<BoundaryCell> walk;  // reused across tiles and builds
-        thread_local std::vector<uint64_t> keys;
-        scanLeaves(a, tm, walk, keys);
+        tm.leaves.clear();
+        appendBoundaryCells(*tm.tile, a.domain().maxLevel, tm.leaves);  // in walk order
         scanStats[i].boundaryLeaves = tm.leaves.size();
         PoolAppender appender{tm.crossings};
         computeCrossings(a, tm.key, tm.leaves, appender, scanStats[i]);

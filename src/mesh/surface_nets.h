@@ -95,7 +95,8 @@ public:
     void update(adf::AdfPtr adf);
 
     /// The current mesh: world positions (m), unit normals from the field gradient, triangles
-    /// counter-clockwise seen from outside. Vertices are ordered by tile, then by cell.
+    /// counter-clockwise seen from outside. Vertices are ordered by tile, then by cell (a build:
+    /// the octree's depth-first order).
     /// Complexity: O(mesh). Memory: the buffers.
     MeshBuffers mesh() const;
 

@@ -128,7 +128,7 @@ struct SurfaceMesher::TileMesh {
     uint64_t key = 0;
     glm::uvec3 slotMin{0}, slotEnd{0};  ///< slots covered
     unsigned home = 0;  ///< the pool thread that builds it and assembles its share (util::parallelForHomes)
-    std::vector<BoundaryCell> leaves;   ///< during a build only, sorted by cell key
+    std::vector<BoundaryCell> leaves;   ///< during a build only, in walk order (walkOrder)
     SlotPool<detail::Crossing> crossings;  ///< emitted by this tile's leaves
     uint32_t liveCrossings = 0;
     /// During a build: crossings with a leaf owned by another tile, by that tile's key, so a
@@ -139,7 +139,7 @@ struct SurfaceMesher::TileMesh {
         bool operator<(const BorderRef& o) const { return owner != o.owner ? owner < o.owner : index < o.index; }
     };
     std::vector<BorderRef> border;
-    std::vector<detail::Vertex> vertices;  ///< a build numbers them by cell key, then cycle
+    std::vector<detail::Vertex> vertices;  ///< a build numbers them by cell in walk order, then cycle
     std::vector<uint32_t> freeVertices;    ///< released slots of `vertices`
     uint32_t liveVertices = 0;
     std::vector<detail::VertexIncidence> incidences;  ///< ranges of the vertices (some unused)
