@@ -270,15 +270,25 @@ VertexScratch& vertexScratch() {
 /// to their first vertex later), the tile's boundary leaves in their order and other cells as
 /// met, then merged in; each cell's handful of incidences is sorted by insertion. A boundary
 /// leaf may get an empty run (its crossings all leave the domain).
-void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles, int maxLevel, TileMesh& tm,
-                      const std::vector<uint64_t>& nbrs, VertexScratch& s) {
+/// A build's tiles by key: a flat index (std::unordered_map's lookups took 1.4 % of a build).
+struct TileIndex {
+    FlatMap64 position;  ///< key -> index in `tiles`
+    std::vector<TileMesh*> tiles;
+    TileMesh* find(uint64_t key) const {
+        const uint32_t* i = position.find(key);
+        return i ? tiles[*i] : nullptr;
+    }
+};
+
+void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const std::vector<uint64_t>& nbrs,
+                      VertexScratch& s) {
     // The crossings read: the tile's own, and the runs of its neighbours' border lists naming it.
     s.sources.clear();
     std::size_t bound = 0;  // incidences at most (4 a crossing)
     for (uint64_t k : nbrs) {
-        auto it = tiles.find(k);
-        if (it == tiles.end()) continue;
-        TileMesh& src = *it->second;
+        TileMesh* found = tiles.find(k);
+        if (!found) continue;
+        TileMesh& src = *found;
         if (src.key == tm.key) {
             s.sources.push_back({&src, 0, UINT32_MAX});
             bound += 4 * std::size_t(src.crossings.size());
@@ -386,7 +396,7 @@ void gatherIncidences(const std::unordered_map<uint64_t, std::unique_ptr<TileMes
 }
 
 /// Cycles and projected vertices of every cell `tm` owns, during a build.
-void computeVertices(const Adf& adf, const std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>& tiles,
+void computeVertices(const Adf& adf, const TileIndex& tiles,
                      TileMesh& tm, const std::vector<uint64_t>& nbrs, SurfaceNetsStats& st) {
     VertexScratch& scratchAll = vertexScratch();
     gatherIncidences(tiles, adf.domain().maxLevel, tm, nbrs, scratchAll);
@@ -1074,9 +1084,12 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
             if (owners.empty() || owners.back() != b.owner) owners.push_back(b.owner);
     sortUnique(owners);
     for (uint64_t k : owners) ensureTile(k);
-    std::vector<TileMesh*> meshTiles;
+    TileIndex index;
+    std::vector<TileMesh*>& meshTiles = index.tiles;
     for (const auto& [key, tm] : mTiles) meshTiles.push_back(tm.get());
     std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
+    index.position.reserve(meshTiles.size());
+    for (uint32_t i = 0; i < meshTiles.size(); ++i) index.position.assign(meshTiles[i]->key, i);
     // A tile's boundary leaves: about its cells, so its vertices (taken now: relaxation drops them).
     std::vector<std::size_t> leaves(meshTiles.size());
     for (std::size_t i = 0; i < meshTiles.size(); ++i) leaves[i] = meshTiles[i]->leaves.size();
@@ -1087,7 +1100,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         nbrs.clear();
         neighbourKeys(a, meshTiles[i]->slotMin, meshTiles[i]->slotEnd, nbrs);
         sortUnique(nbrs);  // a coarse tile covers several slots
-        computeVertices(a, mTiles, *meshTiles[i], nbrs, meshStats[i]);
+        computeVertices(a, index, *meshTiles[i], nbrs, meshStats[i]);
     });
     st.tilesMeshed = meshTiles.size();
     for (const SurfaceNetsStats& s : meshStats) addVertexCounters(st, s);
