@@ -222,17 +222,21 @@ inline glm::vec3 clampToCell(glm::vec3 p, const Vertex& v) {
 }
 
 /// The cell's trilinear field at lattice point `p`: distance (m) and gradient (m per lattice unit).
+/// kPacked: adf::trilinearPacked (the same value; where samples are not chained).
+template <bool kPacked = false>
 inline adf::Sample cellSample(const Vertex& v, glm::vec3 p) {
     const float inv = 1.0f / float(v.size);
-    adf::Sample s = adf::trilinear(v.corners, (p - glm::vec3(v.origin)) * inv);
+    const glm::vec3 f = (p - glm::vec3(v.origin)) * inv;
+    adf::Sample s = kPacked ? adf::trilinearPacked(v.corners, f) : adf::trilinear(v.corners, f);
     s.gradient *= inv;
     return s;
 }
 
 /// One Newton step onto the cell's zero set along its gradient, in lattice units, kept in the
 /// cell. Reads only the cell's corners: inside its box that is the field itself.
+template <bool kPacked = false>
 inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient = nullptr) {
-    const adf::Sample s = cellSample(v, p);
+    const adf::Sample s = cellSample<kPacked>(v, p);
     if (gradient) *gradient = s.gradient;
     const float g2 = glm::dot(s.gradient, s.gradient);
     if (!(g2 > 1e-20f) || !std::isfinite(s.distance)) return p;
@@ -961,14 +965,14 @@ void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked) {
     }
     const uint32_t count = 2 * (v.incEnd - v.incBegin);
     const glm::vec3 p = v.projected;
-    const adf::Sample s = cellSample(v, p);
+    const adf::Sample s = cellSample<true>(v, p);
     glm::vec3 moved = p;
     glm::vec3 gradient = s.gradient;  // the normal: gradient where the last projection started
     const float g = glm::length(s.gradient);
     if (count > 0 && g > 1e-12f) {
         const glm::vec3 n = s.gradient / g;
         const glm::vec3 d = sum / float(count) - p;
-        moved = projectOnce(v, clampToCell(p + 0.5f * (d - glm::dot(n, d) * n), v), &gradient);
+        moved = projectOnce<true>(v, clampToCell(p + 0.5f * (d - glm::dot(n, d) * n), v), &gradient);
     }
     v.position = moved;
     const float ge = glm::length(gradient);

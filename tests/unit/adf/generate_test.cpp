@@ -89,6 +89,25 @@ std::vector<NamedSource> primitives() {
     };
 }
 
+TEST(Trilinear, ThePackedFormGivesTheSameBits) {
+    // Random corners (both signs, magnitudes across the float range a tile uses, exact zeros)
+    // and points of the cell, its corners and edges included.
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> value(-1.0f, 1.0f), at(0.0f, 1.0f);
+    std::uniform_int_distribution<int> exponent(-30, 2), pick(0, 9);
+    for (int i = 0; i < 200000; ++i) {
+        float v[8];
+        for (float& c : v) c = pick(rng) == 0 ? 0.0f : std::ldexp(value(rng), exponent(rng));
+        glm::vec3 f(at(rng), at(rng), at(rng));
+        for (int k = 0; k < 3; ++k)
+            if (pick(rng) < 2) f[k] = float(pick(rng) & 1);
+        const Sample a = trilinear(v, f), b = trilinearPacked(v, f);
+        ASSERT_EQ(std::bit_cast<uint32_t>(a.distance), std::bit_cast<uint32_t>(b.distance)) << i;
+        for (int k = 0; k < 3; ++k)
+            ASSERT_EQ(std::bit_cast<uint32_t>(a.gradient[k]), std::bit_cast<uint32_t>(b.gradient[k])) << i << " axis " << k;
+    }
+}
+
 TEST(Generate, EveryPrimitiveIsWithinTheAdaptiveBoundInTheBand) {
     util::ThreadPool pool(2);
     for (const auto& [name, src] : primitives()) {
