@@ -1304,6 +1304,18 @@ MeshBuffers SurfaceMesher::mesh() const {
                 tri[2] = x.startInside ? c : b;
                 tri += 3;
             };
+            // Nearly always four leaves and no split vertex: a quad, split along the diagonal
+            // through the smallest leaf (the emitter), which no other polygon can share.
+            const uint64_t* ring = x.ringCell;
+            if (ring[0] != ring[1] && ring[1] != ring[2] && ring[2] != ring[3] && ring[3] != ring[0] &&
+                (x.split[0] & x.split[1] & x.split[2] & x.split[3]) == Crossing::kNoSplit) {
+                const int e = x.emitter;
+                const uint32_t i0 = index(x.ringVertex[e]), i1 = index(x.ringVertex[(e + 1) % 4]),
+                               i2 = index(x.ringVertex[(e + 2) % 4]), i3 = index(x.ringVertex[(e + 3) % 4]);
+                emit(i0, i1, i2);
+                emit(i0, i2, i3);
+                continue;
+            }
             // The dual polygon in ring order, with any split vertices on its sides.
             uint32_t n = 0;
             bool fan = false;
@@ -1328,8 +1340,7 @@ MeshBuffers SurfaceMesher::mesh() const {
             } else if (n == 3) {
                 emit(polygon[0], polygon[1], polygon[2]);
             } else {
-                // Split along the diagonal through the smallest leaf (the emitter). Four ring
-                // cells: `polygon` holds their vertices in ring order.
+                // A quad as above (four ring cells: `polygon` holds their vertices in ring order).
                 const int e = x.emitter;
                 const uint32_t i0 = polygon[e], i1 = polygon[(e + 1) % 4], i2 = polygon[(e + 2) % 4], i3 = polygon[(e + 3) % 4];
                 emit(i0, i1, i2);
