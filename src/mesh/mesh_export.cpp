@@ -79,14 +79,28 @@ void writePly(const MeshBuffers& m, ByteWriter& out) {
     if (!m.colours.empty()) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     header += "element face " + std::to_string(m.triangleCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
     out.text(header);
-    for (std::size_t i = 0; i < m.vertexCount(); ++i) {
+    // Readers built on assimp (5.2, Debian's) drop a line end or blank that starts the binary
+    // data, and read every value after it one byte off (assimp issue #5341): the vertex written
+    // first is one whose first byte (x's lowest) is none of those, swapped with vertex 0.
+    auto safeFirst = [&](std::size_t i) {
+        uint32_t bits;
+        std::memcpy(&bits, &m.positions[i].x, sizeof bits);
+        const uint8_t b = uint8_t(bits);
+        return b != '\n' && b != '\r' && b != ' ' && b != '\t';
+    };
+    std::size_t first = 0;
+    while (first < m.vertexCount() && !safeFirst(first)) ++first;
+    if (first == m.vertexCount()) first = 0;
+    auto slot = [&](std::size_t i) { return i == 0 ? first : i == first ? 0 : i; };  // its own inverse
+    for (std::size_t k = 0; k < m.vertexCount(); ++k) {
+        const std::size_t i = slot(k);
         out.put(m.positions[i]);
         if (!m.normals.empty()) out.put(m.normals[i]);
         if (!m.colours.empty()) out.put(m.colours[i]);
     }
     for (std::size_t t = 0; t < m.triangleCount(); ++t) {
         out.put(uint8_t(3));
-        for (int k = 0; k < 3; ++k) out.put(int32_t(m.indices[3 * t + k]));
+        for (int k = 0; k < 3; ++k) out.put(int32_t(slot(m.indices[3 * t + k])));
     }
 }
 
