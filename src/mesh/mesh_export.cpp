@@ -79,9 +79,10 @@ void writePly(const MeshBuffers& m, ByteWriter& out) {
     if (!m.colours.empty()) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
     header += "element face " + std::to_string(m.triangleCount()) + "\nproperty list uchar int vertex_indices\nend_header\n";
     out.text(header);
-    // Readers built on assimp (5.2, Debian's) drop a line end or blank that starts the binary
-    // data, and read every value after it one byte off (assimp issue #5341): the vertex written
-    // first is one whose first byte (x's lowest) is none of those, swapped with vertex 0.
+    // Readers built on assimp (5.2, Debian's) drop a line feed that starts the binary data, and
+    // read every value after it one byte off (assimp issue #5341; older versions skipped any
+    // blank): the vertex written first is one whose first byte (x's lowest) is no line end or
+    // blank, swapped with vertex 0.
     auto safeFirst = [&](std::size_t i) {
         uint32_t bits;
         std::memcpy(&bits, &m.positions[i].x, sizeof bits);

@@ -46,7 +46,7 @@ struct CellLoc {
 ///   ask about the same blocks (136k distinct of 313k asks on the level-10 test part). Where
 ///   the leaf is no smaller than the block it holds the whole block (cells nest); where it is
 ///   smaller, so is the leaf at any point of the block. Direct-mapped: a collision only costs
-///   a search.
+///   a search (callers copy what they need before the next lookup).
 /// - the path of the last search: a search near it climbs only to their common cell. It keeps
 ///   node indices only: a cell's size and origin follow from its depth and the point, and a
 ///   child's index from one bit per axis (sizes are powers of two: shifts, no divisions).
@@ -267,13 +267,6 @@ VertexScratch& vertexScratch() {
     return s;
 }
 
-/// Incidences of cell-owner `tm` during a build: crossings in its own pool and its neighbours'
-/// border lists that have a leaf owned by it, into s.inc grouped by cell in walk order (cell
-/// i's run is [s.cellBegin[i], s.cellBegin[i + 1]), its key s.rankKey[i]), each cell's sorted
-/// by crossing key. A counting sort: cells are numbered through tm.cellVertex (which maps them
-/// to their first vertex later), the tile's boundary leaves in their order and other cells as
-/// met, then merged in; each cell's handful of incidences is sorted by insertion. A boundary
-/// leaf may get an empty run (its crossings all leave the domain).
 /// A build's tiles by key: a flat index (std::unordered_map's lookups took 1.4 % of a build).
 struct TileIndex {
     FlatMap64 position;  ///< key -> index in `tiles`
@@ -284,6 +277,13 @@ struct TileIndex {
     }
 };
 
+/// Incidences of cell-owner `tm` during a build: crossings in its own pool and its neighbours'
+/// border lists that have a leaf owned by it, into s.inc grouped by cell in walk order (cell
+/// i's run is [s.cellBegin[i], s.cellBegin[i + 1]), its key s.rankKey[i]), each cell's sorted
+/// by crossing key. A counting sort: cells are numbered through tm.cellVertex (which maps them
+/// to their first vertex later), the tile's boundary leaves in their order and other cells as
+/// met, then merged in; each cell's handful of incidences is sorted by insertion. A boundary
+/// leaf may get an empty run (its crossings all leave the domain).
 void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const std::vector<uint64_t>& nbrs,
                       VertexScratch& s) {
     // The crossings read: the tile's own, and the runs of its neighbours' border lists naming it.
@@ -315,7 +315,7 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
     uint32_t* metCell = s.metCell.data();
     std::pair<uint64_t, uint32_t>* cellsMet = s.cells.data();
     // Nearly every cell is a boundary leaf of the tile: those are numbered first, in their
-    // (key) order, so only the few others need sorting in (sorting every cell took 2 % of a build).
+    // (walk) order, so only the few others need sorting in (sorting every cell took 2 % of a build).
     const uint32_t nLeaves = uint32_t(tm.leaves.size());
     uint32_t nMet = 0, nCells = nLeaves, nExtra = 0;
     tm.cellVertex.clear();
@@ -466,12 +466,11 @@ void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
 }
 
 /// The 12 edges of a cell in the order crossings are emitted: start and end corner, axis, the
-/// quadrant the cell fills around the edge, and per quadrant the step from the edge's start to
-/// the unit cube next to it there (-1 along a and/or b).
+/// quadrant the cell fills around the edge, and per quadrant the step back from the edge's
+/// start to the unit cube next to it there (1 along a and/or b), packed (packLattice).
 struct CellEdge {
     uint8_t c0, c1, axis, a, b, mine;
-    glm::uvec3 step[4];
-    uint64_t packedStep[4];  ///< packLattice(step[q])
+    uint64_t packedStep[4];
 };
 /// Quadrant q lies on the -a (-b) side of an edge.
 constexpr bool kMinusA[4] = {false, true, true, false}, kMinusB[4] = {false, false, true, true};
@@ -485,12 +484,11 @@ constexpr std::array<CellEdge, 12> kCellEdges = [] {
             const bool plusA = !((c0 >> a) & 1), plusB = !((c0 >> b) & 1);
             const int mine = plusA ? (plusB ? 0 : 3) : (plusB ? 1 : 2);
             CellEdge& x = e[i++];
-            x = {uint8_t(c0), uint8_t(c0 | (1 << k)), uint8_t(k), uint8_t(a), uint8_t(b), uint8_t(mine), {}, {}};
+            x = {uint8_t(c0), uint8_t(c0 | (1 << k)), uint8_t(k), uint8_t(a), uint8_t(b), uint8_t(mine), {}};
             for (int q = 0; q < 4; ++q) {
                 uint32_t d[3] = {0, 0, 0};
                 d[a] = kMinusA[q];
                 d[b] = kMinusB[q];
-                x.step[q] = glm::uvec3(d[0], d[1], d[2]);
                 x.packedStep[q] = uint64_t(d[0]) | (uint64_t(d[1]) << 20) | (uint64_t(d[2]) << 40);  // packLattice
             }
         }
@@ -535,7 +533,8 @@ constexpr std::array<uint8_t, 256> kOneSheetEdges = [] {
             for (int side = 0; side < 2; ++side) {
                 int on[4], m = 0;
                 for (int i = 0; i < 12; ++i)
-                    if (((edges >> i) & 1) && kCellEdges[i].axis != j && ((kCellEdges[i].c0 >> j) & 1) == side) on[m++] = i;
+                    if (((edges >> i) & 1) && kCellEdges[i].axis != j && ((kCellEdges[i].c0 >> j) & 1) == side)
+                        on[m++] = i;
                 if (m == 4) ambiguous = true;
                 if (m == 2 && find(on[0]) != find(on[1])) {
                     parent[find(on[0])] = uint8_t(find(on[1]));
@@ -637,8 +636,9 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             // Any one of these settles it, so siblings are asked first and lookups stop at the
             // first; only where a quadrant leaves the domain does the quadrant order decide
             // (whether the crossing is counted open).
-            const CellLoc* ring[4];
-            CellLoc siblings[4];
+            // The ring as found (copied at once: a later lookup may reuse the cache entry).
+            uint64_t ringCell[4], ringOwner[4];
+            uint32_t ringLevel[4];
             const uint32_t others = 0xfu & ~(1u << mine);
             const uint32_t asks = openAt ? others : (siblingAt & others) | ((~siblingAt & others) << 4);  // in order
             bool skip = false, open = false;
@@ -649,12 +649,17 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                     break;
                 }
                 if ((siblingAt >> q) & 1) {
-                    siblings[q] = {block[q], tileKey, leaf.size, leafLevel};
-                    ring[q] = &siblings[q];
+                    ringCell[q] = block[q];
+                    ringOwner[q] = tileKey;
+                    ringLevel[q] = leafLevel;
+                    skip = q < mine;
                 } else {
-                    ring[q] = &locator.locate(block[q], leaf.size);
+                    const CellLoc& found = locator.locate(block[q], leaf.size);
+                    ringCell[q] = found.cell;
+                    ringOwner[q] = found.owner;
+                    ringLevel[q] = found.level;
+                    skip = found.size < leaf.size || (found.size == leaf.size && q < mine);
                 }
-                skip = ring[q]->size < leaf.size || (ring[q]->size == leaf.size && q < mine);
             }
             if (open) {
                 ++st.openCrossings;
@@ -668,12 +673,13 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             x.axis = uint8_t(k);
             x.startInside = (inside >> c0) & 1;
             x.emitter = uint8_t(mine);
-            const CellLoc self{origin, tileKey, leaf.size, leafLevel};
-            ring[mine] = &self;
+            ringCell[mine] = origin;
+            ringOwner[mine] = tileKey;
+            ringLevel[mine] = leafLevel;
             for (int q = 0; q < 4; ++q) {
-                x.ringCell[q] = ring[q]->cell;
-                x.ringOwner[q] = ring[q]->owner;
-                x.ringLevel[q] = uint8_t(ring[q]->level);
+                x.ringCell[q] = ringCell[q];
+                x.ringOwner[q] = ringOwner[q];
+                x.ringLevel[q] = uint8_t(ringLevel[q]);
             }
             const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
             const float t = v0 / (v0 - v1);
@@ -818,7 +824,9 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
             for (uint32_t f = 0; f < nf; ++f) faces[f] = {inc[f / 2].x->ringCell[faceRing(f)], faceRing(f), f / 2};
         }
         // Group the entries by face (stable: within a face they stay in crossing order).
-        auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) { return l.neighbour < r.neighbour; };
+        auto before = [](const CellScratch::FaceEntry& l, const CellScratch::FaceEntry& r) {
+            return l.neighbour < r.neighbour;
+        };
         if (paired) {
             // done
         } else if (nf > 32) {
@@ -1233,6 +1241,7 @@ MeshBuffers SurfaceMesher::mesh() const {
             for (const auto& [e, l] : mf.segments) split.insert(split.end(), {e.x, l.x});
     sortUnique(split);
     for (const Crossing* x : split) {
+        if (!x->alive) continue;  // as the triangles below
         const PolygonShape ps = polygonShape(*x);
         if (!ps.fan) continue;
         Share& sh = share[mTiles.at(x->ringOwner[x->emitter])->share];
@@ -1328,6 +1337,8 @@ MeshBuffers SurfaceMesher::mesh() const {
             }
             if (fan) {
                 // Fan around a new centre: its edges cannot coincide with any other.
+                if (centre == share[t].centreOffset + share[t].centres)
+                    throw std::logic_error("surface nets: a tile's fans exceed its count");
                 glm::vec3 c(0.0f), nsum(0.0f);
                 for (uint32_t i = 0; i < n; ++i) {
                     c += m.positions[polygon[i]];

@@ -190,8 +190,10 @@ TEST_F(MeshExport, AssimpReadsBackPaintedVertexColours) {
     }
 }
 
-/// assimp drops a line end or blank that starts a binary PLY's data and reads the rest one byte
-/// off (assimp issue #5341): the writer puts first a vertex whose first byte is none of those.
+/// assimp (Debian's 5.2.5) drops a line feed that starts a binary PLY's data and reads the rest
+/// one byte off (assimp issue #5341): the writer puts first a vertex whose first byte is no line
+/// end or blank (older versions skipped those too). The first byte of every other value was
+/// checked against this assimp: only the line feed breaks it.
 TEST_F(MeshExport, AssimpReadsBackAPlyWhoseFirstVertexStartsWithALineEnd) {
     adf::Domain d;
     d.maxLevel = 5;
@@ -199,21 +201,18 @@ TEST_F(MeshExport, AssimpReadsBackAPlyWhoseFirstVertexStartsWithALineEnd) {
     MeshBuffers mesh = meshAdf(test::paintedAbove(
         adf::generate(*adf::makeTranslated(adf::makeSphere(0.3), glm::dvec3(0.5)), d, adf::GenerationSettings{}),
         adf::Rgb8(30, 60, 220), 0.5));
-    for (const char first : {'\n', '\r', ' '}) {
-        SCOPED_TRACE(int(first));
-        uint32_t bits = std::bit_cast<uint32_t>(mesh.positions[0].x);
-        mesh.positions[0].x = std::bit_cast<float>((bits & ~0xffu) | uint8_t(first));  // a few ulps off
-        const std::string path = (mDir / "first.ply").string();
-        exportMesh(mesh, path);
-        const test::AssimpColours read = test::assimpColours(path);
-        ASSERT_EQ(read.positions.size(), mesh.vertexCount());
-        for (std::size_t i = 0; i < read.positions.size(); ++i) {  // the dump prints 6 digits
-            std::size_t found = mesh.vertexCount();
-            for (std::size_t j = 0; j < mesh.vertexCount() && found == mesh.vertexCount(); ++j)
-                if (glm::distance(read.positions[i], mesh.positions[j]) < 1e-5f) found = j;
-            ASSERT_LT(found, mesh.vertexCount()) << "read vertex " << i << " is none written";
-            EXPECT_EQ(glm::vec3(mesh.colours[found]), glm::round(read.colours[i] * 255.0f)) << "vertex " << i;
-        }
+    const uint32_t bits = std::bit_cast<uint32_t>(mesh.positions[0].x);
+    mesh.positions[0].x = std::bit_cast<float>((bits & ~0xffu) | uint8_t('\n'));  // a few ulps off
+    const std::string path = (mDir / "first.ply").string();
+    exportMesh(mesh, path);
+    const test::AssimpColours read = test::assimpColours(path);
+    ASSERT_EQ(read.positions.size(), mesh.vertexCount());
+    for (std::size_t i = 0; i < read.positions.size(); ++i) {  // the dump prints 6 digits
+        std::size_t found = mesh.vertexCount();
+        for (std::size_t j = 0; j < mesh.vertexCount() && found == mesh.vertexCount(); ++j)
+            if (glm::distance(read.positions[i], mesh.positions[j]) < 1e-5f) found = j;
+        ASSERT_LT(found, mesh.vertexCount()) << "read vertex " << i << " is none written";
+        EXPECT_EQ(glm::vec3(mesh.colours[found]), glm::round(read.colours[i] * 255.0f)) << "vertex " << i;
     }
 }
 

@@ -250,7 +250,9 @@ TEST(SurfaceNets, IncrementalRemeshEqualsFullMeshAcrossTileCorners) {
 TEST(SurfaceNets, ASurfaceLeavingTheDomainMeshesOpenThereAndUpdatesEqualAFullMesh) {
     // Spheres through the domain's faces and along an edge, and two smaller than a cell at its
     // corners: crossings there are left open, and a boundary leaf whose only sign changes lie
-    // on the domain's border gets no vertex.
+    // on the domain's border gets no vertex, nor an entry in its tile's cell index (one corner's
+    // tile holds another sphere, so the tile stays, and the dab at that corner re-meshes the
+    // cell: a stale entry would release the other sphere's vertex).
     const Domain d = unitDomain(6, 3);
     const double h = d.finestCellSize();
     util::ThreadPool pool(2);
@@ -258,6 +260,7 @@ TEST(SurfaceNets, ASurfaceLeavingTheDomainMeshesOpenThereAndUpdatesEqualAFullMes
                              makeTranslated(makeSphere(0.15), {0.0, 0.0, 0.5}));
     for (const glm::dvec3 corner : {glm::dvec3(0.0), glm::dvec3(1.0)})
         part = makeCsg(CsgOp::Union, part, makeTranslated(makeSphere(0.6 * h), corner));
+    part = makeCsg(CsgOp::Union, part, makeTranslated(makeSphere(2.2 * h), glm::dvec3(4.5 * h)));
     AdfPtr a = generate(*part, d, GenerationSettings{}, &pool);
     SurfaceMesher mesher(&pool);
     mesher.build(a);
