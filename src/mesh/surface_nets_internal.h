@@ -160,14 +160,17 @@ struct SurfaceMesher::TileMesh {
     uint32_t share = 0;  ///< the tile's position in the assembly's order
 
     uint32_t allocateVertex() {
+        // Copied from a blank record: a record zeroed in place compiled to `rep stos`, whose
+        // start-up took 6 % of a build's cell phase.
+        static const detail::Vertex kBlank{};
         ++liveVertices;
         if (freeVertices.empty()) {
-            vertices.emplace_back();
+            vertices.push_back(kBlank);
             return uint32_t(vertices.size() - 1);
         }
         const uint32_t i = freeVertices.back();
         freeVertices.pop_back();
-        vertices[i] = detail::Vertex{};
+        vertices[i] = kBlank;
         return i;
     }
     void releaseVertex(uint32_t i) {
