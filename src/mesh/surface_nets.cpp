@@ -131,9 +131,8 @@ inline uint32_t insideCorners(const float* c) {
 }
 
 inline bool isBoundary(const float* c) {
-    bool anyIn = false, anyOut = false;
-    for (int i = 0; i < 8; ++i) (c[i] < 0.0f ? anyIn : anyOut) = true;
-    return anyIn && anyOut;
+    const uint32_t inside = insideCorners(c);
+    return inside != 0 && inside != 0xffu;
 }
 
 template <class T>
@@ -368,8 +367,8 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
         const glm::uvec3 o = tm.tile->latticeOrigin();
         const int bits = maxLevel - tm.tile->level();
         auto order = [&](uint64_t key) { return walkOrder(unpackLattice(key) - o, bits); };
-        std::vector<std::pair<uint64_t, uint32_t>> extras(nExtra);  // (walk order, number)
-        for (uint32_t j = 0; j < nExtra; ++j) extras[j] = {order(cellsMet[j].first), cellsMet[j].second};
+        std::vector<std::pair<uint64_t, uint32_t>> extras(nExtra);  // (walk order, index in cellsMet)
+        for (uint32_t j = 0; j < nExtra; ++j) extras[j] = {order(cellsMet[j].first), j};
         std::sort(extras.begin(), extras.end());
         std::vector<uint64_t> leafKeys(s.rankKey.begin(), s.rankKey.end());
         s.rankKey.resize(cells);
@@ -379,8 +378,9 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
                 s.rank[leaf] = r;
                 s.rankKey[r] = leafKeys[leaf++];
             } else {
-                s.rank[extras[extra].second] = r;
-                s.rankKey[r] = cellsMet[extras[extra++].second - nLeaves].first;
+                const auto& [key, number] = cellsMet[extras[extra++].second];
+                s.rank[number] = r;
+                s.rankKey[r] = key;
             }
         }
     }
@@ -489,7 +489,7 @@ constexpr std::array<CellEdge, 12> kCellEdges = [] {
                 uint32_t d[3] = {0, 0, 0};
                 d[a] = kMinusA[q];
                 d[b] = kMinusB[q];
-                x.packedStep[q] = uint64_t(d[0]) | (uint64_t(d[1]) << 20) | (uint64_t(d[2]) << 40);  // packLattice
+                x.packedStep[q] = packLattice({d[0], d[1], d[2]});
             }
         }
     return e;
@@ -497,7 +497,7 @@ constexpr std::array<CellEdge, 12> kCellEdges = [] {
 /// Corner c's offset from a cell's origin in a cell's size, packed (packLattice).
 constexpr std::array<uint64_t, 8> kPackedCorner = [] {
     std::array<uint64_t, 8> t{};
-    for (uint64_t c = 0; c < 8; ++c) t[c] = (c & 1) | (((c >> 1) & 1) << 20) | ((c >> 2) << 40);  // packLattice
+    for (uint32_t c = 0; c < 8; ++c) t[c] = packLattice({c & 1, (c >> 1) & 1, c >> 2});
     return t;
 }();
 /// Bit i: edge i of kCellEdges changes sign, by the cell's inside corners (bit c: corner c).
@@ -1193,7 +1193,7 @@ inline PolygonShape polygonShape(const Crossing& x) {
         }
     }
     if (split) return {corners, true};
-    return {corners == 3 ? 1u : 2u, false};
+    return {plainTriangles(x), false};
 }
 
 }  // namespace
@@ -1313,16 +1313,20 @@ MeshBuffers SurfaceMesher::mesh() const {
                 tri[2] = x.startInside ? c : b;
                 tri += 3;
             };
-            // Nearly always four leaves and no split vertex: a quad, split along the diagonal
+            // A quad (its four ring cells' vertices in ring order) is split along the diagonal
             // through the smallest leaf (the emitter), which no other polygon can share.
+            auto quad = [&](const uint32_t* v) {
+                const int e = x.emitter;
+                emit(v[e], v[(e + 1) % 4], v[(e + 2) % 4]);
+                emit(v[e], v[(e + 2) % 4], v[(e + 3) % 4]);
+            };
+            // Nearly always four leaves and no split vertex: straight to the quad.
             const uint64_t* ring = x.ringCell;
             if (ring[0] != ring[1] && ring[1] != ring[2] && ring[2] != ring[3] && ring[3] != ring[0] &&
                 (x.split[0] & x.split[1] & x.split[2] & x.split[3]) == Crossing::kNoSplit) {
-                const int e = x.emitter;
-                const uint32_t i0 = index(x.ringVertex[e]), i1 = index(x.ringVertex[(e + 1) % 4]),
-                               i2 = index(x.ringVertex[(e + 2) % 4]), i3 = index(x.ringVertex[(e + 3) % 4]);
-                emit(i0, i1, i2);
-                emit(i0, i2, i3);
+                const uint32_t v[4] = {index(x.ringVertex[0]), index(x.ringVertex[1]), index(x.ringVertex[2]),
+                                       index(x.ringVertex[3])};
+                quad(v);
                 continue;
             }
             // The dual polygon in ring order, with any split vertices on its sides.
@@ -1351,11 +1355,7 @@ MeshBuffers SurfaceMesher::mesh() const {
             } else if (n == 3) {
                 emit(polygon[0], polygon[1], polygon[2]);
             } else {
-                // A quad as above (four ring cells: `polygon` holds their vertices in ring order).
-                const int e = x.emitter;
-                const uint32_t i0 = polygon[e], i1 = polygon[(e + 1) % 4], i2 = polygon[(e + 2) % 4], i3 = polygon[(e + 3) % 4];
-                emit(i0, i1, i2);
-                emit(i0, i2, i3);
+                quad(polygon);  // four ring cells
             }
         }
         if (tri != triEnd || centre != share[t].centreOffset + share[t].centres)

@@ -25,7 +25,7 @@ namespace kizamu::mesh {
 namespace detail {
 
 /// 20 bits per axis: lattice coordinates stay below 2^16 + 1.
-inline uint64_t packLattice(glm::uvec3 p) {
+constexpr uint64_t packLattice(glm::uvec3 p) {
     return uint64_t(p.x) | (uint64_t(p.y) << 20) | (uint64_t(p.z) << 40);
 }
 inline glm::uvec3 unpackLattice(uint64_t k) {
