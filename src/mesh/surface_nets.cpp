@@ -30,11 +30,10 @@ using namespace detail;
 
 namespace {
 
-/// A leaf as a crossing records it: packed origins of the leaf and of its tile (what the ring
-/// arrays hold), size in lattice units, level.
+/// A leaf as a crossing records it: packed origin (what the ring array holds), size in
+/// lattice units, level.
 struct CellLoc {
     uint64_t cell;
-    uint64_t owner;
     uint32_t size;
     uint32_t level;
 };
@@ -98,8 +97,7 @@ private:
         }
         const int depth = mDepth - 1 + int(adf::node::isBrick(w));  // a brick: its child holding p
         const uint32_t shift = uint32_t(mRootShift - depth);
-        return {packLattice((p >> shift) << shift), packLattice(mTile->latticeOrigin()), 1u << shift,
-                uint32_t(mTile->level() + depth)};
+        return {packLattice((p >> shift) << shift), 1u << shift, uint32_t(mTile->level() + depth)};
     }
 
     const Adf& mAdf;
@@ -178,7 +176,7 @@ bool pairOnFace(glm::uvec3 loA, uint32_t sizeA, glm::uvec3 loB, uint32_t sizeB,
     std::vector<Item> items;
     for (uint32_t i = 0; i < xs.size(); ++i) {
         const Crossing& x = *xs[i];
-        glm::dvec3 mid(x.start);
+        glm::dvec3 mid(x.start());
         mid[x.axis] += 0.5 * x.length;
         const bool in0 = x.startInside;
         Item it{0.0, false, i};
@@ -330,18 +328,22 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
         met[nMet] = {x.ringCell[q], key, &x, first, last};
         metCell[nMet++] = number;
     };
-    auto take = [&](Crossing& x) {
+    // In locals: the writes through `add` could alias tm's fields.
+    const uint64_t tileKey = tm.key, outside = tm.outside;
+    auto owned = [&](uint64_t cell) { return ((cell - tileKey) & outside) == 0; };  // as TileMesh::ownsCell
+    // Inlined: called out of line, it kept nothing in registers (+11 % instructions here).
+    auto take = [&](Crossing& x) __attribute__((always_inline)) {
         const uint64_t key = x.key();
         // A leaf fills a run of adjacent quadrants: nearly always one each (four leaves).
         const uint64_t* c = x.ringCell;
         if (c[0] != c[1] && c[1] != c[2] && c[2] != c[3] && c[3] != c[0]) {
             for (int q = 0; q < 4; ++q)
-                if (x.ringOwner[q] == tm.key) add(x, key, q, uint8_t(q), uint8_t(q));
+                if (owned(c[q])) add(x, key, q, uint8_t(q), uint8_t(q));
             return;
         }
         uint8_t done = 0;
         for (int q = 0; q < 4; ++q) {
-            if (x.ringOwner[q] != tm.key || ((done >> q) & 1)) continue;
+            if (!owned(c[q]) || ((done >> q) & 1)) continue;
             uint8_t first, last;
             incidenceRun(x, q, first, last);
             for (uint8_t r = first;; r = uint8_t((r + 1) % 4)) {
@@ -459,10 +461,12 @@ void neighbourKeys(const Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vector<ui
             }
 }
 
-void slotBox(const Adf& adf, const Tile& t, glm::uvec3& lo, glm::uvec3& end) {
+void setTile(const Adf& adf, const Tile& t, TileMesh& tm) {
     const uint32_t shift = uint32_t(adf.domain().maxLevel - adf.domain().tileLevel());
-    lo = t.latticeOrigin() >> shift;
-    end = lo + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
+    tm.tile = &t;
+    tm.slotMin = t.latticeOrigin() >> shift;
+    tm.slotEnd = tm.slotMin + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
+    tm.outside = ~packLattice(glm::uvec3((1u << uint32_t(adf.domain().maxLevel - t.level())) - 1));
 }
 
 /// The 12 edges of a cell in the order crossings are emitted: start and end corner, axis, the
@@ -573,7 +577,7 @@ constexpr std::array<BrickEdges, 8> kBrickEdges = [] {
 }();
 
 template <class Out>
-void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves, Out& out,
+void computeCrossings(const Adf& adf, const std::vector<BoundaryCell>& leaves, Out& out,
                       SurfaceNetsStats& st, StartFilter filter) {
     const uint32_t top = adf.domain().latticeSize();
     const int maxLevel = adf.domain().maxLevel;
@@ -637,7 +641,7 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             // first; only where a quadrant leaves the domain does the quadrant order decide
             // (whether the crossing is counted open).
             // The ring as found (copied at once: a later lookup may reuse the cache entry).
-            uint64_t ringCell[4], ringOwner[4];
+            uint64_t ringCell[4];
             uint32_t ringLevel[4];
             const uint32_t others = 0xfu & ~(1u << mine);
             const uint32_t asks = openAt ? others : (siblingAt & others) | ((~siblingAt & others) << 4);  // in order
@@ -650,13 +654,11 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
                 }
                 if ((siblingAt >> q) & 1) {
                     ringCell[q] = block[q];
-                    ringOwner[q] = tileKey;
                     ringLevel[q] = leafLevel;
                     skip = q < mine;
                 } else {
                     const CellLoc& found = locator.locate(block[q], leaf.size);
                     ringCell[q] = found.cell;
-                    ringOwner[q] = found.owner;
                     ringLevel[q] = found.level;
                     skip = found.size < leaf.size || (found.size == leaf.size && q < mine);
                 }
@@ -668,17 +670,14 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
             if (skip) continue;
             Crossing& x = out.emplace_back();
             const glm::uvec3 p = unpackLattice(start);
-            x.start = p;
             x.length = leaf.size;
             x.axis = uint8_t(k);
             x.startInside = (inside >> c0) & 1;
             x.emitter = uint8_t(mine);
             ringCell[mine] = origin;
-            ringOwner[mine] = tileKey;
             ringLevel[mine] = leafLevel;
             for (int q = 0; q < 4; ++q) {
                 x.ringCell[q] = ringCell[q];
-                x.ringOwner[q] = ringOwner[q];
                 x.ringLevel[q] = uint8_t(ringLevel[q]);
             }
             const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
@@ -694,9 +693,9 @@ void computeCrossings(const Adf& adf, uint64_t tileKey, const std::vector<Bounda
     }
 }
 
-template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, std::vector<Crossing>&,
+template void computeCrossings(const Adf&, const std::vector<BoundaryCell>&, std::vector<Crossing>&,
                                SurfaceNetsStats&, StartFilter);
-template void computeCrossings(const Adf&, uint64_t, const std::vector<BoundaryCell>&, PoolAppender&,
+template void computeCrossings(const Adf&, const std::vector<BoundaryCell>&, PoolAppender&,
                                SurfaceNetsStats&, StartFilter);
 
 void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
@@ -1060,6 +1059,8 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     // only its tile's records and its own quadrants of other tiles' crossings, so neither the
     // thread nor the order changes a result.
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
+    // A cell's slot, packed: its origin without the bits below a slot's size.
+    const uint64_t slotMask = packLattice(glm::uvec3(0xfffffu << uint32_t(a.domain().maxLevel - a.domain().tileLevel())));
     auto nodes = [&](std::size_t i) { return scanTiles[i]->tile->nodeCount(); };
     assignHomes(scanTiles, nodes, mPool ? mPool->threadCount() : 1u);
     inHomes(mPool, scanTiles, nodes, [&](std::size_t i) {
@@ -1068,16 +1069,30 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         appendBoundaryCells(*tm.tile, a.domain().maxLevel, tm.leaves);  // in walk order
         scanStats[i].boundaryLeaves = tm.leaves.size();
         PoolAppender appender{tm.crossings};
-        computeCrossings(a, tm.key, tm.leaves, appender, scanStats[i]);
+        computeCrossings(a, tm.leaves, appender, scanStats[i]);
         tm.liveCrossings = tm.crossings.size();
-        tm.plainTriangles = 0;
+        uint32_t plain = 0;
+        // The tile of the last slot looked up: the cells beyond a tile's face mostly share one.
+        uint64_t lastSlot = ~uint64_t(0), lastOwner = 0;
+        const uint64_t tileKey = tm.key, outside = tm.outside;  // as ownsCell (push_back may alias tm)
         for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
             const Crossing& x = tm.crossings[j];
-            tm.plainTriangles += plainTriangles(x);
-            for (int q = 0; q < 4; ++q)
-                if (x.ringOwner[q] != tm.key && std::find(x.ringOwner, x.ringOwner + q, x.ringOwner[q]) == x.ringOwner + q)
-                    tm.border.push_back({x.ringOwner[q], j});
+            plain += plainTriangles(x);
+            uint64_t owners[4];
+            uint32_t n = 0;
+            for (int q = 0; q < 4; ++q) {
+                if (((x.ringCell[q] - tileKey) & outside) == 0) continue;
+                const uint64_t slot = x.ringCell[q] & slotMask;
+                if (slot != lastSlot) {
+                    lastSlot = slot;
+                    lastOwner = ownerKey(a, x.ringCell[q]);
+                }
+                if (std::find(owners, owners + n, lastOwner) != owners + n) continue;
+                owners[n++] = lastOwner;
+                tm.border.push_back({lastOwner, j});
+            }
         }
+        tm.plainTriangles = plain;
         std::sort(tm.border.begin(), tm.border.end());
     });
     st.tilesScanned = scanTiles.size();
@@ -1148,8 +1163,7 @@ SurfaceMesher::TileMesh* SurfaceMesher::ensureTile(uint64_t key) {
     if (packLattice(t->latticeOrigin()) != key) return nullptr;
     auto tm = std::make_unique<TileMesh>();
     tm->key = key;
-    tm->tile = t;
-    slotBox(a, *t, tm->slotMin, tm->slotEnd);
+    setTile(a, *t, *tm);
     TileMesh* raw = tm.get();
     mTiles.emplace(key, std::move(tm));
     return raw;
@@ -1244,7 +1258,7 @@ MeshBuffers SurfaceMesher::mesh() const {
         if (!x->alive) continue;  // as the triangles below
         const PolygonShape ps = polygonShape(*x);
         if (!ps.fan) continue;
-        Share& sh = share[mTiles.at(x->ringOwner[x->emitter])->share];
+        Share& sh = share[mTiles.at(ownerKey(*mAdf, x->ringCell[x->emitter]))->share];
         sh.triangles += ps.triangles - plainTriangles(*x);
         ++sh.centres;
     }
@@ -1292,7 +1306,7 @@ MeshBuffers SurfaceMesher::mesh() const {
         return t.offset + num[r.index];
     };
     auto splitIndex = [&](const Crossing& x, int q) {
-        const TileMesh& owner = *mTiles.at(x.faceOwner(q));
+        const TileMesh& owner = *mTiles.at(ownerKey(*mAdf, x.faceCell(q)));
         const std::size_t slot = owner.vertices.size() + x.split[q];
         if (owner.outNumber.empty() && x.split[q] < owner.splits.size()) return owner.offset + uint32_t(slot);
         return owner.offset + owner.outNumber.at(slot);

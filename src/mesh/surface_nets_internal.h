@@ -16,6 +16,8 @@
 #include "mesh/surface_nets.h"
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -32,49 +34,71 @@ inline glm::uvec3 unpackLattice(uint64_t k) {
     return {uint32_t(k & 0xfffff), uint32_t((k >> 20) & 0xfffff), uint32_t((k >> 40) & 0xfffff)};
 }
 
-/// A vertex's owner and index; filled in by the tile that owns the cell.
-struct VertexRef {
+/// A vertex's owner and index; filled in by the tile that owns the cell. Packed (12 bytes, no
+/// padding): a crossing holds four.
+struct __attribute__((packed, aligned(4))) VertexRef {
     SurfaceMesher::TileMesh* tile = nullptr;
     uint32_t index = 0;
 };
 
+/// Per axis and quadrant q of a leaf around an edge along it: the edge's start as a corner of
+/// the leaf, packed in its sizes (the leaf's +a (+b) side where q lies on the edge's -a (-b)
+/// side, q1 and q2 (q2 and q3); quadrants as Crossing's).
+constexpr auto kStartCorner = [] {
+    std::array<std::array<uint64_t, 4>, 3> t{};
+    for (uint32_t k = 0; k < 3; ++k)
+        for (uint32_t q = 0; q < 4; ++q) {
+            glm::uvec3 c(0);
+            c[(k + 1) % 3] = q == 1 || q == 2;
+            c[(k + 2) % 3] = q == 2 || q == 3;
+            t[k][q] = packLattice(c);
+        }
+    return t;
+}();
+
 /// One sign-changing minimal edge and the leaves around it. Quadrants q0..q3 turn
 /// counter-clockwise about +axis: (+a,+b), (-a,+b), (-a,-b), (+a,-b) with a, b the next axes.
-struct Crossing {
-    glm::uvec3 start{0};
+/// Two cache lines: a build writes and re-reads tens of thousands, and 64 bytes more cost 3 %
+/// of a build (docs/PERFORMANCE.md, "Twenty-third session"). So what follows from other fields
+/// is not stored: the start point (a corner of the emitting leaf) and the tiles holding the
+/// ring cells (ownerKey, TileMesh::ownsCell). The first line holds what the incidences are
+/// gathered from and what a cell reads, the second the vertex refs (all relaxation reads).
+struct alignas(64) Crossing {
     uint32_t length = 0;
     uint8_t axis = 0;
     uint8_t startInside = 0;  ///< start corner negative: the surface faces +axis
     uint8_t emitter = 0;      ///< quadrant of the smallest leaf (it emitted this record)
     uint8_t alive = 0;        ///< a slot of the pool in use
     uint8_t ringLevel[4] = {};
-    uint64_t ringCell[4] = {};   ///< packed leaf origins
-    uint64_t ringOwner[4] = {};  ///< packed origins of the tiles holding them
     glm::vec3 point{0.0f};       ///< zero crossing, lattice units
     uint32_t slot = 0;           ///< its index in the emitting tile's pool
+    uint64_t ringCell[4] = {};   ///< packed leaf origins
     VertexRef ringVertex[4];
     /// Extra vertex on the face between ring cells q and q+1, where that face carries two
     /// segments joining the same pair of vertices: its index in `splits` of the face's owner,
-    /// the tile of the smaller of the two cell keys (splitFaces), or kNoSplit. Nearly always
-    /// none: an index, not a VertexRef, keeps the record 48 bytes smaller.
+    /// the tile of the smaller of the two cell keys (faceCell), or kNoSplit. Nearly always
+    /// none: an index, not a VertexRef, keeps the record small.
     uint32_t split[4] = {kNoSplit, kNoSplit, kNoSplit, kNoSplit};
     static constexpr uint32_t kNoSplit = UINT32_MAX;
 
-    /// The tile owning the face between ring cells q and q + 1 (where split[q] lives).
-    uint64_t faceOwner(int q) const {
-        const int n = (q + 1) % 4;
-        return ringOwner[ringCell[q] < ringCell[n] ? q : n];
-    }
+    /// The start point, packed (packLattice): the emitting leaf's corner on the edge.
+    uint64_t packedStart() const { return ringCell[emitter] + uint64_t(length) * kStartCorner[axis][emitter]; }
+    glm::uvec3 start() const { return unpackLattice(packedStart()); }
+    /// The ring cell whose tile owns the face between ring cells q and q + 1 (where split[q]
+    /// lives): the smaller key.
+    uint64_t faceCell(int q) const { return std::min(ringCell[q], ringCell[(q + 1) % 4]); }
 
     /// Unique per minimal edge (one minimal edge starts at a point along an axis).
-    uint64_t key() const { return packLattice(start) | (uint64_t(axis) << 60); }
+    uint64_t key() const { return packedStart() | (uint64_t(axis) << 60); }
+    /// The same edge, surface direction, ring of leaves and point (the tiles holding the ring
+    /// cells are the caller's to compare where snapshots differ).
     bool sameAs(const Crossing& o) const {
-        return start == o.start && length == o.length && axis == o.axis && startInside == o.startInside &&
-               emitter == o.emitter && std::equal(ringLevel, ringLevel + 4, o.ringLevel) &&
-               std::equal(ringCell, ringCell + 4, o.ringCell) &&
-               std::equal(ringOwner, ringOwner + 4, o.ringOwner) && point == o.point;
+        return length == o.length && axis == o.axis && startInside == o.startInside && emitter == o.emitter &&
+               std::equal(ringLevel, ringLevel + 4, o.ringLevel) && std::equal(ringCell, ringCell + 4, o.ringCell) &&
+               point == o.point;
     }
 };
+static_assert(sizeof(Crossing) == 128 && offsetof(Crossing, ringVertex) == 64, "a crossing is two cache lines");
 
 /// Quadrants a cell occupies around a crossing, as a cyclic run first..last.
 struct Incidence {
@@ -127,6 +151,8 @@ struct SurfaceMesher::TileMesh {
     const adf::Tile* tile = nullptr;
     uint64_t key = 0;
     glm::uvec3 slotMin{0}, slotEnd{0};  ///< slots covered
+    /// Packed (packLattice): set where a cell's offset from `key` leaves the tile's box.
+    uint64_t outside = 0;
     unsigned home = 0;  ///< the pool thread that builds it and assembles its share (util::parallelForHomes)
     std::vector<BoundaryCell> leaves;   ///< during a build only, in walk order (walkOrder)
     SlotPool<detail::Crossing> crossings;  ///< emitted by this tile's leaves
@@ -158,6 +184,11 @@ struct SurfaceMesher::TileMesh {
     /// slot is released (the number is the slot).
     std::vector<uint32_t> outNumber;
     uint32_t share = 0;  ///< the tile's position in the assembly's order
+
+    /// Whether the cell at packed origin `cell` lies in this tile (any snapshot holding its
+    /// current tile). A packed difference borrows into the next field where a coordinate is
+    /// smaller, and sets a bit of `outside` either way.
+    bool ownsCell(uint64_t cell) const { return ((cell - key) & outside) == 0; }
 
     uint32_t allocateVertex() {
         // Copied from a blank record: a record zeroed in place compiled to `rep stos`, whose
@@ -192,8 +223,14 @@ namespace detail {
 
 using TileMesh = SurfaceMesher::TileMesh;
 
-/// Slots [lo, end) covered by tile `t`.
-void slotBox(const adf::Adf& adf, const adf::Tile& t, glm::uvec3& lo, glm::uvec3& end);
+/// Points `tm` at tile `t` (what its slot box and ownsCell follow).
+void setTile(const adf::Adf& adf, const adf::Tile& t, TileMesh& tm);
+
+/// The key of the tile holding the cell at packed origin `cell` in `adf`.
+inline uint64_t ownerKey(const adf::Adf& adf, uint64_t cell) {
+    const uint32_t shift = uint32_t(adf.domain().maxLevel - adf.domain().tileLevel());
+    return packLattice(adf.tileAtSlot(unpackLattice(cell) >> shift)->latticeOrigin());
+}
 
 /// Which edge start points a computation wants (an update: those on changed cells).
 struct StartFilter {
@@ -217,11 +254,11 @@ struct PoolAppender {
     }
 };
 
-/// The crossings emitted by `leaves` of the tile `tileKey` (any order), appended to `out`
+/// The crossings emitted by `leaves` of one tile (any order), appended to `out`
 /// (a std::vector<Crossing> or a PoolAppender); with a filter, only those whose start point it
 /// keeps (others are not looked at).
 template <class Out>
-void computeCrossings(const adf::Adf& adf, uint64_t tileKey, const std::vector<BoundaryCell>& leaves, Out& out,
+void computeCrossings(const adf::Adf& adf, const std::vector<BoundaryCell>& leaves, Out& out,
                       SurfaceNetsStats& st, StartFilter filter = {});
 
 /// Triangles of a crossing's polygon without split vertices: a triangle where a larger leaf

@@ -381,8 +381,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             t.lo = glm::uvec3(0);
             t.hi = glm::uvec3(UINT32_MAX);
         } else if (now != it->second->tile) {
-            it->second->tile = now;
-            slotBox(a, *now, it->second->slotMin, it->second->slotEnd);
+            setTile(a, *now, *it->second);
         }
     }
     std::vector<uint64_t> touchedKeys;
@@ -480,8 +479,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                     for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
                         // Another tile's crossing: only fields no task writes in this phase.
                         const Crossing& x = *tm.incidences[j].x;
-                        if (x.ringCell[x.emitter] != cell || x.ringOwner[x.emitter] != tm.key) continue;
-                        if (inBox(x.start, box.lo, box.hi) && changedAt.pointChanged(x.start)) old.emplace_back(x.key(), x.slot);
+                        if (x.ringCell[x.emitter] != cell || ownerKey(oldAdf, cell) != tm.key) continue;
+                        const glm::uvec3 start = x.start();
+                        if (inBox(start, box.lo, box.hi) && changedAt.pointChanged(start)) old.emplace_back(x.key(), x.slot);
                     }
                 }
             }
@@ -494,7 +494,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                                             return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
                                         },
                                         &changedAt};
-            computeCrossings(a, tm.key, leaves, fresh, out.st, onChanged);
+            computeCrossings(a, leaves, fresh, out.st, onChanged);
         }
         scanned.byCell.clear();
         if (current) {
@@ -533,7 +533,12 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             } else {
                 Crossing& x = tm.crossings[old[o].second];
                 const Crossing& y = fresh[order[f].second];
-                if (x.sameAs(y)) {
+                // The same record, and each ring cell in a tile of the same key: the vertex refs
+                // it keeps name the tiles that hold those cells now. (Generated coarse tiles are
+                // single leaves, so equal cells and levels imply it; a loaded file's need not be.)
+                bool same = x.sameAs(y);
+                for (int q = 0; q < 4 && same; ++q) same = ownerKey(oldAdf, x.ringCell[q]) == ownerKey(a, x.ringCell[q]);
+                if (same) {
                     out.kept.push_back(&x);
                 } else {
                     remove(old[o].second);
@@ -578,14 +583,14 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         st.openCrossings += s.st.openCrossings;
         st.crossingsComputed += s.st.crossingsComputed;
         for (Crossing* x : s.removed)
-            for (int q = 0; q < 4; ++q) queueCell(x->ringOwner[q], x->ringCell[q]);
+            for (int q = 0; q < 4; ++q) queueCell(ownerKey(oldAdf, x->ringCell[q]), x->ringCell[q]);
         for (Crossing* x : s.added)
             for (int q = 0; q < 4; ++q)
                 if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
-                    addedAt.emplace_back(queueCell(x->ringOwner[q], x->ringCell[q]), x);
+                    addedAt.emplace_back(queueCell(ownerKey(a, x->ringCell[q]), x->ringCell[q]), x);
         for (Crossing* x : s.kept)
             for (int q = 0; q < 4; ++q)
-                if (changedAt.unitChanged(unpackLattice(x->ringCell[q]))) queueCell(x->ringOwner[q], x->ringCell[q]);
+                if (changedAt.unitChanged(unpackLattice(x->ringCell[q]))) queueCell(ownerKey(a, x->ringCell[q]), x->ringCell[q]);
     }
     std::sort(tasks.begin(), tasks.end());
     // Added crossings by task (a counting sort): task i's are added[addedBegin[i]..addedBegin[i + 1]).

@@ -247,6 +247,34 @@ TEST(SurfaceNets, IncrementalRemeshEqualsFullMeshAcrossTileCorners) {
     }
 }
 
+TEST(SurfaceNets, UpdatesBetweenUnrelatedSnapshotsWithCoarseTilesEqualAFullMesh) {
+    // Crossings do not store which tiles hold their ring cells: that follows from the cells
+    // and the snapshot. Here whole regions go from coarse tiles (empty space) to fine ones and
+    // back, so the tile holding a cell changes while the cell's key may not.
+    const Domain d = unitDomain(7, 3);
+    util::ThreadPool pool(2);
+    const SourcePtr left = makeTranslated(makeSphere(0.13), {0.3, 0.32, 0.3});
+    const SourcePtr right = makeTranslated(makeTorus(0.12, 0.05), {0.68, 0.7, 0.66});
+    const std::vector<SourcePtr> shapes{left, makeCsg(CsgOp::Union, left, right), right,
+                                        makeTranslated(makeBox({0.45, 0.45, 0.04}), glm::dvec3(0.5)), left};
+    SurfaceMesher mesher(&pool);
+    std::size_t coarse = 0;
+    for (std::size_t i = 0; i < shapes.size(); ++i) {
+        const AdfPtr a = generate(*shapes[i], d, GenerationSettings{}, &pool);
+        coarse += a->computeStats().coarseTiles;
+        if (i == 0) {
+            mesher.build(a);
+            continue;
+        }
+        mesher.update(a);
+        const MeshBuffers spliced = mesher.mesh();
+        const MeshBuffers fresh = mesh::meshAdf(a, &pool);
+        ASSERT_TRUE(test::closedOrientedManifold(spliced)) << "snapshot " << i;
+        EXPECT_TRUE(test::canonical(spliced) == test::canonical(fresh)) << "snapshot " << i;
+    }
+    EXPECT_GT(coarse, 0u) << "no snapshot had coarse tiles: the case is untested";
+}
+
 TEST(SurfaceNets, ASurfaceLeavingTheDomainMeshesOpenThereAndUpdatesEqualAFullMesh) {
     // Spheres through the domain's faces and along an edge, and two smaller than a cell at its
     // corners: crossings there are left open, and a boundary leaf whose only sign changes lie
