@@ -410,11 +410,13 @@ void computeVertices(const Adf& adf, const TileIndex& tiles,
     const std::vector<uint32_t>& cellBegin = scratchAll.cellBegin;
     const std::size_t cells = cellBegin.size() - 1;
     tm.vertices.clear();
+    tm.projected.clear();
     tm.freeVertices.clear();
     tm.liveVertices = 0;
     tm.incidences.clear();
     tm.multiFaces.clear();
     tm.vertices.reserve(cells + cells / 8);  // a few cells hold several sheets
+    tm.projected.reserve(cells + cells / 8);
     tm.incidences.reserve(inc.size());       // each incidence goes to one vertex
     CellScratch& scratch = scratchAll.cell;
     scratch.freshCrossings = true;  // a build made every crossing this phase reads
@@ -924,7 +926,7 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
         }
         v.incEnd = uint32_t(tm.incidences.size());
         mass /= float(v.incEnd - v.incBegin);
-        v.projected = projectOnce(v, projectOnce(v, mass));
+        tm.projected[vi].point = projectOnce(v, projectOnce(v, mass));
     }
     return madeAt[0];
 }
@@ -956,12 +958,13 @@ void splitFaces(TileMesh& tm) {
     }
 }
 
-void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked) {
+void relaxVertex(TileMesh& tm, uint32_t vi, UnmarkedNeighbours unmarked) {
+    Vertex& v = tm.vertices[vi];
     auto projectedAt = [&](const VertexRef& r) -> const glm::vec3& {
         if (!r.tile) throw std::logic_error("surface nets: a neighbouring vertex was not computed");
-        const Vertex& w = r.tile->vertices[r.index];
+        const Projected& w = r.tile->projected[r.index];
         if (unmarked.out && w.relaxStamp != unmarked.mark) unmarked.out->push_back(r);
-        return w.projected;
+        return w.point;
     };
     // The ring cells on both sides of each crossing's run (most neighbours come twice).
     glm::vec3 sum(0.0f);
@@ -971,7 +974,7 @@ void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked) {
         sum += projectedAt(c.x->ringVertex[(c.last + 1) % 4]);
     }
     const uint32_t count = 2 * (v.incEnd - v.incBegin);
-    const glm::vec3 p = v.projected;
+    const glm::vec3 p = tm.projected[vi].point;
     const adf::Sample s = cellSample<true>(v, p);
     glm::vec3 moved = p;
     glm::vec3 gradient = s.gradient;  // the normal: gradient where the last projection started

@@ -117,16 +117,22 @@ struct Vertex {
     uint64_t cell = 0;
     glm::uvec3 origin{0};
     uint32_t size = 0;
-    glm::vec3 projected{0.0f};  ///< after the first projection (what neighbours read)
-    /// The last update that marked it for relaxation; next to `projected`, which a neighbour's
-    /// relaxation reads in the same cache line when it checks the mark.
-    uint32_t relaxStamp = 0;
     glm::vec3 position{0.0f};   ///< final, lattice units
     glm::vec3 normal{0.0f};
     float corners[8] = {};  ///< the cell's: projection reads the cell's own trilinear field
     uint32_t incBegin = 0, incEnd = 0;
     uint32_t nextInCell = UINT32_MAX;  ///< the cell's next vertex (several sheets), or none
     bool alive = true;                 ///< false: a released slot
+};
+
+/// What a vertex's neighbours read when they relax, kept apart from the vertex (TileMesh::
+/// projected): the reads then come from a dense array, 16 bytes a vertex, not from the
+/// 96-byte records.
+struct Projected {
+    glm::vec3 point{0.0f};  ///< after the first projection, lattice units
+    /// The last update that marked it for relaxation; next to `point`, which a neighbour's
+    /// relaxation reads in the same cache line when it checks the mark.
+    uint32_t relaxStamp = 0;
 };
 
 /// A face with four or more crossings, recorded by the cell with the smaller key: its segments
@@ -166,6 +172,7 @@ struct SurfaceMesher::TileMesh {
     };
     std::vector<BorderRef> border;
     std::vector<detail::Vertex> vertices;  ///< a build numbers them by cell in walk order, then cycle
+    std::vector<detail::Projected> projected;  ///< per slot of `vertices`
     std::vector<uint32_t> freeVertices;    ///< released slots of `vertices`
     uint32_t liveVertices = 0;
     std::vector<detail::VertexIncidence> incidences;  ///< ranges of the vertices (some unused)
@@ -197,11 +204,13 @@ struct SurfaceMesher::TileMesh {
         ++liveVertices;
         if (freeVertices.empty()) {
             vertices.push_back(kBlank);
+            projected.emplace_back();
             return uint32_t(vertices.size() - 1);
         }
         const uint32_t i = freeVertices.back();
         freeVertices.pop_back();
         vertices[i] = kBlank;
+        projected[i] = {};
         return i;
     }
     void releaseVertex(uint32_t i) {
@@ -312,12 +321,12 @@ struct UnmarkedNeighbours {
     uint32_t mark = 0;
 };
 
-/// Tangential relaxation toward the neighbours' mean, projection, normal (reads neighbours'
-/// `projected`, writes the vertex's `position` and `normal`). The neighbours it reads are
+/// Tangential relaxation toward the neighbours' mean, projection, normal of vertex `vi` of `tm`
+/// (reads neighbours' `projected`, writes the vertex's `position` and `normal`). The neighbours it reads are
 /// exactly the vertices that read it when they relax (the cells next to its run of ring cells
 /// in each of its crossings), so `unmarked` gets every vertex that reads this one, unless marked
 /// (once per read: most come twice).
-void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked = {});
+void relaxVertex(TileMesh& tm, uint32_t vi, UnmarkedNeighbours unmarked = {});
 
 /// Relaxes vertices at(0..n-1) in order (`at` gives each one's VertexRef). Relaxation chases
 /// pointers (incidence, crossing, neighbour vertex), so the crossings are asked for a few
@@ -327,15 +336,14 @@ void relaxVertex(TileMesh& tm, Vertex& v, UnmarkedNeighbours unmarked = {});
 template <class At>
 void relaxInOrder(std::size_t n, At at, UnmarkedNeighbours unmarked = {}) {
     constexpr std::size_t kCrossingsAhead = 4;
-    auto vertexOf = [](const VertexRef& r) -> Vertex& { return r.tile->vertices[r.index]; };
     for (std::size_t k = 0; k < n; ++k) {
         if (k + kCrossingsAhead < n) {
             const VertexRef r = at(k + kCrossingsAhead);
-            const Vertex& v = vertexOf(r);
+            const Vertex& v = r.tile->vertices[r.index];
             for (uint32_t j = v.incBegin; j < v.incEnd; ++j) __builtin_prefetch(&r.tile->incidences[j].x->ringVertex);
         }
         const VertexRef r = at(k);
-        relaxVertex(*r.tile, vertexOf(r), unmarked);
+        relaxVertex(*r.tile, r.index, unmarked);
     }
 }
 

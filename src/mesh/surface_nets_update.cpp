@@ -617,7 +617,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     // This update's mark: on the vertices it makes (below), then on those it relaxes besides.
     if (++mRelaxStamp == 0) {  // wrapped: clear every mark
         for (const auto& [key, tm] : mTiles)
-            for (Vertex& v : tm->vertices) v.relaxStamp = 0;
+            for (Projected& p : tm->projected) p.relaxStamp = 0;
         mRelaxStamp = 1;
     }
     const uint32_t relaxMark = mRelaxStamp;
@@ -695,7 +695,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             tm.liveIncidences += tm.incidences.size() - incBefore;
             tm.cellVertex.assign(cell, first);
             for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
-                tm.vertices[vi].relaxStamp = relaxMark;
+                tm.projected[vi].relaxStamp = relaxMark;
                 made[ti].push_back({&tm, vi});
             }
         }
@@ -748,7 +748,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     std::vector<VertexRef> besides;
     for (const std::vector<VertexRef>& list : readers)
         for (const VertexRef& r : list) {
-            Vertex& w = r.tile->vertices[r.index];
+            Projected& w = r.tile->projected[r.index];
             if (w.relaxStamp == relaxMark) continue;
             w.relaxStamp = relaxMark;
             besides.push_back(r);
