@@ -393,6 +393,7 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
         Incidence* run = s.inc.data() + s.cellBegin[i];
         const uint32_t n = s.cellBegin[i + 1] - s.cellBegin[i];
         for (uint32_t j = 1; j < n; ++j) {
+            if (run[j - 1].crossingKey < run[j].crossingKey) continue;  // in place (keys are distinct)
             const Incidence v = run[j];
             uint32_t k = j;
             for (; k > 0 && v.crossingKey < run[k - 1].crossingKey; --k) run[k] = run[k - 1];
@@ -1037,11 +1038,20 @@ void inHomes(util::ThreadPool* pool, const std::vector<TileMesh*>& tiles, Weight
 }  // namespace
 
 SurfaceMesher::SurfaceMesher(util::ThreadPool* pool) : mPool(pool) {}
-SurfaceMesher::~SurfaceMesher() = default;
+SurfaceMesher::~SurfaceMesher() { clearTiles(); }
+
+void SurfaceMesher::clearTiles() {
+    std::vector<std::unique_ptr<TileMesh>*> owned;
+    owned.reserve(mTiles.size());
+    for (auto& [key, tm] : mTiles) owned.push_back(&tm);
+    util::parallelForHomes(mPool, owned.size(), [&](std::size_t i) { return (*owned[i])->home; },
+                           [&](std::size_t i) { owned[i]->reset(); });
+    mTiles.clear();
+}
 
 void SurfaceMesher::build(adf::AdfPtr adf) {
     if (!adf) throw std::invalid_argument("surface nets: no snapshot");
-    mTiles.clear();
+    clearTiles();
     mAdf = std::move(adf);
     const auto tStart = std::chrono::steady_clock::now();
     const Adf& a = *mAdf;
