@@ -1057,11 +1057,14 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     const Adf& a = *mAdf;
     SurfaceNetsStats st;
     // 1. Boundary leaves and the crossings they emit, per tile.
-    std::vector<TileMesh*> scanTiles;
+    std::vector<const Tile*> withSurface;
     a.forEachTile([&](const Tile& t) {
-        if (!(t.singleLeaf() && t.rootType() != adf::CellType::Boundary))
-            scanTiles.push_back(ensureTile(packLattice(t.latticeOrigin())));
+        if (!(t.singleLeaf() && t.rootType() != adf::CellType::Boundary)) withSurface.push_back(&t);
     });
+    mTiles.reserve(withSurface.size() + withSurface.size() / 8);
+    std::vector<TileMesh*> scanTiles;
+    scanTiles.reserve(withSurface.size());
+    for (const Tile* t : withSurface) scanTiles.push_back(addTile(*t));
     // Every phase, the assembly included, runs a tile on its home thread (util::parallelForHomes):
     // the threads take runs of tiles in key order (neighbours, which read each other's
     // crossings, mostly share one) of about equal node counts. Each phase reads what the last
@@ -1072,6 +1075,9 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     // only its tile's records and its own quadrants of other tiles' crossings, so neither the
     // thread nor the order changes a result.
     std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
+    // Tiles that hold a ring cell but no boundary leaf (figure 9B), as each scan met them: the
+    // map is only read while the scans run.
+    std::vector<std::vector<uint64_t>> unscannedOwners(scanTiles.size());
     // A cell's slot, packed: its origin without the bits below a slot's size.
     const uint64_t slotMask = packLattice(glm::uvec3(0xfffffu << uint32_t(a.domain().maxLevel - a.domain().tileLevel())));
     auto nodes = [&](std::size_t i) { return scanTiles[i]->tile->nodeCount(); };
@@ -1107,6 +1113,9 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         }
         tm.plainTriangles = plain;
         std::sort(tm.border.begin(), tm.border.end());
+        for (std::size_t b = 0; b < tm.border.size(); ++b)
+            if ((b == 0 || tm.border[b].owner != tm.border[b - 1].owner) && !mTiles.count(tm.border[b].owner))
+                unscannedOwners[i].push_back(tm.border[b].owner);
     });
     st.tilesScanned = scanTiles.size();
     for (const SurfaceNetsStats& s : scanStats) {
@@ -1118,16 +1127,12 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     const auto tPhase1 = std::chrono::steady_clock::now();
     // 2. Vertices of every tile owning a cell of a crossing (a tile with no boundary leaf can
     // still own one, figure 9B).
-    std::vector<uint64_t> owners;
-    for (TileMesh* tm : scanTiles)
-        for (const TileMesh::BorderRef& b : tm->border)
-            if (owners.empty() || owners.back() != b.owner) owners.push_back(b.owner);
-    sortUnique(owners);
-    for (uint64_t k : owners) ensureTile(k);
     TileIndex index;
     std::vector<TileMesh*>& meshTiles = index.tiles;
-    for (const auto& [key, tm] : mTiles) meshTiles.push_back(tm.get());
-    std::sort(meshTiles.begin(), meshTiles.end(), [](const TileMesh* l, const TileMesh* r) { return l->key < r->key; });
+    meshTiles = scanTiles;
+    for (const std::vector<uint64_t>& keys : unscannedOwners)
+        for (uint64_t k : keys)
+            if (!mTiles.count(k)) meshTiles.push_back(ensureTile(k));
     index.position.reserve(meshTiles.size());
     for (uint32_t i = 0; i < meshTiles.size(); ++i) index.position.assign(meshTiles[i]->key, i);
     // A tile's boundary leaves: about its cells, so its vertices (taken now: relaxation drops them).
@@ -1174,11 +1179,15 @@ SurfaceMesher::TileMesh* SurfaceMesher::ensureTile(uint64_t key) {
     const uint32_t shift = uint32_t(a.domain().maxLevel - a.domain().tileLevel());
     const Tile* t = a.tileAtSlot(unpackLattice(key) >> shift);
     if (packLattice(t->latticeOrigin()) != key) return nullptr;
+    return addTile(*t);
+}
+
+SurfaceMesher::TileMesh* SurfaceMesher::addTile(const Tile& t) {
     auto tm = std::make_unique<TileMesh>();
-    tm->key = key;
-    setTile(a, *t, *tm);
+    tm->key = packLattice(t.latticeOrigin());
+    setTile(*mAdf, t, *tm);
     TileMesh* raw = tm.get();
-    mTiles.emplace(key, std::move(tm));
+    mTiles.emplace(raw->key, std::move(tm));
     return raw;
 }
 
