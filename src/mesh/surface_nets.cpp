@@ -412,12 +412,14 @@ void computeVertices(const Adf& adf, const TileIndex& tiles,
     const std::size_t cells = cellBegin.size() - 1;
     tm.vertices.clear();
     tm.projected.clear();
+    tm.placed.clear();
     tm.freeVertices.clear();
     tm.liveVertices = 0;
     tm.incidences.clear();
     tm.multiFaces.clear();
     tm.vertices.reserve(cells + cells / 8);  // a few cells hold several sheets
     tm.projected.reserve(cells + cells / 8);
+    tm.placed.reserve(cells + cells / 8);
     tm.incidences.reserve(inc.size());       // each incidence goes to one vertex
     CellScratch& scratch = scratchAll.cell;
     scratch.freshCrossings = true;  // a build made every crossing this phase reads
@@ -908,7 +910,6 @@ uint32_t meshCell(const Adf& adf, TileMesh& tm, const Incidence* inc, uint32_t n
     for (uint32_t c = 0; c < cycles; ++c) {
         const uint32_t vi = madeAt[c];
         Vertex& v = tm.vertices[vi];
-        v.cell = inc[0].cell;
         v.origin = origin;
         v.size = size;
         std::copy(corners, corners + 8, v.corners);
@@ -985,10 +986,11 @@ void relaxVertex(TileMesh& tm, uint32_t vi, UnmarkedNeighbours unmarked) {
         const glm::vec3 d = sum / float(count) - p;
         moved = projectOnce<true>(v, clampToCell(p + 0.5f * (d - glm::dot(n, d) * n), v), &gradient);
     }
-    v.position = moved;
+    Placed& out = tm.placed[vi];
+    out.position = moved;
     const float ge = glm::length(gradient);
     if (ge > 1e-12f && std::isfinite(ge)) {
-        v.normal = gradient / ge;
+        out.normal = gradient / ge;
     } else {
         // The crossed edges' directions (whole numbers: the sum's order does not matter).
         glm::vec3 crossed(0.0f);
@@ -999,7 +1001,7 @@ void relaxVertex(TileMesh& tm, uint32_t vi, UnmarkedNeighbours unmarked) {
             crossed += dir;
         }
         const float cn = glm::length(crossed);
-        v.normal = cn > 0.0f ? crossed / cn : glm::vec3(0.0f, 0.0f, 1.0f);
+        out.normal = cn > 0.0f ? crossed / cn : glm::vec3(0.0f, 0.0f, 1.0f);
     }
 }
 
@@ -1305,14 +1307,15 @@ MeshBuffers SurfaceMesher::mesh() const {
     util::parallelForHomes(mPool, order.size(), homeOf, [&](std::size_t t) {
         const TileMesh& tm = *order[t];
         uint32_t out = tm.offset;
-        for (const Vertex& v : tm.vertices) {
-            if (!v.alive) continue;
-            m.positions[out] = world(v.position);
-            m.normals[out++] = v.normal;
+        const bool allLive = tm.freeVertices.empty();  // (a build's: no record to look at)
+        for (uint32_t i = 0; i < tm.placed.size(); ++i) {
+            if (!allLive && !tm.vertices[i].alive) continue;
+            m.positions[out] = world(tm.placed[i].position);
+            m.normals[out++] = tm.placed[i].normal;
         }
         for (const SplitVertex& sv : tm.splits) {
-            const Vertex& a = sv.a.tile->vertices[sv.a.index];
-            const Vertex& b = sv.b.tile->vertices[sv.b.index];
+            const Placed& a = sv.a.tile->placed[sv.a.index];
+            const Placed& b = sv.b.tile->placed[sv.b.index];
             m.positions[out] = world(0.5f * (a.position + b.position));
             const glm::vec3 n = a.normal + b.normal;
             m.normals[out++] = glm::dot(n, n) > 0.0f ? glm::normalize(n) : a.normal;

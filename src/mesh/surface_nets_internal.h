@@ -113,12 +113,11 @@ struct VertexIncidence {
     uint8_t first, last;
 };
 
+/// A vertex as its cell makes it and its relaxation reads it: 64 bytes. What the
+/// relaxation writes and neighbours read live apart (TileMesh::projected, placed).
 struct Vertex {
-    uint64_t cell = 0;
-    glm::uvec3 origin{0};
+    glm::uvec3 origin{0};  ///< the cell's
     uint32_t size = 0;
-    glm::vec3 position{0.0f};   ///< final, lattice units
-    glm::vec3 normal{0.0f};
     float corners[8] = {};  ///< the cell's: projection reads the cell's own trilinear field
     uint32_t incBegin = 0, incEnd = 0;
     uint32_t nextInCell = UINT32_MAX;  ///< the cell's next vertex (several sheets), or none
@@ -133,6 +132,13 @@ struct Projected {
     /// The last update that marked it for relaxation; next to `point`, which a neighbour's
     /// relaxation reads in the same cache line when it checks the mark.
     uint32_t relaxStamp = 0;
+};
+
+/// A vertex's final place, as its relaxation writes it and the assembly reads it
+/// (TileMesh::placed).
+struct Placed {
+    glm::vec3 position{0.0f};  ///< lattice units
+    glm::vec3 normal{0.0f};
 };
 
 /// A face with four or more crossings, recorded by the cell with the smaller key: its segments
@@ -173,6 +179,7 @@ struct SurfaceMesher::TileMesh {
     std::vector<BorderRef> border;
     std::vector<detail::Vertex> vertices;  ///< a build numbers them by cell in walk order, then cycle
     std::vector<detail::Projected> projected;  ///< per slot of `vertices`
+    std::vector<detail::Placed> placed;        ///< per slot of `vertices`
     std::vector<uint32_t> freeVertices;    ///< released slots of `vertices`
     uint32_t liveVertices = 0;
     std::vector<detail::VertexIncidence> incidences;  ///< ranges of the vertices (some unused)
@@ -205,12 +212,14 @@ struct SurfaceMesher::TileMesh {
         if (freeVertices.empty()) {
             vertices.push_back(kBlank);
             projected.emplace_back();
+            placed.emplace_back();
             return uint32_t(vertices.size() - 1);
         }
         const uint32_t i = freeVertices.back();
         freeVertices.pop_back();
         vertices[i] = kBlank;
         projected[i] = {};
+        placed[i] = {};
         return i;
     }
     void releaseVertex(uint32_t i) {
@@ -322,7 +331,7 @@ struct UnmarkedNeighbours {
 };
 
 /// Tangential relaxation toward the neighbours' mean, projection, normal of vertex `vi` of `tm`
-/// (reads neighbours' `projected`, writes the vertex's `position` and `normal`). The neighbours it reads are
+/// (reads neighbours' `projected`, writes the vertex's `placed`). The neighbours it reads are
 /// exactly the vertices that read it when they relax (the cells next to its run of ring cells
 /// in each of its crossings), so `unmarked` gets every vertex that reads this one, unless marked
 /// (once per read: most come twice).
