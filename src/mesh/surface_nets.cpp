@@ -1261,9 +1261,11 @@ MeshBuffers SurfaceMesher::mesh() const {
         sh.triangles = tm.plainTriangles;
         if (tm.freeVertices.empty()) {  // every slot live (a build): numbers are slots
             tm.outNumber.clear();
+            tm.denseEnd = uint32_t(tm.vertices.size());
             sh.vertices = uint32_t(tm.vertices.size() + tm.splits.size());
             return;
         }
+        tm.denseEnd = 0;
         tm.outNumber.assign(tm.vertices.size() + tm.splits.size(), UINT32_MAX);
         uint32_t next = 0;
         for (uint32_t i = 0; i < tm.vertices.size(); ++i)
@@ -1324,8 +1326,8 @@ MeshBuffers SurfaceMesher::mesh() const {
     auto index = [](const VertexRef& r) {
         if (!r.tile) throw std::logic_error("surface nets: a crossing has no vertex");
         const TileMesh& t = *r.tile;
+        if (r.index < t.denseEnd) return t.offset + r.index;
         const std::vector<uint32_t>& num = t.outNumber;
-        if (num.empty() && r.index < t.vertices.size()) return t.offset + r.index;
         if (r.index >= num.size() || num[r.index] == UINT32_MAX)
             throw std::logic_error("surface nets: a crossing refers to a released vertex");
         return t.offset + num[r.index];

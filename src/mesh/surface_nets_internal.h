@@ -194,6 +194,8 @@ struct SurfaceMesher::TileMesh {
     /// split ones instead of reading every crossing.
     uint32_t plainTriangles = 0;
     uint32_t offset = 0;  ///< first vertex in the assembled mesh
+    /// Slots below this are numbered by slot (outNumber empty): the assembly's fast path.
+    uint32_t denseEnd = 0;
     /// Vertex slot (then split) -> number within the tile's share of the mesh; empty where no
     /// slot is released (the number is the slot).
     std::vector<uint32_t> outNumber;
