@@ -1009,32 +1009,40 @@ void relaxVertex(TileMesh& tm, uint32_t vi, UnmarkedNeighbours unmarked) {
 
 namespace {
 
-/// Splits `tiles`, in key order, into `threads` runs of about equal weight; run k's tiles get
-/// home k.
-template <class Weight>
-void assignHomes(const std::vector<TileMesh*>& tiles, Weight weight, unsigned threads) {
-    std::vector<std::size_t> byKey(tiles.size());
+/// Splits tiles 0..n-1, in key order, into `threads` runs of about equal weight: run k's
+/// tiles get home k.
+template <class Key, class Weight>
+std::vector<unsigned> homesByKey(std::size_t n, Key key, Weight weight, unsigned threads) {
+    std::vector<std::size_t> byKey(n);
     std::iota(byKey.begin(), byKey.end(), std::size_t(0));
-    std::sort(byKey.begin(), byKey.end(), [&](std::size_t l, std::size_t r) { return tiles[l]->key < tiles[r]->key; });
+    std::sort(byKey.begin(), byKey.end(), [&](std::size_t l, std::size_t r) { return key(l) < key(r); });
     uint64_t total = 0, before = 0;
-    for (std::size_t i = 0; i < tiles.size(); ++i) total += uint64_t(weight(i));
+    for (std::size_t i = 0; i < n; ++i) total += uint64_t(weight(i));
+    std::vector<unsigned> home(n, 0u);
     for (std::size_t i : byKey) {
         // The run holding the middle of this tile's weight.
         const uint64_t middle = before + uint64_t(weight(i)) / 2;
-        tiles[i]->home = total > 0 ? unsigned(std::min<uint64_t>(threads - 1, middle * threads / total)) : 0u;
+        home[i] = total > 0 ? unsigned(std::min<uint64_t>(threads - 1, middle * threads / total)) : 0u;
         before += uint64_t(weight(i));
     }
+    return home;
 }
 
-/// fn(i) for every tile, each on its home thread, the heaviest of each home first (serially:
+/// fn(i) for i in 0..n-1, each on its home thread, the heaviest of each home first (serially:
 /// index order).
+template <class Home, class Weight>
+void inHomes(util::ThreadPool* pool, std::size_t n, Home home, Weight weight, const std::function<void(std::size_t)>& fn) {
+    if (!pool || pool->threadCount() < 2) return util::parallelFor(nullptr, n, fn);
+    const std::vector<std::size_t> order = util::heaviestFirst(n, weight);
+    util::parallelForHomes(pool, order.size(), [&](std::size_t k) { return home(order[k]); },
+                           [&](std::size_t k) { fn(order[k]); });
+}
+
+/// inHomes over tiles whose homes are set.
 template <class Weight>
 void inHomes(util::ThreadPool* pool, const std::vector<TileMesh*>& tiles, Weight weight,
              const std::function<void(std::size_t)>& fn) {
-    if (!pool || pool->threadCount() < 2) return util::parallelFor(nullptr, tiles.size(), fn);
-    const std::vector<std::size_t> order = util::heaviestFirst(tiles.size(), weight);
-    util::parallelForHomes(pool, order.size(), [&](std::size_t k) { return tiles[order[k]]->home; },
-                           [&](std::size_t k) { fn(order[k]); });
+    inHomes(pool, tiles.size(), [&](std::size_t i) { return tiles[i]->home; }, weight, fn);
 }
 
 }  // namespace
@@ -1063,10 +1071,6 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     a.forEachTile([&](const Tile& t) {
         if (!(t.singleLeaf() && t.rootType() != adf::CellType::Boundary)) withSurface.push_back(&t);
     });
-    mTiles.reserve(withSurface.size() + withSurface.size() / 8);
-    std::vector<TileMesh*> scanTiles;
-    scanTiles.reserve(withSurface.size());
-    for (const Tile* t : withSurface) scanTiles.push_back(addTile(*t));
     // Every phase, the assembly included, runs a tile on its home thread (util::parallelForHomes):
     // the threads take runs of tiles in key order (neighbours, which read each other's
     // crossings, mostly share one) of about equal node counts. Each phase reads what the last
@@ -1076,17 +1080,25 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     // "Thirteenth session"): the scan by nodes, the others by boundary leaves. A task writes
     // only its tile's records and its own quadrants of other tiles' crossings, so neither the
     // thread nor the order changes a result.
-    std::vector<SurfaceNetsStats> scanStats(scanTiles.size());
-    // Tiles that hold a ring cell but no boundary leaf (figure 9B), as each scan met them: the
-    // map is only read while the scans run.
-    std::vector<std::vector<uint64_t>> unscannedOwners(scanTiles.size());
+    // A scanned tile's TileMesh is made by its task (on its home thread, which uses it after).
+    const std::size_t nScan = withSurface.size();
+    std::vector<std::unique_ptr<TileMesh>> made(nScan);
+    std::vector<SurfaceNetsStats> scanStats(nScan);
+    // Tiles that hold a ring cell but no boundary leaf (figure 9B), as each scan met them.
+    std::vector<std::vector<uint64_t>> unscannedOwners(nScan);
+    const uint32_t slotShift = uint32_t(a.domain().maxLevel - a.domain().tileLevel());
     // A cell's slot, packed: its origin without the bits below a slot's size.
-    const uint64_t slotMask = packLattice(glm::uvec3(0xfffffu << uint32_t(a.domain().maxLevel - a.domain().tileLevel())));
-    auto nodes = [&](std::size_t i) { return scanTiles[i]->tile->nodeCount(); };
-    assignHomes(scanTiles, nodes, mPool ? mPool->threadCount() : 1u);
-    inHomes(mPool, scanTiles, nodes, [&](std::size_t i) {
-        TileMesh& tm = *scanTiles[i];
-        tm.leaves.clear();
+    const uint64_t slotMask = packLattice(glm::uvec3(0xfffffu << slotShift));
+    auto nodes = [&](std::size_t i) { return withSurface[i]->nodeCount(); };
+    const std::vector<unsigned> scanHome = homesByKey(
+        nScan, [&](std::size_t i) { return packLattice(withSurface[i]->latticeOrigin()); }, nodes,
+        mPool ? mPool->threadCount() : 1u);
+    inHomes(mPool, nScan, [&](std::size_t i) { return scanHome[i]; }, nodes, [&](std::size_t i) {
+        made[i] = std::make_unique<TileMesh>();
+        TileMesh& tm = *made[i];
+        tm.key = packLattice(withSurface[i]->latticeOrigin());
+        tm.home = scanHome[i];
+        setTile(a, *withSurface[i], tm);
         appendBoundaryCells(*tm.tile, a.domain().maxLevel, tm.leaves);  // in walk order
         scanStats[i].boundaryLeaves = tm.leaves.size();
         PoolAppender appender{tm.crossings};
@@ -1115,11 +1127,19 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         }
         tm.plainTriangles = plain;
         std::sort(tm.border.begin(), tm.border.end());
-        for (std::size_t b = 0; b < tm.border.size(); ++b)
-            if ((b == 0 || tm.border[b].owner != tm.border[b - 1].owner) && !mTiles.count(tm.border[b].owner))
-                unscannedOwners[i].push_back(tm.border[b].owner);
+        for (std::size_t b = 0; b < tm.border.size(); ++b) {
+            if (b > 0 && tm.border[b].owner == tm.border[b - 1].owner) continue;
+            const Tile& owner = *a.tileAtSlot(unpackLattice(tm.border[b].owner) >> slotShift);
+            if (owner.singleLeaf() && owner.rootType() != adf::CellType::Boundary) unscannedOwners[i].push_back(tm.border[b].owner);
+        }
     });
-    st.tilesScanned = scanTiles.size();
+    mTiles.reserve(nScan + nScan / 8);
+    std::vector<TileMesh*> scanTiles(nScan);
+    for (std::size_t i = 0; i < nScan; ++i) {
+        scanTiles[i] = made[i].get();
+        mTiles.emplace(scanTiles[i]->key, std::move(made[i]));
+    }
+    st.tilesScanned = nScan;
     for (const SurfaceNetsStats& s : scanStats) {
         st.boundaryLeaves += s.boundaryLeaves;
         st.openCrossings += s.openCrossings;
@@ -1181,15 +1201,11 @@ SurfaceMesher::TileMesh* SurfaceMesher::ensureTile(uint64_t key) {
     const uint32_t shift = uint32_t(a.domain().maxLevel - a.domain().tileLevel());
     const Tile* t = a.tileAtSlot(unpackLattice(key) >> shift);
     if (packLattice(t->latticeOrigin()) != key) return nullptr;
-    return addTile(*t);
-}
-
-SurfaceMesher::TileMesh* SurfaceMesher::addTile(const Tile& t) {
     auto tm = std::make_unique<TileMesh>();
-    tm->key = packLattice(t.latticeOrigin());
-    setTile(*mAdf, t, *tm);
+    tm->key = key;
+    setTile(a, *t, *tm);
     TileMesh* raw = tm.get();
-    mTiles.emplace(raw->key, std::move(tm));
+    mTiles.emplace(key, std::move(tm));
     return raw;
 }
 

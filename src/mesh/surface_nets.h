@@ -107,7 +107,6 @@ public:
 
 private:
     TileMesh* ensureTile(uint64_t key);  ///< null if `key` is no tile of the snapshot
-    TileMesh* addTile(const adf::Tile& t);  ///< a new TileMesh for `t` (none holds it yet)
     void dropEmptyTiles();
     /// Drops every tile, each freed on the thread that built it (its home): a free from
     /// another thread is mimalloc's slow path, and one thread freeing them all took 1 % of
