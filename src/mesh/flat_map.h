@@ -97,6 +97,18 @@ public:
         if (cap > mSlots.size()) rehash(cap);
     }
 
+    /// Empties the map and makes room for `n` entries, keeping its memory where that suffices
+    /// (a scratch map reused per tile: no allocation, and its slots stay in cache).
+    void resetFor(std::size_t n) {
+        std::size_t cap = 16;
+        while (3 * cap < 4 * n) cap *= 2;
+        mSlots.assign(cap, Slot{});
+        mMask = cap - 1;
+        mShift = 64;
+        for (std::size_t c = cap; c > 1; c >>= 1) --mShift;
+        mSize = 0;
+    }
+
     void clear() {
         mSlots.clear();
         mSize = 0;

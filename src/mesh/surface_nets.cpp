@@ -257,6 +257,7 @@ struct VertexScratch {
     std::vector<uint32_t> rank;            ///< cell number -> position in walk order
     std::vector<uint64_t> rankKey;         ///< position in walk order -> the cell's key
     std::vector<uint32_t> cellBegin;       ///< per cell in walk order: its first incidence, then the end
+    FlatMap64 number;                      ///< cell key -> its number (warm: reused per tile)
     CellScratch cell;
 };
 VertexScratch& vertexScratch() {
@@ -277,9 +278,8 @@ struct TileIndex {
 /// Incidences of cell-owner `tm` during a build: crossings in its own pool and its neighbours'
 /// border lists that have a leaf owned by it, into s.inc grouped by cell in walk order (cell
 /// i's run is [s.cellBegin[i], s.cellBegin[i + 1]), its key s.rankKey[i]), each cell's sorted
-/// by crossing key. A counting sort: cells are numbered through tm.cellVertex (which maps them
-/// to their first vertex later), the tile's boundary leaves in their order and other cells as
-/// met, then merged in; each cell's handful of incidences is sorted by insertion. A boundary
+/// by crossing key. A counting sort: cells are numbered through s.number, the tile's boundary
+/// leaves in their order and other cells as met, then merged in; each cell's handful of incidences is sorted by insertion. A boundary
 /// leaf may get an empty run (its crossings all leave the domain).
 void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const std::vector<uint64_t>& nbrs,
                       VertexScratch& s) {
@@ -315,15 +315,14 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
     // (walk) order, so only the few others need sorting in (sorting every cell took 2 % of a build).
     const uint32_t nLeaves = uint32_t(tm.leaves.size());
     uint32_t nMet = 0, nCells = nLeaves, nExtra = 0;
-    tm.cellVertex.clear();
-    tm.cellVertex.reserve(nLeaves + nLeaves / 8 + 8);
+    s.number.resetFor(nLeaves + nLeaves / 8 + 8);
     s.rankKey.resize(nLeaves);
     for (uint32_t i = 0; i < nLeaves; ++i) {
         s.rankKey[i] = packLattice(tm.leaves[i].origin);
-        tm.cellVertex.assign(s.rankKey[i], i);
+        s.number.assign(s.rankKey[i], i);
     }
     auto add = [&](Crossing& x, uint64_t key, int q, uint8_t first, uint8_t last) {
-        const uint32_t number = tm.cellVertex.findOrAssign(x.ringCell[q], nCells);
+        const uint32_t number = s.number.findOrAssign(x.ringCell[q], nCells);
         if (number == nCells) cellsMet[nExtra++] = {x.ringCell[q], nCells++};
         met[nMet] = {x.ringCell[q], key, &x, first, last};
         metCell[nMet++] = number;
@@ -429,10 +428,7 @@ void computeVertices(const Adf& adf, const TileIndex& tiles,
         const uint64_t cell = scratchAll.rankKey[i];
         const BoundaryCell* leaf =
             leafAt < tm.leaves.size() && packLattice(tm.leaves[leafAt].origin) == cell ? &tm.leaves[leafAt++] : nullptr;
-        if (i0 == i1) {  // a boundary leaf whose crossings all leave the domain: no vertex
-            tm.cellVertex.erase(cell);
-            continue;
-        }
+        if (i0 == i1) continue;  // a boundary leaf whose crossings all leave the domain: no vertex
         // The cell's corners: a boundary leaf of this tile, or (figure 9B) looked up.
         float corners[8];
         if (leaf) {
@@ -442,9 +438,11 @@ void computeVertices(const Adf& adf, const TileIndex& tiles,
             std::copy(r.corners, r.corners + 8, corners);
             if (!isBoundary(corners)) ++st.signlessCells;
         }
-        tm.cellVertex.assign(cell, meshCell(adf, tm, &inc[i0], i1 - i0, corners, scratch, st));
+        meshCell(adf, tm, &inc[i0], i1 - i0, corners, scratch, st);
     }
     tm.liveIncidences = tm.incidences.size();
+    tm.cellVertex.clear();
+    tm.cellVertexPending = true;
 }
 
 }  // namespace

@@ -419,6 +419,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     auto changedCells = [&](std::size_t i) { return scanBox[i].cells; };
     util::parallelForHeaviestFirst(mPool, scanTiles.size(), changedCells, [&](std::size_t i) {
         TileMesh& tm = *scanTiles[i];
+        indexCells(tm);
         ScanOut& out = scans[i];
         const ChangedCells::Query changedAt(changed);
         const Touched box = scanBox[i];
@@ -629,6 +630,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     auto cellsToMesh = [&](std::size_t ti) { return taskBegin[ti + 1] - taskBegin[ti]; };  // most first, as the scan
     util::parallelForHeaviestFirst(mPool, meshTiles.size(), cellsToMesh, [&](std::size_t ti) {
         TileMesh& tm = *meshTiles[ti];
+        indexCells(tm);
         SurfaceNetsStats& ms = meshStats[ti];
         // The re-meshed cells' multi-crossing faces are found again by meshCell.
         const auto taskFirst = tasks.begin() + std::ptrdiff_t(taskBegin[ti]), taskEnd = tasks.begin() + std::ptrdiff_t(taskBegin[ti + 1]);
