@@ -244,6 +244,8 @@ inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient =
 /// tile's buffers grew from empty every time, thousands of allocations per small mesh.
 struct VertexScratch {
     std::vector<uint64_t> nbrs;
+    std::vector<BoundaryCell> leaves;  ///< a scan's walk
+    std::vector<TileMesh::BorderRef> border;  ///< a scan's border list
     /// A tile whose crossings are gathered: all (end == UINT32_MAX) or those its border list
     /// names in [begin, end).
     struct Source {
@@ -1097,11 +1099,18 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         tm.key = packLattice(withSurface[i]->latticeOrigin());
         tm.home = scanHome[i];
         setTile(a, *withSurface[i], tm);
-        appendBoundaryCells(*tm.tile, a.domain().maxLevel, tm.leaves);  // in walk order
+        // In walk order; walked into a warm per-thread buffer and copied once (grown in place,
+        // the tile's vector was reallocated and copied seven times for 50 leaves).
+        std::vector<BoundaryCell>& walked = vertexScratch().leaves;
+        walked.clear();
+        appendBoundaryCells(*tm.tile, a.domain().maxLevel, walked);
+        tm.leaves.assign(walked.begin(), walked.end());
         scanStats[i].boundaryLeaves = tm.leaves.size();
         PoolAppender appender{tm.crossings};
         computeCrossings(a, tm.leaves, appender, scanStats[i]);
         tm.liveCrossings = tm.crossings.size();
+        std::vector<TileMesh::BorderRef>& border = vertexScratch().border;  // copied once, as the leaves
+        border.clear();
         uint32_t plain = 0;
         // The tile of the last slot looked up: the cells beyond a tile's face mostly share one.
         uint64_t lastSlot = ~uint64_t(0), lastOwner = 0;
@@ -1120,11 +1129,12 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
                 }
                 if (std::find(owners, owners + n, lastOwner) != owners + n) continue;
                 owners[n++] = lastOwner;
-                tm.border.push_back({lastOwner, j});
+                border.push_back({lastOwner, j});
             }
         }
         tm.plainTriangles = plain;
-        std::sort(tm.border.begin(), tm.border.end());
+        std::sort(border.begin(), border.end());
+        tm.border.assign(border.begin(), border.end());
         for (std::size_t b = 0; b < tm.border.size(); ++b) {
             if (b > 0 && tm.border[b].owner == tm.border[b - 1].owner) continue;
             const Tile& owner = *a.tileAtSlot(unpackLattice(tm.border[b].owner) >> slotShift);
