@@ -259,7 +259,9 @@ struct VertexScratch {
     std::vector<uint32_t> rank;            ///< cell number -> position in walk order
     std::vector<uint64_t> rankKey;         ///< position in walk order -> the cell's key
     std::vector<uint32_t> cellBegin;       ///< per cell in walk order: its first incidence, then the end
-    FlatMap64 number;                      ///< cell key -> its number (warm: reused per tile)
+    static constexpr int kDirectBits = 6;  ///< tiles spanning up to 2^this lattice units use byPlace
+    std::vector<uint32_t> byPlace;         ///< cell place in its tile -> its number, or UINT32_MAX
+    FlatMap64 number;                      ///< cell key -> its number, for larger tiles
     CellScratch cell;
 };
 VertexScratch& vertexScratch() {
@@ -317,20 +319,38 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
     // (walk) order, so only the few others need sorting in (sorting every cell took 2 % of a build).
     const uint32_t nLeaves = uint32_t(tm.leaves.size());
     uint32_t nMet = 0, nCells = nLeaves, nExtra = 0;
-    s.number.resetFor(nLeaves + nLeaves / 8 + 8);
+    // In locals: the writes through `add` could alias tm's fields.
+    const uint64_t tileKey = tm.key, outside = tm.outside;
+    // Numbers by the cell's place in the tile (its origin's offset, 6 bits an axis): a tile at
+    // the tile level spans 64 finest cells. A hash map's probing took about a third of the
+    // gathering; a larger (coarse) tile uses one.
+    const bool direct = maxLevel - tm.tile->level() <= VertexScratch::kDirectBits;
+    auto place = [&](uint64_t cell) {
+        const uint64_t d = cell - tileKey;  // a cell of the tile: no field borrows
+        constexpr uint64_t m = (1u << VertexScratch::kDirectBits) - 1;
+        return uint32_t((d & m) | (((d >> 20) & m) << VertexScratch::kDirectBits) | (((d >> 40) & m) << (2 * VertexScratch::kDirectBits)));
+    };
+    if (direct && s.byPlace.empty()) s.byPlace.assign(std::size_t(1) << (3 * VertexScratch::kDirectBits), UINT32_MAX);
+    if (!direct) s.number.resetFor(nLeaves + nLeaves / 8 + 8);
     s.rankKey.resize(nLeaves);
     for (uint32_t i = 0; i < nLeaves; ++i) {
         s.rankKey[i] = packLattice(tm.leaves[i].origin);
-        s.number.assign(s.rankKey[i], i);
+        if (direct) s.byPlace[place(s.rankKey[i])] = i;
+        else s.number.assign(s.rankKey[i], i);
     }
     auto add = [&](Crossing& x, uint64_t key, int q, uint8_t first, uint8_t last) {
-        const uint32_t number = s.number.findOrAssign(x.ringCell[q], nCells);
+        uint32_t number;
+        if (direct) {
+            uint32_t& slot = s.byPlace[place(x.ringCell[q])];
+            if (slot == UINT32_MAX) slot = nCells;
+            number = slot;
+        } else {
+            number = s.number.findOrAssign(x.ringCell[q], nCells);
+        }
         if (number == nCells) cellsMet[nExtra++] = {x.ringCell[q], nCells++};
         met[nMet] = {x.ringCell[q], key, &x, first, last};
         metCell[nMet++] = number;
     };
-    // In locals: the writes through `add` could alias tm's fields.
-    const uint64_t tileKey = tm.key, outside = tm.outside;
     auto owned = [&](uint64_t cell) { return ((cell - tileKey) & outside) == 0; };  // as TileMesh::ownsCell
     // Inlined: called out of line, it kept nothing in registers (+11 % instructions here).
     auto take = [&](Crossing& x) __attribute__((always_inline)) {
@@ -361,6 +381,10 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
         } else {
             for (uint32_t b = from.begin; b < from.end; ++b) take(src.crossings[src.border[b].index]);
         }
+    }
+    if (direct) {  // the table back to empty, for the next tile
+        for (uint32_t i = 0; i < nLeaves; ++i) s.byPlace[place(s.rankKey[i])] = UINT32_MAX;
+        for (uint32_t j = 0; j < nExtra; ++j) s.byPlace[place(cellsMet[j].first)] = UINT32_MAX;
     }
     const std::size_t cells = nCells;
     s.rank.resize(cells);
