@@ -244,6 +244,7 @@ inline glm::vec3 projectOnce(const Vertex& v, glm::vec3 p, glm::vec3* gradient =
 /// tile's buffers grew from empty every time, thousands of allocations per small mesh.
 struct VertexScratch {
     std::vector<uint64_t> nbrs;
+    std::vector<TileMesh*> nbrMeshes;
     std::vector<BoundaryCell> leaves;  ///< a scan's walk
     std::vector<TileMesh::BorderRef> border;  ///< a scan's border list
     /// A tile whose crossings are gathered: all (end == UINT32_MAX) or those its border list
@@ -269,13 +270,50 @@ VertexScratch& vertexScratch() {
     return s;
 }
 
-/// A build's tiles by key: a flat index (std::unordered_map's lookups took 1.4 % of a build).
+/// A build's tiles by slot where the domain has at most 2^18 slots (level 12), else by key
+/// through a flat map (std::unordered_map's lookups took 1.4 % of a build; the flat map's
+/// probing and the reads of the neighbours' tiles for their keys, 3 % more).
 struct TileIndex {
-    FlatMap64 position;  ///< key -> index in `tiles`
+    static constexpr uint32_t kMaxSlots = 1u << 18;
     std::vector<TileMesh*> tiles;
-    TileMesh* find(uint64_t key) const {
-        const uint32_t* i = position.find(key);
-        return i ? tiles[*i] : nullptr;
+    std::vector<TileMesh*> bySlot;  ///< slot (x fastest) -> its tile's mesh, or null; or empty
+    uint32_t slotsPerAxis = 0;
+    FlatMap64 position;  ///< key -> index in `tiles`, where bySlot is empty
+
+    void build(const Adf& adf) {
+        slotsPerAxis = adf.domain().slotsPerAxis();
+        if (uint64_t(slotsPerAxis) * slotsPerAxis * slotsPerAxis <= kMaxSlots) {
+            bySlot.assign(std::size_t(slotsPerAxis) * slotsPerAxis * slotsPerAxis, nullptr);
+            for (TileMesh* tm : tiles)
+                for (uint32_t z = tm->slotMin.z; z < tm->slotEnd.z; ++z)
+                    for (uint32_t y = tm->slotMin.y; y < tm->slotEnd.y; ++y)
+                        for (uint32_t x = tm->slotMin.x; x < tm->slotEnd.x; ++x)
+                            bySlot[(std::size_t(z) * slotsPerAxis + y) * slotsPerAxis + x] = tm;
+            return;
+        }
+        position.reserve(tiles.size());
+        for (uint32_t i = 0; i < tiles.size(); ++i) position.assign(tiles[i]->key, i);
+    }
+    /// The meshes of the tiles whose slots touch (closed) `tm`'s, `tm` included, each once.
+    void neighbours(const Adf& adf, const TileMesh& tm, std::vector<TileMesh*>& out, std::vector<uint64_t>& keys) const {
+        out.clear();
+        if (bySlot.empty()) {
+            keys.clear();
+            neighbourKeys(adf, tm.slotMin, tm.slotEnd, keys);
+            sortUnique(keys);  // a coarse tile covers several slots
+            for (uint64_t k : keys)
+                if (const uint32_t* i = position.find(k)) out.push_back(tiles[*i]);
+            return;
+        }
+        const glm::uvec3 lo = tm.slotMin, end = tm.slotEnd;
+        const glm::uvec3 a(lo.x ? lo.x - 1 : 0, lo.y ? lo.y - 1 : 0, lo.z ? lo.z - 1 : 0);
+        const glm::uvec3 b(std::min(end.x + 1, slotsPerAxis), std::min(end.y + 1, slotsPerAxis), std::min(end.z + 1, slotsPerAxis));
+        for (uint32_t z = a.z; z < b.z; ++z)
+            for (uint32_t y = a.y; y < b.y; ++y)
+                for (uint32_t x = a.x; x < b.x; ++x) {
+                    TileMesh* n = bySlot[(std::size_t(z) * slotsPerAxis + y) * slotsPerAxis + x];
+                    if (n && std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
+                }
     }
 };
 
@@ -285,14 +323,11 @@ struct TileIndex {
 /// by crossing key. A counting sort: cells are numbered through s.number, the tile's boundary
 /// leaves in their order and other cells as met, then merged in; each cell's handful of incidences is sorted by insertion. A boundary
 /// leaf may get an empty run (its crossings all leave the domain).
-void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const std::vector<uint64_t>& nbrs,
-                      VertexScratch& s) {
+void gatherIncidences(int maxLevel, TileMesh& tm, const std::vector<TileMesh*>& nbrs, VertexScratch& s) {
     // The crossings read: the tile's own, and the runs of its neighbours' border lists naming it.
     s.sources.clear();
     std::size_t bound = 0;  // incidences at most (4 a crossing)
-    for (uint64_t k : nbrs) {
-        TileMesh* found = tiles.find(k);
-        if (!found) continue;
+    for (TileMesh* found : nbrs) {
         TileMesh& src = *found;
         if (src.key == tm.key) {
             s.sources.push_back({&src, 0, UINT32_MAX});
@@ -428,10 +463,9 @@ void gatherIncidences(const TileIndex& tiles, int maxLevel, TileMesh& tm, const 
 }
 
 /// Cycles and projected vertices of every cell `tm` owns, during a build.
-void computeVertices(const Adf& adf, const TileIndex& tiles,
-                     TileMesh& tm, const std::vector<uint64_t>& nbrs, SurfaceNetsStats& st) {
+void computeVertices(const Adf& adf, TileMesh& tm, const std::vector<TileMesh*>& nbrs, SurfaceNetsStats& st) {
     VertexScratch& scratchAll = vertexScratch();
-    gatherIncidences(tiles, adf.domain().maxLevel, tm, nbrs, scratchAll);
+    gatherIncidences(adf.domain().maxLevel, tm, nbrs, scratchAll);
     const std::vector<Incidence>& inc = scratchAll.inc;
     const std::vector<uint32_t>& cellBegin = scratchAll.cellBegin;
     const std::size_t cells = cellBegin.size() - 1;
@@ -1187,19 +1221,16 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     for (const std::vector<uint64_t>& keys : unscannedOwners)
         for (uint64_t k : keys)
             if (!mTiles.count(k)) meshTiles.push_back(ensureTile(k));
-    index.position.reserve(meshTiles.size());
-    for (uint32_t i = 0; i < meshTiles.size(); ++i) index.position.assign(meshTiles[i]->key, i);
+    index.build(a);
     // A tile's boundary leaves: about its cells, so its vertices (taken now: relaxation drops them).
     std::vector<std::size_t> leaves(meshTiles.size());
     for (std::size_t i = 0; i < meshTiles.size(); ++i) leaves[i] = meshTiles[i]->leaves.size();
     auto byLeaves = [&](std::size_t i) { return leaves[i]; };
     std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
     inHomes(mPool, meshTiles, byLeaves, [&](std::size_t i) {
-        std::vector<uint64_t>& nbrs = vertexScratch().nbrs;
-        nbrs.clear();
-        neighbourKeys(a, meshTiles[i]->slotMin, meshTiles[i]->slotEnd, nbrs);
-        sortUnique(nbrs);  // a coarse tile covers several slots
-        computeVertices(a, index, *meshTiles[i], nbrs, meshStats[i]);
+        VertexScratch& s = vertexScratch();
+        index.neighbours(a, *meshTiles[i], s.nbrMeshes, s.nbrs);
+        computeVertices(a, *meshTiles[i], s.nbrMeshes, meshStats[i]);
     });
     st.tilesMeshed = meshTiles.size();
     for (const SurfaceNetsStats& s : meshStats) addVertexCounters(st, s);

@@ -275,6 +275,22 @@ TEST(SurfaceNets, UpdatesBetweenUnrelatedSnapshotsWithCoarseTilesEqualAFullMesh)
     EXPECT_GT(coarse, 0u) << "no snapshot had coarse tiles: the case is untested";
 }
 
+TEST(SurfaceNets, AtLevelThirteenAndAboveNeighbouringTilesAreFoundByKey) {
+    // A build finds a tile's neighbours through a table of every slot up to level 12, and
+    // through a map of tile keys beyond (2^21 slots at level 13): a small sphere on the corner
+    // of 8 tiles, meshed closed, shows the map finds them.
+    const Domain d = unitDomain(13, 6);
+    ASSERT_GT(uint64_t(d.slotsPerAxis()) * d.slotsPerAxis() * d.slotsPerAxis(), uint64_t(1) << 18);
+    util::ThreadPool pool(2);
+    const double tile = d.finestCellSize() * 64;
+    SurfaceNetsStats st;
+    const MeshBuffers m = meshOf(makeTranslated(makeSphere(0.004), {64 * tile + 1e-5, 64 * tile - 2e-5, 64 * tile + 3e-5}), d, &st, &pool);
+    ASSERT_GT(m.triangleCount(), 1000u);
+    EXPECT_GE(st.tilesMeshed, 8u);
+    EXPECT_TRUE(test::closedOrientedManifold(m));
+    EXPECT_EQ(test::eulerCharacteristic(m), 2);
+}
+
 TEST(SurfaceNets, ASurfaceLeavingTheDomainMeshesOpenThereAndUpdatesEqualAFullMesh) {
     // Spheres through the domain's faces and along an edge, and two smaller than a cell at its
     // corners: crossings there are left open, and a boundary leaf whose only sign changes lie
