@@ -38,6 +38,39 @@ struct CellLoc {
     uint32_t level;
 };
 
+/// A tile's cells by their place in it (the origin's offset, 6 bits an axis), for tiles at the
+/// tile level (64 finest cells a side): what a build numbers its cells through and looks its
+/// leaves up in without a hash map's probing (that took a third of the incidence gathering).
+/// Per thread, 1 MiB; each user leaves every entry it set empty again (ClearOnExit).
+class PlaceTable {
+public:
+    static constexpr int kBits = 6;
+    static constexpr uint32_t kNone = UINT32_MAX;
+    static bool fits(const Tile& t, int maxLevel) { return maxLevel - t.level() <= kBits; }
+    /// `cell` (packed) lies in the tile whose packed origin is `tileKey`.
+    static uint32_t place(uint64_t cell, uint64_t tileKey) {
+        const uint64_t d = cell - tileKey;  // a cell of the tile: no field borrows
+        constexpr uint64_t m = (1u << kBits) - 1;
+        return uint32_t((d & m) | (((d >> 20) & m) << kBits) | (((d >> 40) & m) << (2 * kBits)));
+    }
+    static uint32_t* entries() {
+        thread_local std::vector<uint32_t> table(std::size_t(1) << (3 * kBits), kNone);
+        return table.data();
+    }
+    /// Empties the places of `cells` cells (key(i) for i < cells) when it goes, thrown past or not.
+    template <class Key>
+    struct ClearOnExit {
+        uint32_t* table;
+        uint64_t tileKey;
+        std::size_t cells;
+        Key key;
+        ~ClearOnExit() {
+            if (table)
+                for (std::size_t i = 0; i < cells; ++i) table[place(key(i), tileKey)] = kNone;
+        }
+    };
+};
+
 /// The leaf containing a lattice point (like Adf::locateLeaf), for the neighbours of a leaf of
 /// a given size: where that leaf is smaller, any smaller cell (all the callers ask then).
 /// Two caches:
@@ -260,9 +293,7 @@ struct VertexScratch {
     std::vector<uint32_t> rank;            ///< cell number -> position in walk order
     std::vector<uint64_t> rankKey;         ///< position in walk order -> the cell's key
     std::vector<uint32_t> cellBegin;       ///< per cell in walk order: its first incidence, then the end
-    static constexpr int kDirectBits = 6;  ///< tiles spanning up to 2^this lattice units use byPlace
-    std::vector<uint32_t> byPlace;         ///< cell place in its tile -> its number, or UINT32_MAX
-    FlatMap64 number;                      ///< cell key -> its number, for larger tiles
+    FlatMap64 number;                      ///< cell key -> its number, for tiles too large for PlaceTable
     CellScratch cell;
 };
 VertexScratch& vertexScratch() {
@@ -356,28 +387,31 @@ void gatherIncidences(int maxLevel, TileMesh& tm, const std::vector<TileMesh*>& 
     uint32_t nMet = 0, nCells = nLeaves, nExtra = 0;
     // In locals: the writes through `add` could alias tm's fields.
     const uint64_t tileKey = tm.key, outside = tm.outside;
-    // Numbers by the cell's place in the tile (its origin's offset, 6 bits an axis): a tile at
-    // the tile level spans 64 finest cells. A hash map's probing took about a third of the
-    // gathering; a larger (coarse) tile uses one.
-    const bool direct = maxLevel - tm.tile->level() <= VertexScratch::kDirectBits;
-    auto place = [&](uint64_t cell) {
-        const uint64_t d = cell - tileKey;  // a cell of the tile: no field borrows
-        constexpr uint64_t m = (1u << VertexScratch::kDirectBits) - 1;
-        return uint32_t((d & m) | (((d >> 20) & m) << VertexScratch::kDirectBits) | (((d >> 40) & m) << (2 * VertexScratch::kDirectBits)));
-    };
-    if (direct && s.byPlace.empty()) s.byPlace.assign(std::size_t(1) << (3 * VertexScratch::kDirectBits), UINT32_MAX);
-    if (!direct) s.number.resetFor(nLeaves + nLeaves / 8 + 8);
+    // Numbers through the place table; a larger (coarse) tile through a hash map.
+    uint32_t* const byPlace = PlaceTable::fits(*tm.tile, maxLevel) ? PlaceTable::entries() : nullptr;
+    auto place = [&](uint64_t cell) { return PlaceTable::place(cell, tileKey); };
+    if (!byPlace) s.number.resetFor(nLeaves + nLeaves / 8 + 8);
     s.rankKey.resize(nLeaves);
+    // The leaves' places, then the other cells' (numbered after them). From the leaves
+    // themselves: s.rankKey is merged with the other cells before the table is cleared.
+    const auto cellKey = [&](std::size_t i) {
+        return i < nLeaves ? packLattice(tm.leaves[i].origin) : cellsMet[i - nLeaves].first;
+    };
+    PlaceTable::ClearOnExit<decltype(cellKey)> clear{byPlace, tileKey, 0, cellKey};
     for (uint32_t i = 0; i < nLeaves; ++i) {
         s.rankKey[i] = packLattice(tm.leaves[i].origin);
-        if (direct) s.byPlace[place(s.rankKey[i])] = i;
+        if (byPlace) byPlace[place(s.rankKey[i])] = i;
         else s.number.assign(s.rankKey[i], i);
+        clear.cells = i + 1;
     }
     auto add = [&](Crossing& x, uint64_t key, int q, uint8_t first, uint8_t last) {
         uint32_t number;
-        if (direct) {
-            uint32_t& slot = s.byPlace[place(x.ringCell[q])];
-            if (slot == UINT32_MAX) slot = nCells;
+        if (byPlace) {
+            uint32_t& slot = byPlace[place(x.ringCell[q])];
+            if (slot == PlaceTable::kNone) {
+                slot = nCells;
+                clear.cells = nCells + 1;  // (cellsMet's entry is written below)
+            }
             number = slot;
         } else {
             number = s.number.findOrAssign(x.ringCell[q], nCells);
@@ -416,10 +450,6 @@ void gatherIncidences(int maxLevel, TileMesh& tm, const std::vector<TileMesh*>& 
         } else {
             for (uint32_t b = from.begin; b < from.end; ++b) take(src.crossings[src.border[b].index]);
         }
-    }
-    if (direct) {  // the table back to empty, for the next tile
-        for (uint32_t i = 0; i < nLeaves; ++i) s.byPlace[place(s.rankKey[i])] = UINT32_MAX;
-        for (uint32_t j = 0; j < nExtra; ++j) s.byPlace[place(cellsMet[j].first)] = UINT32_MAX;
     }
     const std::size_t cells = nCells;
     s.rank.resize(cells);
@@ -640,11 +670,29 @@ constexpr std::array<BrickEdges, 8> kBrickEdges = [] {
 }();
 
 template <class Out>
-void computeCrossings(const Adf& adf, const std::vector<BoundaryCell>& leaves, Out& out,
+void computeCrossings(const Adf& adf, const Tile& tile, const std::vector<BoundaryCell>& leaves, Out& out,
                       SurfaceNetsStats& st, StartFilter filter) {
     const uint32_t top = adf.domain().latticeSize();
     const int maxLevel = adf.domain().maxLevel;
     LeafLocator locator(adf);
+    // The leaves by place: a block of the tile whose origin is a leaf's is answered by that leaf
+    // (it holds the block, or is smaller), with no search. The rest ask the locator.
+    const uint64_t tileKey = packLattice(tile.latticeOrigin());
+    const uint64_t outside = ~packLattice(glm::uvec3((1u << uint32_t(maxLevel - tile.level())) - 1));
+    uint32_t* const byPlace = PlaceTable::fits(tile, maxLevel) ? PlaceTable::entries() : nullptr;
+    const auto leafKey = [&](std::size_t i) { return packLattice(leaves[i].origin); };
+    PlaceTable::ClearOnExit<decltype(leafKey)> clear{byPlace, tileKey, 0, leafKey};
+    if (byPlace) {
+        for (uint32_t i = 0; i < leaves.size(); ++i) byPlace[PlaceTable::place(leafKey(i), tileKey)] = i;
+        clear.cells = leaves.size();
+    }
+    auto locate = [&](uint64_t block, uint32_t size) -> CellLoc {
+        if (byPlace && ((block - tileKey) & outside) == 0) {
+            const uint32_t i = byPlace[PlaceTable::place(block, tileKey)];
+            if (i != PlaceTable::kNone) return {block, leaves[i].size, uint32_t(maxLevel - std::countr_zero(leaves[i].size))};
+        }
+        return locator.locate(block, size);
+    };
     for (const BoundaryCell& leaf : leaves) {
         const uint32_t inside = insideCorners(leaf.corners);
         uint32_t todo = kSignChangingEdges[inside];
@@ -720,7 +768,7 @@ void computeCrossings(const Adf& adf, const std::vector<BoundaryCell>& leaves, O
                     ringLevel[q] = leafLevel;
                     skip = q < mine;
                 } else {
-                    const CellLoc& found = locator.locate(block[q], leaf.size);
+                    const CellLoc found = locate(block[q], leaf.size);
                     ringCell[q] = found.cell;
                     ringLevel[q] = found.level;
                     skip = found.size < leaf.size || (found.size == leaf.size && q < mine);
@@ -756,9 +804,9 @@ void computeCrossings(const Adf& adf, const std::vector<BoundaryCell>& leaves, O
     }
 }
 
-template void computeCrossings(const Adf&, const std::vector<BoundaryCell>&, std::vector<Crossing>&,
+template void computeCrossings(const Adf&, const Tile&, const std::vector<BoundaryCell>&, std::vector<Crossing>&,
                                SurfaceNetsStats&, StartFilter);
-template void computeCrossings(const Adf&, const std::vector<BoundaryCell>&, PoolAppender&,
+template void computeCrossings(const Adf&, const Tile&, const std::vector<BoundaryCell>&, PoolAppender&,
                                SurfaceNetsStats&, StartFilter);
 
 void incidenceRun(const Crossing& x, int q, uint8_t& first, uint8_t& last) {
@@ -1165,7 +1213,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         tm.leaves.assign(walked.begin(), walked.end());
         scanStats[i].boundaryLeaves = tm.leaves.size();
         PoolAppender appender{tm.crossings};
-        computeCrossings(a, tm.leaves, appender, scanStats[i]);
+        computeCrossings(a, *tm.tile, tm.leaves, appender, scanStats[i]);
         tm.liveCrossings = tm.crossings.size();
         std::vector<TileMesh::BorderRef>& border = vertexScratch().border;  // copied once, as the leaves
         border.clear();

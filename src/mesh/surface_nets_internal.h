@@ -277,11 +277,11 @@ struct PoolAppender {
     }
 };
 
-/// The crossings emitted by `leaves` of one tile (any order), appended to `out`
+/// The crossings emitted by `leaves` of `tile` (any order), appended to `out`
 /// (a std::vector<Crossing> or a PoolAppender); with a filter, only those whose start point it
 /// keeps (others are not looked at).
 template <class Out>
-void computeCrossings(const adf::Adf& adf, const std::vector<BoundaryCell>& leaves, Out& out,
+void computeCrossings(const adf::Adf& adf, const adf::Tile& tile, const std::vector<BoundaryCell>& leaves, Out& out,
                       SurfaceNetsStats& st, StartFilter filter = {});
 
 /// Triangles of a crossing's polygon without split vertices: a triangle where a larger leaf

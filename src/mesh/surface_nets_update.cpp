@@ -495,7 +495,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                                             return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
                                         },
                                         &changedAt};
-            computeCrossings(a, leaves, fresh, out.st, onChanged);
+            computeCrossings(a, *now, leaves, fresh, out.st, onChanged);
         }
         scanned.byCell.clear();
         if (current) {
