@@ -75,7 +75,8 @@ public:
 /// a given size: where that leaf is smaller, any smaller cell (all the callers ask then).
 /// Two caches:
 /// - the leaf found, by the block of the given size holding the point: neighbouring leaves
-///   ask about the same blocks (136k distinct of 313k asks on the level-10 test part). Where
+///   ask about the same blocks (136k distinct of 313k asks on the level-10 test part, before
+///   computeCrossings answered most blocks of its own tile from the PlaceTable). Where
 ///   the leaf is no smaller than the block it holds the whole block (cells nest); where it is
 ///   smaller, so is the leaf at any point of the block. Direct-mapped: a collision only costs
 ///   a search (callers copy what they need before the next lookup).
