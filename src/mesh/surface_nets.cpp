@@ -38,9 +38,10 @@ struct CellLoc {
     uint32_t level;
 };
 
-/// A tile's cells by their place in it (the origin's offset, 6 bits an axis), for tiles at the
-/// tile level (64 finest cells a side): what a build numbers its cells through and looks its
-/// leaves up in without a hash map's probing (that took a third of the incidence gathering).
+/// A tile's cells by their place in it (the origin's offset, 6 bits an axis), for tiles at most
+/// 64 lattice units a side (those at the tile level with the default 6-level tiles): what a
+/// build numbers its cells through and looks its leaves up in without a hash map's probing
+/// (that took a third of the incidence gathering). Larger tiles use a hash map and the locator.
 /// Per thread, 1 MiB; each user leaves every entry it set empty again (ClearOnExit).
 class PlaceTable {
 public:
@@ -302,7 +303,7 @@ VertexScratch& vertexScratch() {
     return s;
 }
 
-/// A build's tiles by slot where the domain has at most 2^18 slots (level 12), else by key
+/// A build's tiles by slot where the domain has at most 2^18 slots (level 12 with 6-level tiles), else by key
 /// through a flat map (std::unordered_map's lookups took 1.4 % of a build; the flat map's
 /// probing and the reads of the neighbours' tiles for their keys, 3 % more).
 struct TileIndex {
@@ -421,7 +422,7 @@ void gatherIncidences(int maxLevel, TileMesh& tm, const std::vector<TileMesh*>& 
         met[nMet] = {x.ringCell[q], key, &x, first, last};
         metCell[nMet++] = number;
     };
-    auto owned = [&](uint64_t cell) { return ((cell - tileKey) & outside) == 0; };  // as TileMesh::ownsCell
+    auto owned = [&](uint64_t cell) { return inTile(cell, tileKey, outside); };
     // Inlined: called out of line, it kept nothing in registers (+11 % instructions here).
     auto take = [&](Crossing& x) __attribute__((always_inline)) {
         const uint64_t key = x.key();
@@ -688,7 +689,7 @@ void computeCrossings(const Adf& adf, const Tile& tile, const std::vector<Bounda
         clear.cells = leaves.size();
     }
     auto locate = [&](uint64_t block, uint32_t size) -> CellLoc {
-        if (byPlace && ((block - tileKey) & outside) == 0) {
+        if (byPlace && inTile(block, tileKey, outside)) {
             const uint32_t i = byPlace[PlaceTable::place(block, tileKey)];
             if (i != PlaceTable::kNone) return {block, leaves[i].size, uint32_t(maxLevel - std::countr_zero(leaves[i].size))};
         }
@@ -1194,8 +1195,9 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     // Tiles that hold a ring cell but no boundary leaf (figure 9B), as each scan met them.
     std::vector<std::vector<uint64_t>> unscannedOwners(nScan);
     const uint32_t slotShift = uint32_t(a.domain().maxLevel - a.domain().tileLevel());
-    // A cell's slot, packed: its origin without the bits below a slot's size.
-    const uint64_t slotMask = packLattice(glm::uvec3(0xfffffu << slotShift));
+    // A cell's slot, packed: its origin without the bits below a slot's size (masked to a
+    // field's 20 bits: packLattice does not mask, and a wider value spills into the next field).
+    const uint64_t slotMask = packLattice(glm::uvec3((0xfffffu << slotShift) & 0xfffffu));
     auto nodes = [&](std::size_t i) { return withSurface[i]->nodeCount(); };
     const std::vector<unsigned> scanHome = homesByKey(
         nScan, [&](std::size_t i) { return packLattice(withSurface[i]->latticeOrigin()); }, nodes,
@@ -1221,14 +1223,14 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         uint32_t plain = 0;
         // The tile of the last slot looked up: the cells beyond a tile's face mostly share one.
         uint64_t lastSlot = ~uint64_t(0), lastOwner = 0;
-        const uint64_t tileKey = tm.key, outside = tm.outside;  // as ownsCell (push_back may alias tm)
+        const uint64_t tileKey = tm.key, outside = tm.outside;  // in locals: push_back may alias tm
         for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
             const Crossing& x = tm.crossings[j];
             plain += plainTriangles(x);
             uint64_t owners[4];
             uint32_t n = 0;
             for (int q = 0; q < 4; ++q) {
-                if (((x.ringCell[q] - tileKey) & outside) == 0) continue;
+                if (inTile(x.ringCell[q], tileKey, outside)) continue;
                 const uint64_t slot = x.ringCell[q] & slotMask;
                 if (slot != lastSlot) {
                     lastSlot = slot;

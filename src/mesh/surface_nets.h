@@ -29,13 +29,17 @@
 /// the result equals a mesh built from scratch (tests/unit/mesh/surface_nets_test.cpp).
 /// Complexity: O(boundary leaves) for a build; an update costs O(slots) to find the rebuilt
 /// tiles, O(nodes of the rebuilt tiles) to compare them, and otherwise work proportional to
-/// the changed cells (old crossings are reached through a per-tile cell index, never a scan).
-/// Threading: tiles in parallel on the pool; one SurfaceMesher is owned by one thread.
-/// Memory: 184 bytes per crossing (a removed one's record is reused by a later update), 112 per
-/// vertex (plus its incidences) and 16-21 per cell index entry (a flat hash at most 3/4 full).
-/// A build also keeps, per pool thread, scratch
+/// the changed cells (old crossings are reached through a per-tile cell index, never a scan;
+/// a build leaves a tile's index to the first update that visits the tile).
+/// Threading: tiles in parallel on the pool; one SurfaceMesher is owned by one thread. The
+/// pool must outlive the mesher: its destructor, like build(), frees the tiles in a loop on the
+/// pool (each on the thread that built it).
+/// Memory: 128 bytes per crossing (a removed one's record is reused by a later update), 64 + 16
+/// + 24 per vertex (plus its incidences) and 16-21 per cell index entry (a flat hash at most
+/// 3/4 full). A build also keeps, per pool thread, scratch
 /// the size of the largest tile's boundary leaves and incidences, reused by the next tile and
-/// the next build (growing them per tile cost most of a small LOD mesh's allocations), and an
+/// the next build (growing them per tile cost most of a small LOD mesh's allocations), a table
+/// of a tile's cells by place (1 MiB, surface_nets.cpp's PlaceTable), and an
 /// update keeps the boundary leaves its scan found near the changed cells, per tile scanned,
 /// until the next update (its cells phase takes their corners).
 #pragma once

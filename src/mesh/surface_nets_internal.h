@@ -61,7 +61,7 @@ constexpr auto kStartCorner = [] {
 /// Two cache lines: a build writes and re-reads tens of thousands, and 64 bytes more cost 3 %
 /// of a build (docs/PERFORMANCE.md, "Twenty-third session"). So what follows from other fields
 /// is not stored: the start point (a corner of the emitting leaf) and the tiles holding the
-/// ring cells (ownerKey, TileMesh::ownsCell). The first line holds what the incidences are
+/// ring cells (ownerKey, inTile). The first line holds what the incidences are
 /// gathered from and what a cell reads, the second the vertex refs (all relaxation reads).
 struct alignas(64) Crossing {
     uint32_t length = 0;
@@ -126,7 +126,7 @@ struct Vertex {
 
 /// What a vertex's neighbours read when they relax, kept apart from the vertex (TileMesh::
 /// projected): the reads then come from a dense array, 16 bytes a vertex, not from the
-/// 96-byte records.
+/// 64-byte records.
 struct Projected {
     glm::vec3 point{0.0f};  ///< after the first projection, lattice units
     /// The last update that marked it for relaxation; next to `point`, which a neighbour's
@@ -163,7 +163,7 @@ struct SurfaceMesher::TileMesh {
     const adf::Tile* tile = nullptr;
     uint64_t key = 0;
     glm::uvec3 slotMin{0}, slotEnd{0};  ///< slots covered
-    /// Packed (packLattice): set where a cell's offset from `key` leaves the tile's box.
+    /// Packed (packLattice): set where a cell's offset from `key` leaves the tile's box (inTile).
     uint64_t outside = 0;
     unsigned home = 0;  ///< the pool thread that builds it and assembles its share (util::parallelForHomes)
     std::vector<BoundaryCell> leaves;   ///< during a build only, in walk order (walkOrder)
@@ -204,11 +204,6 @@ struct SurfaceMesher::TileMesh {
     std::vector<uint32_t> outNumber;
     uint32_t share = 0;  ///< the tile's position in the assembly's order
 
-    /// Whether the cell at packed origin `cell` lies in this tile (any snapshot holding its
-    /// current tile). A packed difference borrows into the next field where a coordinate is
-    /// smaller, and sets a bit of `outside` either way.
-    bool ownsCell(uint64_t cell) const { return ((cell - key) & outside) == 0; }
-
     uint32_t allocateVertex() {
         // Copied from a blank record: a record zeroed in place compiled to `rep stos`, whose
         // start-up took 6 % of a build's cell phase.
@@ -246,7 +241,13 @@ namespace detail {
 
 using TileMesh = SurfaceMesher::TileMesh;
 
-/// Points `tm` at tile `t` (what its slot box and ownsCell follow).
+/// Whether the cell at packed origin `cell` lies in the tile at packed origin `tileKey` whose
+/// TileMesh::outside is `outside`. Coordinates stay below 2^17 in 20-bit fields: a coordinate
+/// below the tile's borrows from the next field and leaves bits above the tile's side in its
+/// own, one at or beyond the tile's end sets such a bit, and either way a bit of `outside`.
+inline bool inTile(uint64_t cell, uint64_t tileKey, uint64_t outside) { return ((cell - tileKey) & outside) == 0; }
+
+/// Points `tm` at tile `t` (what its slot box and `outside` follow).
 void setTile(const adf::Adf& adf, const adf::Tile& t, TileMesh& tm);
 
 /// The key of the tile holding the cell at packed origin `cell` in `adf`.

@@ -480,7 +480,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
                     for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
                         // Another tile's crossing: only fields no task writes in this phase.
                         const Crossing& x = *tm.incidences[j].x;
-                        if (x.ringCell[x.emitter] != cell || ownerKey(oldAdf, cell) != tm.key) continue;
+                        // Emitted by this cell (a cell of this tile: its vertex is the tile's).
+                        if (x.ringCell[x.emitter] != cell) continue;
                         const glm::uvec3 start = x.start();
                         if (inBox(start, box.lo, box.hi) && changedAt.pointChanged(start)) old.emplace_back(x.key(), x.slot);
                     }
@@ -630,7 +631,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     auto cellsToMesh = [&](std::size_t ti) { return taskBegin[ti + 1] - taskBegin[ti]; };  // most first, as the scan
     util::parallelForHeaviestFirst(mPool, meshTiles.size(), cellsToMesh, [&](std::size_t ti) {
         TileMesh& tm = *meshTiles[ti];
-        indexCells(tm);
+        indexCells(tm);  // (a safeguard: a tile with cells to re-mesh touches a changed cell, so its scan indexed it)
         SurfaceNetsStats& ms = meshStats[ti];
         // The re-meshed cells' multi-crossing faces are found again by meshCell.
         const auto taskFirst = tasks.begin() + std::ptrdiff_t(taskBegin[ti]), taskEnd = tasks.begin() + std::ptrdiff_t(taskBegin[ti + 1]);

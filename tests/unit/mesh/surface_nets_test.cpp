@@ -248,9 +248,9 @@ TEST(SurfaceNets, IncrementalRemeshEqualsFullMeshAcrossTileCorners) {
 }
 
 TEST(SurfaceNets, UpdatesBetweenUnrelatedSnapshotsWithCoarseTilesEqualAFullMesh) {
-    // Crossings do not store which tiles hold their ring cells: that follows from the cells
-    // and the snapshot. Here whole regions go from coarse tiles (empty space) to fine ones and
-    // back, so the tile holding a cell changes while the cell's key may not.
+    // Crossings do not store which tiles hold their ring cells: an update takes them from the
+    // old snapshot for the crossings it removes and from the new one for those it adds. Here
+    // whole regions go from coarse tiles (empty space) to fine ones and back.
     const Domain d = unitDomain(7, 3);
     util::ThreadPool pool(2);
     const SourcePtr left = makeTranslated(makeSphere(0.13), {0.3, 0.32, 0.3});
@@ -289,6 +289,34 @@ TEST(SurfaceNets, AtLevelThirteenAndAboveNeighbouringTilesAreFoundByKey) {
     EXPECT_GE(st.tilesMeshed, 8u);
     EXPECT_TRUE(test::closedOrientedManifold(m));
     EXPECT_EQ(test::eulerCharacteristic(m), 2);
+}
+
+TEST(SurfaceNets, TilesWiderThanSixtyFourLatticeUnitsMeshAndUpdateLikeAFreshBuild) {
+    // Tiles of up to 64 lattice units a side number their cells and find their leaves through
+    // a table of places; wider ones (7- and 8-level tiles) through a hash map and the leaf
+    // locator alone. Those paths must give closed meshes, the same serially and in parallel,
+    // and updates equal to fresh builds.
+    util::ThreadPool pool(2);
+    for (const auto& [level, span] : {std::pair{8, 7}, std::pair{9, 8}, std::pair{8, 8}}) {
+        const Domain d = unitDomain(level, span);
+        const SourcePtr shape = makeCsg(CsgOp::Union, makeTranslated(makeTorus(0.22, 0.07), {0.49, 0.5, 0.52}),
+                                        makeTranslated(makeSphere(0.1), {0.5, 0.51, 0.5}));
+        AdfPtr a = generate(*shape, d, GenerationSettings{}, &pool);
+        const MeshBuffers serial = mesh::meshAdf(a, nullptr), parallel = mesh::meshAdf(a, &pool);
+        ASSERT_TRUE(test::closedOrientedManifold(parallel)) << "level " << level << " span " << span;
+        EXPECT_TRUE(test::canonical(serial) == test::canonical(parallel)) << "level " << level << " span " << span;
+        SurfaceMesher mesher(&pool);
+        mesher.build(a);
+        const glm::dvec3 dabs[] = {{0.5, 0.5, 0.61}, {0.71, 0.5, 0.52}, {0.5, 0.29, 0.55}};
+        for (std::size_t i = 0; i < 3; ++i) {
+            a = dabbed(a, i == 1 ? CsgOp::Union : CsgOp::Difference, dabs[i], 0.04, &pool);
+            mesher.update(a);
+            const MeshBuffers spliced = mesher.mesh();
+            EXPECT_TRUE(test::closedOrientedManifold(spliced)) << "level " << level << " span " << span << " dab " << i;
+            EXPECT_TRUE(test::canonical(spliced) == test::canonical(mesh::meshAdf(a, &pool)))
+                << "level " << level << " span " << span << " dab " << i;
+        }
+    }
 }
 
 TEST(SurfaceNets, ASurfaceLeavingTheDomainMeshesOpenThereAndUpdatesEqualAFullMesh) {
