@@ -92,22 +92,13 @@ public:
 
     /// Makes room for `n` entries without growing.
     void reserve(std::size_t n) {
-        std::size_t cap = 16;
-        while (3 * cap < 4 * n) cap *= 2;
+        const std::size_t cap = capacityFor(n);
         if (cap > mSlots.size()) rehash(cap);
     }
 
     /// Empties the map and makes room for `n` entries, keeping its memory where that suffices
     /// (a scratch map reused per tile: no allocation, and its slots stay in cache).
-    void resetFor(std::size_t n) {
-        std::size_t cap = 16;
-        while (3 * cap < 4 * n) cap *= 2;
-        mSlots.assign(cap, Slot{});
-        mMask = cap - 1;
-        mShift = 64;
-        for (std::size_t c = cap; c > 1; c >>= 1) --mShift;
-        mSize = 0;
-    }
+    void resetFor(std::size_t n) { emptySlots(capacityFor(n)); }
 
     void clear() {
         mSlots.clear();
@@ -122,15 +113,25 @@ private:
         uint32_t value = 0;
     };
     std::size_t home(uint64_t key) const { return std::size_t((key * 0x9E3779B97F4A7C15ull) >> mShift); }
-    void grow() { rehash(mSlots.empty() ? 16 : 2 * mSlots.size()); }
-    void rehash(std::size_t cap) {
-        std::vector<Slot> old;
-        old.swap(mSlots);
+    /// The smallest power of two from 16 holding `n` entries at most 3/4 full.
+    static std::size_t capacityFor(std::size_t n) {
+        std::size_t cap = 16;
+        while (3 * cap < 4 * n) cap *= 2;
+        return cap;
+    }
+    /// `cap` empty slots (a power of two) in the current vector.
+    void emptySlots(std::size_t cap) {
         mSlots.assign(cap, Slot{});
         mMask = cap - 1;
         mShift = 64;
         for (std::size_t c = cap; c > 1; c >>= 1) --mShift;
         mSize = 0;
+    }
+    void grow() { rehash(mSlots.empty() ? 16 : 2 * mSlots.size()); }
+    void rehash(std::size_t cap) {
+        std::vector<Slot> old;
+        old.swap(mSlots);
+        emptySlots(cap);
         for (const Slot& s : old)
             if (s.key != kEmpty) assign(s.key, s.value);
     }

@@ -313,6 +313,7 @@ struct TileIndex {
     uint32_t slotsPerAxis = 0;
     FlatMap64 position;  ///< key -> index in `tiles`, where bySlot is empty
 
+    std::size_t at(glm::uvec3 slot) const { return (std::size_t(slot.z) * slotsPerAxis + slot.y) * slotsPerAxis + slot.x; }
     void build(const Adf& adf) {
         slotsPerAxis = adf.domain().slotsPerAxis();
         if (uint64_t(slotsPerAxis) * slotsPerAxis * slotsPerAxis <= kMaxSlots) {
@@ -320,8 +321,7 @@ struct TileIndex {
             for (TileMesh* tm : tiles)
                 for (uint32_t z = tm->slotMin.z; z < tm->slotEnd.z; ++z)
                     for (uint32_t y = tm->slotMin.y; y < tm->slotEnd.y; ++y)
-                        for (uint32_t x = tm->slotMin.x; x < tm->slotEnd.x; ++x)
-                            bySlot[(std::size_t(z) * slotsPerAxis + y) * slotsPerAxis + x] = tm;
+                        for (uint32_t x = tm->slotMin.x; x < tm->slotEnd.x; ++x) bySlot[at({x, y, z})] = tm;
             return;
         }
         position.reserve(tiles.size());
@@ -338,15 +338,10 @@ struct TileIndex {
                 if (const uint32_t* i = position.find(k)) out.push_back(tiles[*i]);
             return;
         }
-        const glm::uvec3 lo = tm.slotMin, end = tm.slotEnd;
-        const glm::uvec3 a(lo.x ? lo.x - 1 : 0, lo.y ? lo.y - 1 : 0, lo.z ? lo.z - 1 : 0);
-        const glm::uvec3 b(std::min(end.x + 1, slotsPerAxis), std::min(end.y + 1, slotsPerAxis), std::min(end.z + 1, slotsPerAxis));
-        for (uint32_t z = a.z; z < b.z; ++z)
-            for (uint32_t y = a.y; y < b.y; ++y)
-                for (uint32_t x = a.x; x < b.x; ++x) {
-                    TileMesh* n = bySlot[(std::size_t(z) * slotsPerAxis + y) * slotsPerAxis + x];
-                    if (n && std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
-                }
+        forSlotsAround(tm.slotMin, tm.slotEnd, slotsPerAxis, [&](glm::uvec3 slot) {
+            TileMesh* n = bySlot[at(slot)];
+            if (n && std::find(out.begin(), out.end(), n) == out.end()) out.push_back(n);
+        });
     }
 };
 
@@ -542,26 +537,22 @@ void computeVertices(const Adf& adf, TileMesh& tm, const std::vector<TileMesh*>&
 namespace detail {
 
 void neighbourKeys(const Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vector<uint64_t>& out) {
-    const uint32_t n = adf.domain().slotsPerAxis();
-    const glm::uvec3 a(lo.x ? lo.x - 1 : 0, lo.y ? lo.y - 1 : 0, lo.z ? lo.z - 1 : 0);
-    const glm::uvec3 b(std::min(end.x + 1, n), std::min(end.y + 1, n), std::min(end.z + 1, n));
     const Tile* last = nullptr;
-    for (uint32_t z = a.z; z < b.z; ++z)
-        for (uint32_t y = a.y; y < b.y; ++y)
-            for (uint32_t x = a.x; x < b.x; ++x) {
-                const Tile* t = adf.tileAtSlot({x, y, z});
-                if (t == last) continue;
-                last = t;
-                out.push_back(packLattice(t->latticeOrigin()));
-            }
+    forSlotsAround(lo, end, adf.domain().slotsPerAxis(), [&](glm::uvec3 slot) {
+        const Tile* t = adf.tileAtSlot(slot);
+        if (t == last) return;
+        last = t;
+        out.push_back(packLattice(t->latticeOrigin()));
+    });
 }
 
 void setTile(const Adf& adf, const Tile& t, TileMesh& tm) {
     const uint32_t shift = uint32_t(adf.domain().maxLevel - adf.domain().tileLevel());
     tm.tile = &t;
+    tm.key = packLattice(t.latticeOrigin());
     tm.slotMin = t.latticeOrigin() >> shift;
     tm.slotEnd = tm.slotMin + glm::uvec3(1u << uint32_t(adf.domain().tileLevel() - t.level()));
-    tm.outside = ~packLattice(glm::uvec3((1u << uint32_t(adf.domain().maxLevel - t.level())) - 1));
+    tm.outside = outsideOf(t, adf.domain().maxLevel);
 }
 
 /// The 12 edges of a cell in the order crossings are emitted: start and end corner, axis, the
@@ -680,7 +671,7 @@ void computeCrossings(const Adf& adf, const Tile& tile, const std::vector<Bounda
     // The leaves by place: a block of the tile whose origin is a leaf's is answered by that leaf
     // (it holds the block, or is smaller), with no search. The rest ask the locator.
     const uint64_t tileKey = packLattice(tile.latticeOrigin());
-    const uint64_t outside = ~packLattice(glm::uvec3((1u << uint32_t(maxLevel - tile.level())) - 1));
+    const uint64_t outside = outsideOf(tile, maxLevel);
     uint32_t* const byPlace = PlaceTable::fits(tile, maxLevel) ? PlaceTable::entries() : nullptr;
     const auto leafKey = [&](std::size_t i) { return packLattice(leaves[i].origin); };
     PlaceTable::ClearOnExit<decltype(leafKey)> clear{byPlace, tileKey, 0, leafKey};
@@ -1117,6 +1108,41 @@ void relaxVertex(TileMesh& tm, uint32_t vi, UnmarkedNeighbours unmarked) {
 
 namespace {
 
+/// A build's `tm.border` (its crossings with a ring cell in another tile, by that tile's key)
+/// and `tm.plainTriangles`, from its fresh crossings; the list is made in `scratch` and copied
+/// once (grown in place, it was reallocated per tile as the leaves were).
+void listBorder(const Adf& a, TileMesh& tm, std::vector<TileMesh::BorderRef>& scratch) {
+    // A cell's slot, packed: its origin without the bits below a slot's size (masked to a
+    // field's 20 bits: packLattice does not mask, and a wider value spills into the next field).
+    const uint32_t slotShift = uint32_t(a.domain().maxLevel - a.domain().tileLevel());
+    const uint64_t slotMask = packLattice(glm::uvec3((0xfffffu << slotShift) & 0xfffffu));
+    // The tile of the last slot looked up: the cells beyond a tile's face mostly share one.
+    uint64_t lastSlot = ~uint64_t(0), lastOwner = 0;
+    const uint64_t tileKey = tm.key, outside = tm.outside;  // in locals: push_back may alias tm
+    scratch.clear();
+    uint32_t plain = 0;
+    for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
+        const Crossing& x = tm.crossings[j];
+        plain += plainTriangles(x);
+        uint64_t owners[4];
+        uint32_t n = 0;
+        for (int q = 0; q < 4; ++q) {
+            if (inTile(x.ringCell[q], tileKey, outside)) continue;
+            const uint64_t slot = x.ringCell[q] & slotMask;
+            if (slot != lastSlot) {
+                lastSlot = slot;
+                lastOwner = ownerKey(a, x.ringCell[q]);
+            }
+            if (std::find(owners, owners + n, lastOwner) != owners + n) continue;
+            owners[n++] = lastOwner;
+            scratch.push_back({lastOwner, j});
+        }
+    }
+    tm.plainTriangles = plain;
+    std::sort(scratch.begin(), scratch.end());
+    tm.border.assign(scratch.begin(), scratch.end());
+}
+
 /// Splits tiles 0..n-1, in key order, into `threads` runs of about equal weight: run k's
 /// tiles get home k.
 template <class Key, class Weight>
@@ -1177,7 +1203,7 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     // 1. Boundary leaves and the crossings they emit, per tile.
     std::vector<const Tile*> withSurface;
     a.forEachTile([&](const Tile& t) {
-        if (!(t.singleLeaf() && t.rootType() != adf::CellType::Boundary)) withSurface.push_back(&t);
+        if (mayEmit(t)) withSurface.push_back(&t);
     });
     // Every phase, the assembly included, runs a tile on its home thread (util::parallelForHomes):
     // the threads take runs of tiles in key order (neighbours, which read each other's
@@ -1195,9 +1221,6 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     // Tiles that hold a ring cell but no boundary leaf (figure 9B), as each scan met them.
     std::vector<std::vector<uint64_t>> unscannedOwners(nScan);
     const uint32_t slotShift = uint32_t(a.domain().maxLevel - a.domain().tileLevel());
-    // A cell's slot, packed: its origin without the bits below a slot's size (masked to a
-    // field's 20 bits: packLattice does not mask, and a wider value spills into the next field).
-    const uint64_t slotMask = packLattice(glm::uvec3((0xfffffu << slotShift) & 0xfffffu));
     auto nodes = [&](std::size_t i) { return withSurface[i]->nodeCount(); };
     const std::vector<unsigned> scanHome = homesByKey(
         nScan, [&](std::size_t i) { return packLattice(withSurface[i]->latticeOrigin()); }, nodes,
@@ -1205,9 +1228,8 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     inHomes(mPool, nScan, [&](std::size_t i) { return scanHome[i]; }, nodes, [&](std::size_t i) {
         made[i] = std::make_unique<TileMesh>();
         TileMesh& tm = *made[i];
-        tm.key = packLattice(withSurface[i]->latticeOrigin());
-        tm.home = scanHome[i];
         setTile(a, *withSurface[i], tm);
+        tm.home = scanHome[i];
         // In walk order; walked into a warm per-thread buffer and copied once (grown in place,
         // the tile's vector was reallocated and copied seven times for 50 leaves).
         std::vector<BoundaryCell>& walked = vertexScratch().leaves;
@@ -1218,36 +1240,11 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
         PoolAppender appender{tm.crossings};
         computeCrossings(a, *tm.tile, tm.leaves, appender, scanStats[i]);
         tm.liveCrossings = tm.crossings.size();
-        std::vector<TileMesh::BorderRef>& border = vertexScratch().border;  // copied once, as the leaves
-        border.clear();
-        uint32_t plain = 0;
-        // The tile of the last slot looked up: the cells beyond a tile's face mostly share one.
-        uint64_t lastSlot = ~uint64_t(0), lastOwner = 0;
-        const uint64_t tileKey = tm.key, outside = tm.outside;  // in locals: push_back may alias tm
-        for (uint32_t j = 0; j < tm.crossings.size(); ++j) {
-            const Crossing& x = tm.crossings[j];
-            plain += plainTriangles(x);
-            uint64_t owners[4];
-            uint32_t n = 0;
-            for (int q = 0; q < 4; ++q) {
-                if (inTile(x.ringCell[q], tileKey, outside)) continue;
-                const uint64_t slot = x.ringCell[q] & slotMask;
-                if (slot != lastSlot) {
-                    lastSlot = slot;
-                    lastOwner = ownerKey(a, x.ringCell[q]);
-                }
-                if (std::find(owners, owners + n, lastOwner) != owners + n) continue;
-                owners[n++] = lastOwner;
-                border.push_back({lastOwner, j});
-            }
-        }
-        tm.plainTriangles = plain;
-        std::sort(border.begin(), border.end());
-        tm.border.assign(border.begin(), border.end());
+        listBorder(a, tm, vertexScratch().border);
         for (std::size_t b = 0; b < tm.border.size(); ++b) {
             if (b > 0 && tm.border[b].owner == tm.border[b - 1].owner) continue;
             const Tile& owner = *a.tileAtSlot(unpackLattice(tm.border[b].owner) >> slotShift);
-            if (owner.singleLeaf() && owner.rootType() != adf::CellType::Boundary) unscannedOwners[i].push_back(tm.border[b].owner);
+            if (!mayEmit(owner)) unscannedOwners[i].push_back(tm.border[b].owner);
         }
     });
     mTiles.reserve(nScan + nScan / 8);
@@ -1316,7 +1313,6 @@ SurfaceMesher::TileMesh* SurfaceMesher::ensureTile(uint64_t key) {
     const Tile* t = a.tileAtSlot(unpackLattice(key) >> shift);
     if (packLattice(t->latticeOrigin()) != key) return nullptr;
     auto tm = std::make_unique<TileMesh>();
-    tm->key = key;
     setTile(a, *t, *tm);
     TileMesh* raw = tm.get();
     mTiles.emplace(key, std::move(tm));

@@ -247,8 +247,28 @@ using TileMesh = SurfaceMesher::TileMesh;
 /// own, one at or beyond the tile's end sets such a bit, and either way a bit of `outside`.
 inline bool inTile(uint64_t cell, uint64_t tileKey, uint64_t outside) { return ((cell - tileKey) & outside) == 0; }
 
-/// Points `tm` at tile `t` (what its slot box and `outside` follow).
+/// TileMesh::outside of tile `t`: the bits outside its side, in every packed field.
+inline uint64_t outsideOf(const adf::Tile& t, int maxLevel) {
+    return ~packLattice(glm::uvec3((1u << uint32_t(maxLevel - t.level())) - 1));
+}
+
+/// Points `tm` at tile `t`: its key, slot box and `outside` follow.
 void setTile(const adf::Adf& adf, const adf::Tile& t, TileMesh& tm);
+
+/// Whether tile `t` can emit crossings: it holds a boundary leaf (a single leaf without a sign
+/// change emits nothing; it can still own ring cells, figure 9B).
+inline bool mayEmit(const adf::Tile& t) { return !(t.singleLeaf() && t.rootType() != adf::CellType::Boundary); }
+
+/// fn(slot) for every slot in the closed box [lo, end] grown by one slot, clipped to the domain
+/// (`slots` a side): the slots whose tiles touch a tile covering [lo, end).
+template <class Fn>
+void forSlotsAround(glm::uvec3 lo, glm::uvec3 end, uint32_t slots, Fn fn) {
+    const glm::uvec3 a(lo.x ? lo.x - 1 : 0, lo.y ? lo.y - 1 : 0, lo.z ? lo.z - 1 : 0);
+    const glm::uvec3 b(std::min(end.x + 1, slots), std::min(end.y + 1, slots), std::min(end.z + 1, slots));
+    for (uint32_t z = a.z; z < b.z; ++z)
+        for (uint32_t y = a.y; y < b.y; ++y)
+            for (uint32_t x = a.x; x < b.x; ++x) fn(glm::uvec3(x, y, z));
+}
 
 /// The key of the tile holding the cell at packed origin `cell` in `adf`.
 inline uint64_t ownerKey(const adf::Adf& adf, uint64_t cell) {

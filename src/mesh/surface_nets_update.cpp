@@ -394,7 +394,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         TileMesh* tm = it != mTiles.end() ? it->second.get() : nullptr;
         if (!tm) {
             const Tile* t = tileOfKey(a, k);
-            if (!t || (t->singleLeaf() && t->rootType() != adf::CellType::Boundary)) continue;  // emits nothing
+            if (!t || !mayEmit(*t)) continue;  // emits nothing
             tm = ensureTile(k);
         }
         scanTiles.push_back(tm);
