@@ -3,6 +3,7 @@
 /// @brief Tiled generation: the upper pass (above the tile level), tile phases, coalescing.
 #include "adf/generate.h"
 
+#include "adf/lattice.h"
 #include "util/thread_pool.h"
 
 #include <glm/common.hpp>
@@ -60,9 +61,6 @@ constexpr std::array<glm::uvec3, 27> kGridOffset = [] {
 constexpr glm::uvec3 gridOffset(int g) { return kGridOffset[g]; }
 constexpr glm::uvec3 childOffset(int c) { return {uint32_t(c & 1), uint32_t((c >> 1) & 1), uint32_t(c >> 2)}; }
 
-constexpr uint64_t latticeKey(glm::uvec3 p) {
-    return uint64_t(p.x) | (uint64_t(p.y) << 21) | (uint64_t(p.z) << 42);
-}
 
 /// The subdivision rule shared by the upper pass and the tiles (Kizamu 5.1 with 5.2).
 struct CellRule {
@@ -1008,7 +1006,7 @@ private:
 
     float sample(glm::uvec3 p) {
         bool fresh;
-        float* v = mUpperSamples.findOrInsert(latticeKey(p), 0.0f, fresh);
+        float* v = mUpperSamples.findOrInsert(packLattice(p), 0.0f, fresh);
         if (fresh) {
             const glm::dvec3 w = mDomain.latticeToWorld(p.x, p.y, p.z);
             *v = checkedDistance(mSource.distance(w), w);
@@ -1070,7 +1068,7 @@ private:
         FlatKeyMap<uint32_t> jobOfSlot;
         jobOfSlot.reserve(mJobs.size());
         bool inserted;
-        for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.findOrInsert(latticeKey(mJobs[j].slot), uint32_t(j), inserted);
+        for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.findOrInsert(packLattice(mJobs[j].slot), uint32_t(j), inserted);
         std::vector<BorderSamples> borders(mJobs.size());
         std::vector<TilePtr> tiles(mJobs.size());
         std::vector<int> colour(mJobs.size());
@@ -1107,7 +1105,7 @@ private:
             for (int i = 0; i < kNeighbours; ++i) {
                 const glm::ivec3 n = slot + kNeighbourOffsets[i];
                 if (glm::any(glm::lessThan(n, glm::ivec3(0)))) continue;
-                const uint32_t* job = jobOfSlot.find(latticeKey(glm::uvec3(n)));
+                const uint32_t* job = jobOfSlot.find(packLattice(glm::uvec3(n)));
                 if (!job || colour[*job] >= c) continue;
                 while (!done[*job].load(std::memory_order_acquire)) std::this_thread::yield();
                 neighbours[i] = &borders[*job];

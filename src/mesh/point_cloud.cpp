@@ -3,7 +3,7 @@
 /// @brief surfacePointCloud.
 #include "mesh/point_cloud.h"
 
-#include "mesh/boundary_cells.h"
+#include "adf/boundary_cells.h"
 #include "mesh/mesh_colours.h"
 #include "util/thread_pool.h"
 
@@ -31,7 +31,7 @@ struct SplitMix {
 
 /// Estimated surface area of a boundary cell (lattice units squared): its face area over the
 /// L1 norm of the unit gradient at its centre, the mean area of a plane across it.
-double cellArea(const BoundaryCell& cell) {
+double cellArea(const adf::BoundaryCell& cell) {
     const adf::Sample s = adf::trilinear(cell.corners, glm::vec3(0.5f));
     const float g1 = std::abs(s.gradient.x) + std::abs(s.gradient.y) + std::abs(s.gradient.z);
     const float g2 = glm::length(s.gradient);
@@ -47,11 +47,11 @@ PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t se
     // not depend on threads); the cells stay in their tile's list.
     std::vector<const adf::Tile*> tiles;
     adf.forEachTile([&](const adf::Tile& t) { tiles.push_back(&t); });
-    std::vector<std::vector<BoundaryCell>> cells(tiles.size());
+    std::vector<std::vector<adf::BoundaryCell>> cells(tiles.size());
     std::vector<std::vector<double>> area(tiles.size());  // per tile: area of its cells before each, then the total
     const int maxLevel = adf.domain().maxLevel;
     util::parallelFor(pool, tiles.size(), [&](std::size_t i) {
-        appendBoundaryCells(*tiles[i], maxLevel, cells[i]);
+        adf::appendBoundaryCells(*tiles[i], maxLevel, cells[i]);
         area[i].resize(cells[i].size() + 1);
         area[i][0] = 0.0;
         for (std::size_t j = 0; j < cells[i].size(); ++j) area[i][j + 1] = area[i][j] + cellArea(cells[i][j]);
@@ -77,7 +77,7 @@ PointCloud surfacePointCloud(const adf::Adf& adf, std::size_t count, uint64_t se
     const float h = adf.metresPerLattice();
     util::parallelFor(pool, tiles.size(), [&](std::size_t i) {
         for (std::size_t j = 0; j < cells[i].size(); ++j) {
-            const BoundaryCell& cell = cells[i][j];
+            const adf::BoundaryCell& cell = cells[i][j];
             SplitMix rng{seed * 0x2545f4914f6cdd1dull + firstCell[i] + j};
             const float size = float(cell.size);
             const glm::vec3 cellOrigin = origin + glm::vec3(cell.origin) * h;

@@ -10,8 +10,10 @@
 /// Threading: as surface_nets.h (a slot is written by one task per phase, read after a barrier).
 #pragma once
 
-#include "mesh/boundary_cells.h"
-#include "mesh/flat_map.h"
+#include "adf/boundary_cells.h"
+#include "adf/lattice.h"
+#include "adf/tile_diff.h"
+#include "util/flat_map.h"
 #include "mesh/slot_pool.h"
 #include "mesh/surface_nets.h"
 
@@ -24,15 +26,18 @@
 
 namespace kizamu::mesh {
 
+using adf::appendBoundaryCells;
+using adf::appendBoundaryCellsTouching;
+using adf::appendChangedCells;
+using adf::BoundaryCell;
+using adf::LatticeBox;
+using adf::LeafFilter;
+using util::FlatMap64;
+
 namespace detail {
 
-/// 20 bits per axis: lattice coordinates stay below 2^16 + 1.
-constexpr uint64_t packLattice(glm::uvec3 p) {
-    return uint64_t(p.x) | (uint64_t(p.y) << 20) | (uint64_t(p.z) << 40);
-}
-inline glm::uvec3 unpackLattice(uint64_t k) {
-    return {uint32_t(k & 0xfffff), uint32_t((k >> 20) & 0xfffff), uint32_t((k >> 40) & 0xfffff)};
-}
+using adf::packLattice;
+using adf::unpackLattice;
 
 /// A vertex's owner and index; filled in by the tile that owns the cell. Packed (12 bytes, no
 /// padding): a crossing holds four.

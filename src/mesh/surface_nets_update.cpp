@@ -15,7 +15,7 @@
 #include "mesh/surface_nets.h"
 
 #include "mesh/surface_nets_internal.h"
-#include "mesh/tile_diff.h"
+#include "adf/tile_diff.h"
 #include "util/thread_pool.h"
 
 #include <algorithm>

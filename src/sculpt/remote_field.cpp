@@ -5,7 +5,7 @@
 
 #include "adf/adf_source.h"
 #include "adf/generate.h"
-#include "mesh/boundary_cells.h"
+#include "adf/boundary_cells.h"
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -82,13 +82,13 @@ std::vector<glm::dvec3> surfaceSamples(const adf::Adf& adf, const adf::BoxWorld&
     const adf::Domain& d = adf.domain();
     const double h = d.finestCellSize();
     std::unordered_set<const adf::Tile*> seen;
-    std::vector<mesh::BoundaryCell> cells;
+    std::vector<adf::BoundaryCell> cells;
     adf::forEachSlotIn(d, box, [&](glm::uvec3 slot) {
         const adf::Tile* t = adf.tileAtSlot(slot);
-        if (t && seen.insert(t).second) mesh::appendBoundaryCells(*t, d.maxLevel, cells);
+        if (t && seen.insert(t).second) adf::appendBoundaryCells(*t, d.maxLevel, cells);
     });
     std::vector<glm::dvec3> out;
-    for (const mesh::BoundaryCell& c : cells) {
+    for (const adf::BoundaryCell& c : cells) {
         const glm::dvec3 origin = d.originWorld + glm::dvec3(c.origin) * h;
         const double size = double(c.size) * h;
         if (glm::any(glm::greaterThan(origin, box.max)) || glm::any(glm::lessThan(origin + size, box.min))) continue;

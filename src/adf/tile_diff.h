@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace kizamu::mesh {
+namespace kizamu::adf {
 
 /// An axis-aligned cube of lattice points: [lo, lo + size] per axis (closed).
 struct LatticeBox {
@@ -47,4 +47,4 @@ inline bool touches(const LatticeBox& a, glm::uvec3 lo, uint32_t size) {
            a.lo.z <= lo.z + size && lo.z <= a.lo.z + a.size;
 }
 
-}  // namespace kizamu::mesh
+}  // namespace kizamu::adf

@@ -14,7 +14,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace kizamu::mesh {
+namespace kizamu::adf {
 
 struct BoundaryCell {
     glm::uvec3 origin{0};  ///< lattice
@@ -42,4 +42,4 @@ void appendBoundaryCells(const adf::Tile& tile, int maxLevel, std::vector<Bounda
 void appendBoundaryCellsTouching(const adf::Tile& tile, int maxLevel, const std::vector<LatticeBox>& boxes,
                                  std::vector<BoundaryCell>& out, LeafFilter filter = {});
 
-}  // namespace kizamu::mesh
+}  // namespace kizamu::adf

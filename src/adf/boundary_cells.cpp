@@ -1,9 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file boundary_cells.cpp
 /// @brief appendBoundaryCells.
-#include "mesh/boundary_cells.h"
+#include "adf/boundary_cells.h"
 
-#include "mesh/tile_diff.h"
+#include "adf/tile_diff.h"
 
 #include <algorithm>
 #include <array>
@@ -11,7 +11,7 @@
 #include <emmintrin.h>
 #endif
 
-namespace kizamu::mesh {
+namespace kizamu::adf {
 
 namespace {
 
@@ -121,4 +121,4 @@ void appendBoundaryCellsTouching(const adf::Tile& t, int maxLevel, const std::ve
              [&](glm::uvec3 o, uint32_t size) { return !filter.keep || filter.keep(filter.context, o, size); });
 }
 
-}  // namespace kizamu::mesh
+}  // namespace kizamu::adf

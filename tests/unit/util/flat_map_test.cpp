@@ -2,14 +2,14 @@
 /// @file flat_map_test.cpp
 /// @brief FlatMap64 against std::unordered_map under random inserts, overwrites, find-or-inserts
 /// and erases.
-#include "mesh/flat_map.h"
+#include "util/flat_map.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 #include <unordered_map>
 
-namespace kizamu::mesh {
+namespace kizamu::util {
 namespace {
 
 TEST(FlatMap64, RandomOperationsMatchAStandardMap) {
@@ -64,4 +64,4 @@ TEST(FlatMap64, ReserveKeepsEntriesAndZeroIsAKey) {
 }
 
 }  // namespace
-}  // namespace kizamu::mesh
+}  // namespace kizamu::util

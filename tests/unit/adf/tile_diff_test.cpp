@@ -2,7 +2,7 @@
 /// @file tile_diff_test.cpp
 /// @brief appendChangedCells: its boxes against a plain comparison of every leaf of both tiles,
 /// and the old tile's node words it reports at them against a search from the root.
-#include "mesh/tile_diff.h"
+#include "adf/tile_diff.h"
 
 #include "adf/generate.h"
 #include "adf/test_part.h"
@@ -15,10 +15,10 @@
 #include <utility>
 #include <vector>
 
-namespace kizamu::mesh {
+namespace kizamu::adf {
 namespace {
 
-using namespace adf;
+
 
 using CellKey = std::tuple<uint32_t, uint32_t, uint32_t, uint32_t>;  // origin, size
 
@@ -134,4 +134,4 @@ TEST(TileDiff, BoxesCoverEveryChangedLeafAndNameTheOldTilesNodes) {
 }
 
 }  // namespace
-}  // namespace kizamu::mesh
+}  // namespace kizamu::adf

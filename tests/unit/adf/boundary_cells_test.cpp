@@ -4,8 +4,8 @@
 /// decides lone leaves on their node word's type and brick children on sign masks).
 #include "adf/generate.h"
 #include "adf/test_part.h"
-#include "mesh/boundary_cells.h"
-#include "mesh/tile_diff.h"
+#include "adf/boundary_cells.h"
+#include "adf/tile_diff.h"
 
 #include <gtest/gtest.h>
 
@@ -13,10 +13,10 @@
 #include <tuple>
 #include <vector>
 
-namespace kizamu::mesh {
+namespace kizamu::adf {
 namespace {
 
-using namespace adf;
+
 
 /// Every leaf of `t` whose decoded corners change sign, depth first.
 void referenceCells(const Tile& t, int maxLevel, uint32_t nodeIndex, glm::uvec3 origin, uint32_t size,
@@ -121,4 +121,4 @@ TEST(BoundaryCells, TouchingABoxWithAFilterAreThoseTheFilterKeeps) {
 }
 
 }  // namespace
-}  // namespace kizamu::mesh
+}  // namespace kizamu::adf

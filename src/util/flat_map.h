@@ -17,7 +17,7 @@
 #include <cstdint>
 #include <vector>
 
-namespace kizamu::mesh {
+namespace kizamu::util {
 
 class FlatMap64 {
 public:
@@ -141,4 +141,4 @@ private:
     int mShift = 64;
 };
 
-}  // namespace kizamu::mesh
+}  // namespace kizamu::util

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file tile_diff.cpp
 /// @brief appendChangedCells: a walk down both trees at once.
-#include "mesh/tile_diff.h"
+#include "adf/tile_diff.h"
 
 #include <bit>
 #include <cassert>
 #include <cstring>
 
-namespace kizamu::mesh {
+namespace kizamu::adf {
 
 namespace {
 
@@ -114,4 +114,4 @@ void appendChangedCells(const adf::Tile& before, const adf::Tile& after, int max
          before.scale() == after.scale(), changed);
 }
 
-}  // namespace kizamu::mesh
+}  // namespace kizamu::adf
