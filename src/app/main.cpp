@@ -29,7 +29,9 @@ int runCommand(int argc, char** argv) {
         kizamu::app::addGenerateCommand(app);
         kizamu::app::addConvertCommand(app);
         kizamu::app::addRunCommand(app);
+#if KIZAMU_HAVE_BENCH
         kizamu::app::addBenchCommand(app);
+#endif
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
