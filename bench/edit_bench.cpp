@@ -8,6 +8,7 @@
 #include "bench/figures.h"
 #include "bench/timing.h"
 #include "mesh/surface_nets.h"
+#include "sculpt/script_start.h"
 #include "sculpt/sculptor.h"
 #include "sculpt/stroke_script.h"
 #include "util/thread_pool.h"
