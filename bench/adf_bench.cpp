@@ -6,10 +6,10 @@
 #include "adf/adf.h"
 #include "adf/adf_source.h"
 #include "adf/generate.h"
-#include "adf/surface_points.h"
 #include "adf/test_part.h"
 #include "bench/figures.h"
 #include "bench/timing.h"
+#include "tests/support/surface_points.h"
 #include "util/thread_pool.h"
 
 #ifdef KIZAMU_HAVE_OPENVDB
