@@ -150,8 +150,8 @@ int runMeshBench(const MeshBenchOptions& opt) {
                 region, &pool));
         }
         // Two passes over the dabs, the first untimed: a warm-up like medianMs's, so the figure
-        // is the steady state, not the first touch of the mesher's fresh memory (on a virtual
-        // machine that touch alone has cost more than the update; docs/PERFORMANCE.md).
+        // is the steady state, not the first touch of the mesher's fresh memory (page faults
+        // that on a virtual machine can cost more than the update itself).
         for (int pass = 0; pass < 2; ++pass)
             for (const AdfPtr& edited : dabs) {
                 const double t0 = nowSeconds();
