@@ -66,7 +66,7 @@ std::string stem(const std::string& file) {
 /// The full mesh of the test part, with its phases from the same runs; returns the mesh (the
 /// re-mesh figure dabs at its vertices).
 mesh::MeshBuffers benchFullMesh(FigureSink& out, util::ThreadPool& pool, const AdfPtr& part, int repeats,
-                                const std::string& L) {
+                                const std::string& levelSuffix) {
     out.progress("full mesh");
     mesh::MeshBuffers full;
     // meshAdf's two steps, so the phases can be reported from the same runs.
@@ -81,18 +81,18 @@ mesh::MeshBuffers benchFullMesh(FigureSink& out, util::ThreadPool& pool, const A
         vertexMs.push_back(mesher.stats().vertexMs);
         relaxMs.push_back(mesher.stats().relaxMs);
     });
-    out.add("mesh.full_ms" + L, fullMs, "ms", "SurfaceNets of every boundary cell, into flat buffers");
+    out.add("mesh.full_ms" + levelSuffix, fullMs, "ms", "SurfaceNets of every boundary cell, into flat buffers");
     auto timed = [](std::vector<double> v) {  // the first run was medianMs's warm-up
         v.erase(v.begin());
         return median(std::move(v));
     };
-    out.add("mesh.full_phase_ms.crossings" + L, timed(crossingMs), "ms", "boundary leaves and crossings (median)");
-    out.add("mesh.full_phase_ms.vertices" + L, timed(vertexMs), "ms", "cycles, vertices, first projection");
-    out.add("mesh.full_phase_ms.relax" + L, timed(relaxMs), "ms", "split edges, relaxation, normals");
-    out.add("mesh.full_phase_ms.assembly" + L, timed(assemblyMs), "ms", "numbering and flat buffers (mesh())");
-    out.add("mesh.full_triangles" + L, double(full.triangleCount()), "triangles");
-    out.add("mesh.full_vertices" + L, double(full.vertexCount()), "vertices");
-    out.add("mesh.triangles_per_s", double(full.triangleCount()) / (fullMs * 1e-3), "triangles/s", "test part" + L);
+    out.add("mesh.full_phase_ms.crossings" + levelSuffix, timed(crossingMs), "ms", "boundary leaves and crossings (median)");
+    out.add("mesh.full_phase_ms.vertices" + levelSuffix, timed(vertexMs), "ms", "cycles, vertices, first projection");
+    out.add("mesh.full_phase_ms.relax" + levelSuffix, timed(relaxMs), "ms", "split edges, relaxation, normals");
+    out.add("mesh.full_phase_ms.assembly" + levelSuffix, timed(assemblyMs), "ms", "numbering and flat buffers (mesh())");
+    out.add("mesh.full_triangles" + levelSuffix, double(full.triangleCount()), "triangles");
+    out.add("mesh.full_vertices" + levelSuffix, double(full.vertexCount()), "vertices");
+    out.add("mesh.triangles_per_s", double(full.triangleCount()) / (fullMs * 1e-3), "triangles/s", "test part" + levelSuffix);
     return full;
 }
 
@@ -173,7 +173,7 @@ void benchTileRemesh(FigureSink& out, util::ThreadPool& pool, const AdfPtr& part
 /// OpenVDB's volumeToMesh of the test part beside our full mesh, interleaved. Returns the peer
 /// (its level set of the test part), which the caller keeps to the end of the benchmark.
 std::unique_ptr<OpenVdbPeer> compareMeshWithOpenVdb(FigureSink& out, util::ThreadPool& pool, const AdfPtr& part,
-                                                    const Domain& d, int repeats, const std::string& L) {
+                                                    const Domain& d, int repeats, const std::string& levelSuffix) {
     out.progress("OpenVDB level set of the test part");
     auto peer = std::make_unique<OpenVdbPeer>(*makeTestPart(d), d, 3.0f);
     OpenVdbPeer::MeshResult vm;
@@ -187,8 +187,8 @@ std::unique_ptr<OpenVdbPeer> compareMeshWithOpenVdb(FigureSink& out, util::Threa
         vdbMs.push_back(vm.seconds * 1e3);
         ratio.push_back(vdbMs.back() / ours.back());
     }
-    out.add("mesh.openvdb.mesh_ms" + L, median(vdbMs), "ms", "volumeToMesh, adaptivity 0, same lattice");
-    out.add("mesh.openvdb.mesh_triangles" + L, double(vm.triangleEquivalent()), "triangles",
+    out.add("mesh.openvdb.mesh_ms" + levelSuffix, median(vdbMs), "ms", "volumeToMesh, adaptivity 0, same lattice");
+    out.add("mesh.openvdb.mesh_triangles" + levelSuffix, double(vm.triangleEquivalent()), "triangles",
             std::to_string(vm.quads) + " quads + " + std::to_string(vm.triangles) + " triangles");
     out.add("mesh.vs_openvdb.mesh_speedup", median(ratio), "ratio", "OpenVDB time / ours, same surface and lattice");
     return peer;
@@ -199,7 +199,7 @@ std::unique_ptr<OpenVdbPeer> compareMeshWithOpenVdb(FigureSink& out, util::Threa
 /// mesh; with `vsOpenVdb`, OpenVDB's meshToLevelSet of the same triangles. `first`: the model
 /// whose import gives the speed-up figure.
 void benchModel(FigureSink& out, util::ThreadPool& pool, const std::filesystem::path& dir, const std::string& model,
-                bool first, const MeshBenchOptions& opt, const std::string& L) {
+                bool first, const MeshBenchOptions& opt, const std::string& levelSuffix) {
     const std::string name = stem(model);
     out.section(name + ", level " + std::to_string(opt.level));
     const mesh::MeshBuffers input = mesh::importMesh(extractModel(dir, model));
@@ -210,22 +210,22 @@ void benchModel(FigureSink& out, util::ThreadPool& pool, const std::filesystem::
     const double t0 = nowSeconds();
     a = generate(*mesh::makeMeshSource(input), md, settings, &pool);
     const double importMs = (nowSeconds() - t0) * 1e3;  // one run: imports take seconds
-    out.add("mesh.import_ms." + name + L, importMs, "ms",
+    out.add("mesh.import_ms." + name + levelSuffix, importMs, "ms",
             std::to_string(input.triangleCount()) + " triangles -> ADF (exact distance, winding-number sign)");
     mesh::MeshBuffers m;
     const double ms = medianMs(opt.repeats, [&] { m = mesh::meshAdf(a, &pool); });
-    out.add("mesh.full_ms." + name + L, ms, "ms");
-    out.add("mesh.full_triangles." + name + L, double(m.triangleCount()), "triangles");
+    out.add("mesh.full_ms." + name + levelSuffix, ms, "ms");
+    out.add("mesh.full_triangles." + name + levelSuffix, double(m.triangleCount()), "triangles");
 #ifdef KIZAMU_HAVE_OPENVDB
     if (opt.vsOpenVdb) {
         out.progress(name + ": OpenVDB meshToLevelSet");
         // The same band as ours (bandCells each side), at the same voxel size.
         const float halfWidth = float(settings.bandCells);
         const double vdbS = openVdbMeshToLevelSet(input.positions, input.indices, md.finestCellSize(), halfWidth);
-        out.add("mesh.openvdb.import_ms." + name + L, vdbS * 1e3, "ms",
+        out.add("mesh.openvdb.import_ms." + name + levelSuffix, vdbS * 1e3, "ms",
                 "meshToLevelSet, half width " + std::to_string(int(halfWidth)) + " voxels (our band)");
         const double vdb3 = openVdbMeshToLevelSet(input.positions, input.indices, md.finestCellSize(), 3.0f);
-        out.add("mesh.openvdb.import_ms_halfwidth3." + name + L, vdb3 * 1e3, "ms",
+        out.add("mesh.openvdb.import_ms_halfwidth3." + name + levelSuffix, vdb3 * 1e3, "ms",
                 "meshToLevelSet at its default half width of 3 voxels (a narrower band than ours)");
         if (first) out.add("mesh.vs_openvdb.import_speedup", vdbS * 1e3 / importMs, "ratio", "OpenVDB time / ours, " + name);
     }
@@ -239,7 +239,7 @@ void benchModel(FigureSink& out, util::ThreadPool& pool, const std::filesystem::
 int runMeshBench(const MeshBenchOptions& opt) {
     FigureSink out(opt.json);
     util::ThreadPool pool(opt.threads);
-    const std::string L = ".level" + std::to_string(opt.level);
+    const std::string levelSuffix = ".level" + std::to_string(opt.level);
     if (!opt.json)
         std::printf("kizamu bench mesh: %u threads; times are medians of %d runs after a warm-up\n", pool.threadCount(),
                     opt.repeats);
@@ -249,7 +249,7 @@ int runMeshBench(const MeshBenchOptions& opt) {
     out.section("test part, level " + std::to_string(opt.level));
     out.progress("generating the test part");
     const AdfPtr part = generate(*makeTestPart(d), d, testPartSettings(), &pool);
-    const mesh::MeshBuffers full = benchFullMesh(out, pool, part, opt.repeats, L);
+    const mesh::MeshBuffers full = benchFullMesh(out, pool, part, opt.repeats, levelSuffix);
     benchLod(out, pool, part, d, opt.repeats);
     benchPoints(out, pool, part, opt.points, opt.repeats);
     benchTileRemesh(out, pool, part, d, full);
@@ -257,7 +257,7 @@ int runMeshBench(const MeshBenchOptions& opt) {
     // The peer's level set stays in memory to the end, as the test part and its mesh do.
 #ifdef KIZAMU_HAVE_OPENVDB
     std::unique_ptr<OpenVdbPeer> peer;
-    if (opt.vsOpenVdb) peer = compareMeshWithOpenVdb(out, pool, part, d, opt.repeats, L);
+    if (opt.vsOpenVdb) peer = compareMeshWithOpenVdb(out, pool, part, d, opt.repeats, levelSuffix);
 #else
     if (opt.vsOpenVdb) out.progress("OpenVDB was not found at build time: no comparison");
 #endif
@@ -266,7 +266,7 @@ int runMeshBench(const MeshBenchOptions& opt) {
     const std::filesystem::path dir =
         std::filesystem::temp_directory_path() / ("kizamu_bench_mesh_" + std::to_string(::getpid()));
     std::filesystem::create_directories(dir);
-    for (const std::string& model : opt.models) benchModel(out, pool, dir, model, &model == &opt.models.front(), opt, L);
+    for (const std::string& model : opt.models) benchModel(out, pool, dir, model, &model == &opt.models.front(), opt, levelSuffix);
     std::filesystem::remove_all(dir);
     return 0;
 }
