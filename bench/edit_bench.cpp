@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file edit_bench.cpp
-/// @brief runEditBench.
+/// @brief runEditBench: per level, carve dabs (edit, re-mesh, their correction), undo and redo
+/// and a 500-sample stroke; then the chisel slab replayed from its script.
 #include "bench/edit_bench.h"
 
 #include "adf/generate.h"
