@@ -48,6 +48,7 @@ struct StrokeConstraints {
     std::vector<Shape> keepOut;
 };
 
+/// One stroke: a tool moved along a path, with its constraints and symmetry.
 struct Stroke {
     Tool tool;
     /// The path: a polyline of poses (at least one), or with `bezier` exactly four control
@@ -67,9 +68,10 @@ struct Stroke {
 /// all check with this one function.
 void validate(const Stroke& stroke);
 
-/// One record after the header: a stroke, an undo or redo of the latest one, or a
-/// remote-field correction (Kizamu 5.4) of pending zones, which sessions record when they
-/// correct (before each checkpoint) so that replay corrects at the same points.
+/// One step of a sculpting history (one record after a script's header): a stroke, an undo or
+/// redo of the latest one, or a remote-field correction (Kizamu 5.4) of pending zones, which
+/// sessions record when they correct (before each checkpoint) so that replay corrects at the
+/// same points.
 struct Step {
     enum class Kind : uint8_t { Stroke, Undo, Redo, Correct } kind = Kind::Stroke;
     Stroke stroke;           ///< for Kind::Stroke
