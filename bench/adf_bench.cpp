@@ -6,10 +6,10 @@
 #include "adf/adf.h"
 #include "adf/adf_source.h"
 #include "adf/generate.h"
-#include "adf/surface_points.h"
 #include "adf/test_part.h"
 #include "bench/figures.h"
 #include "bench/timing.h"
+#include "tests/support/surface_points.h"
 #include "util/thread_pool.h"
 
 #ifdef KIZAMU_HAVE_OPENVDB
@@ -175,7 +175,7 @@ int runAdfBench(const AdfBenchOptions& opt) {
         Domain d = testPartDomain(level);
         if (opt.tileSpan > 0) d.tileSpanLevels = opt.tileSpan;
         const SourcePtr src = makeTestPart(d);
-        const std::string L = ".level" + std::to_string(level);
+        const std::string levelSuffix = ".level" + std::to_string(level);
         out.section("level " + std::to_string(level) + " (" + std::to_string(d.latticeSize()) + "^3 finest cells, tile span " +
                     std::to_string(d.tileSpan()) + ")");
         out.progress("level " + std::to_string(level) + ": generating");
@@ -191,21 +191,21 @@ int runAdfBench(const AdfBenchOptions& opt) {
             ms.push_back((nowSeconds() - t0) * 1e3);
         }
         const Adf::Stats st = adf->computeStats();
-        out.add("adf.generate_ms" + L, median(ms), "ms", "median of " + std::to_string(opt.repeats));
-        out.add("adf.cells" + L, double(st.cells), "cells", "leaf cells");
-        out.add("adf.boundary_cells" + L, double(st.boundaryCells), "cells");
-        out.add("adf.tiles" + L, double(st.tiles), "tiles", std::to_string(st.coarseTiles) + " of them coarse");
-        out.add("adf.samples" + L, double(gen.samples), "samples", "distance evaluations");
-        out.add("adf.bytes" + L, double(st.bytes()), "B", fmt("%.1f MB", double(st.bytes()) / 1e6));
-        out.add("adf.bytes_per_cell" + L, st.bytesPerCell(), "B",
+        out.add("adf.generate_ms" + levelSuffix, median(ms), "ms", "median of " + std::to_string(opt.repeats));
+        out.add("adf.cells" + levelSuffix, double(st.cells), "cells", "leaf cells");
+        out.add("adf.boundary_cells" + levelSuffix, double(st.boundaryCells), "cells");
+        out.add("adf.tiles" + levelSuffix, double(st.tiles), "tiles", std::to_string(st.coarseTiles) + " of them coarse");
+        out.add("adf.samples" + levelSuffix, double(gen.samples), "samples", "distance evaluations");
+        out.add("adf.bytes" + levelSuffix, double(st.bytes()), "B", fmt("%.1f MB", double(st.bytes()) / 1e6));
+        out.add("adf.bytes_per_cell" + levelSuffix, st.bytesPerCell(), "B",
                 "16-bit corners, one scale per tile; packed bricks and leaves 7- or 8-bit steps");
         const std::size_t loneLeaves = st.cells - 8 * st.bricks;
-        out.add("adf.narrow_leaf_fraction" + L,
+        out.add("adf.narrow_leaf_fraction" + levelSuffix,
                 loneLeaves ? double(st.narrowLeaves + st.packedGroupedLeaves) / double(loneLeaves) : 0.0, "",
                 "lone leaves stored with 8-bit steps (on their own, 9 bytes instead of 16, or in a packed group)");
-        out.add("adf.grouped_leaf_fraction" + L, loneLeaves ? double(st.groupedLeaves) / double(loneLeaves) : 0.0, "",
+        out.add("adf.grouped_leaf_fraction" + levelSuffix, loneLeaves ? double(st.groupedLeaves) / double(loneLeaves) : 0.0, "",
                 "lone leaves stored in leaf groups (one half grid for a cell's lone-leaf children)");
-        out.add("adf.coarse_brick_fraction" + L, st.bricks ? double(st.coarseBricks) / double(st.bricks) : 0.0, "",
+        out.add("adf.coarse_brick_fraction" + levelSuffix, st.bricks ? double(st.coarseBricks) / double(st.bricks) : 0.0, "",
                 "bricks stored coarse-narrow (28 bytes, 8-bit leaf steps, instead of 54)");
         // float32 corners: 32 bytes per lone leaf, 108 per brick, in place of what is stored.
         std::size_t valueBytes = 0;
@@ -213,17 +213,17 @@ int runAdfBench(const AdfBenchOptions& opt) {
             valueBytes += Tile::valueBytes(t.counts());
         });
         const double floatBytes = double(st.bytes() - valueBytes + 32 * loneLeaves + 108 * st.bricks);
-        out.add("adf.bytes_float32" + L, floatBytes, "B", "same cells with float32 corners");
-        out.add("adf.bytes_per_cell_float32" + L, floatBytes / double(st.cells), "B");
+        out.add("adf.bytes_float32" + levelSuffix, floatBytes, "B", "same cells with float32 corners");
+        out.add("adf.bytes_per_cell_float32" + levelSuffix, floatBytes / double(st.cells), "B");
         float maxStep = 0.0f;
         double maxLeafStep = 0.0;
         adf->forEachTile([&](const Tile& t) {
             if (t.level() == d.tileLevel()) maxStep = std::max(maxStep, t.scale());
             if (t.narrowLeafCount() > 0 || t.packedGroupCount() > 0 || t.packedBrickCount() > 0) maxLeafStep = std::max(maxLeafStep, double(t.leafStep()) * double(t.scale()));
         });
-        out.add("adf.quantisation_step_max_cells" + L, double(maxStep) / d.finestCellSize(), "cells",
+        out.add("adf.quantisation_step_max_cells" + levelSuffix, double(maxStep) / d.finestCellSize(), "cells",
                 "largest 16-bit step in any stored tile");
-        out.add("adf.leaf_step_max_cells" + L, maxLeafStep / d.finestCellSize(), "cells",
+        out.add("adf.leaf_step_max_cells" + levelSuffix, maxLeafStep / d.finestCellSize(), "cells",
                 "largest leaf step in any tile with packed leaves, groups or bricks (their values are within one)");
 
         out.progress("level " + std::to_string(level) + ": query points");
@@ -238,7 +238,7 @@ int runAdfBench(const AdfBenchOptions& opt) {
         out.progress("level " + std::to_string(level) + ": queries");
         AdfAccessor acc(*adf);
         auto ours = [&](const glm::vec3& p) { return acc.sample(p); };
-        const std::string top_ = level == top ? "" : L;
+        const std::string top_ = level == top ? "" : levelSuffix;
         std::unique_ptr<PeerSampler> peer;
 #ifdef KIZAMU_HAVE_OPENVDB
         if (opt.vsOpenVdb && level >= 10) {
@@ -255,9 +255,9 @@ int runAdfBench(const AdfBenchOptions& opt) {
 
         out.progress("level " + std::to_string(level) + ": accuracy");
         const Accuracy acc2 = measureAccuracy(*adf, *src, opt.errorPoints, pool);
-        out.add("adf.max_error_in_band" + L, acc2.smoothMax, "ratio",
+        out.add("adf.max_error_in_band" + levelSuffix, acc2.smoothMax, "ratio",
                 "max |error|/ε̂(d) over " + std::to_string(acc2.smooth) + " band points off creases");
-        out.add("adf.max_error_at_creases" + L, acc2.creaseMax, "ratio",
+        out.add("adf.max_error_at_creases" + levelSuffix, acc2.creaseMax, "ratio",
                 "same within 2 cells of a crease (" + std::to_string(acc2.crease) + " points)");
 
         out.progress("level " + std::to_string(level) + ": carve dabs");
@@ -278,17 +278,17 @@ int runAdfBench(const AdfBenchOptions& opt) {
                 dabMs.push_back((nowSeconds() - t0) * 1e3);
                 dabTiles.push_back(double(dab.tilesGenerated));
             }
-            out.add("adf.regenerate_dab_ms" + L, median(dabMs), "ms", "carve r = 1 % of the domain, median of 21");
-            out.add("adf.regenerate_dab_tiles" + L, median(dabTiles), "tiles", "tiles rebuilt per dab (median)");
+            out.add("adf.regenerate_dab_ms" + levelSuffix, median(dabMs), "ms", "carve r = 1 % of the domain, median of 21");
+            out.add("adf.regenerate_dab_tiles" + levelSuffix, median(dabTiles), "tiles", "tiles rebuilt per dab (median)");
         }
 
 #ifdef KIZAMU_HAVE_OPENVDB
         if (peer) {
             const OpenVdbPeer& vdb = peer->vdb;
-            out.add("openvdb.bytes" + L, double(vdb.memoryBytes()), "B",
+            out.add("openvdb.bytes" + levelSuffix, double(vdb.memoryBytes()), "B",
                     fmt("%.1f MB, narrow band 3 voxels", double(vdb.memoryBytes()) / 1e6));
-            out.add("openvdb.build_ms" + L, vdb.buildSeconds() * 1e3, "ms", "same source, parallel");
-            out.add("adf.vs_openvdb.memory_saving" + L, double(vdb.memoryBytes()) / double(st.bytes()), "x",
+            out.add("openvdb.build_ms" + levelSuffix, vdb.buildSeconds() * 1e3, "ms", "same source, parallel");
+            out.add("adf.vs_openvdb.memory_saving" + levelSuffix, double(vdb.memoryBytes()) / double(st.bytes()), "x",
                     "OpenVDB bytes / ADF bytes");
             out.add("openvdb.query_coherent_ns.p50" + top_, walkC.peer.p50, "ns", "BoxStencil, cached accessor");
             out.add("openvdb.query_coherent_ns.p99" + top_, walkC.peer.p99, "ns");

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file edit_bench.cpp
-/// @brief runEditBench.
+/// @brief runEditBench: per level, carve dabs (edit, re-mesh, their correction), undo and redo
+/// and a 500-sample stroke; then the chisel slab replayed from its script.
 #include "bench/edit_bench.h"
 
 #include "adf/generate.h"
@@ -8,6 +9,7 @@
 #include "bench/figures.h"
 #include "bench/timing.h"
 #include "mesh/surface_nets.h"
+#include "sculpt/script_start.h"
 #include "sculpt/sculptor.h"
 #include "sculpt/stroke_script.h"
 #include "util/thread_pool.h"
@@ -37,7 +39,7 @@ int runEditBench(const EditBenchOptions& opt) {
         std::printf("kizamu bench edit: %u threads; carve dabs on the test part (sphere, radius 1 %% of the domain)\n",
                     pool.threadCount());
     for (const int level : opt.levels) {
-        const std::string L = ".level" + std::to_string(level);
+        const std::string levelSuffix = ".level" + std::to_string(level);
         out.section("dabs, level " + std::to_string(level));
         out.progress("level " + std::to_string(level) + ": generating the test part");
         const adf::Domain d = adf::testPartDomain(level);
@@ -69,9 +71,9 @@ int runEditBench(const EditBenchOptions& opt) {
             vertexMs.push_back(mesher.stats().vertexMs);
             relaxMs.push_back(mesher.stats().relaxMs);
         }
-        out.add("edit.dab_ms" + L + ".p50", median(edit), "ms", "regenerate the dab's tiles");
-        out.add("edit.dab_remesh_ms" + L + ".p50", median(total), "ms", "edit + incremental re-mesh");
-        out.add("edit.dab_remesh_ms" + L + ".p99", quantile(total, 0.99), "ms");
+        out.add("edit.dab_ms" + levelSuffix + ".p50", median(edit), "ms", "regenerate the dab's tiles");
+        out.add("edit.dab_remesh_ms" + levelSuffix + ".p50", median(total), "ms", "edit + incremental re-mesh");
+        out.add("edit.dab_remesh_ms" + levelSuffix + ".p99", quantile(total, 0.99), "ms");
         // Idle work a dab leaves: correcting the remote field in its zone (Kizamu 5.4).
         std::vector<double> correct;
         for (int i = 0; i < std::min(opt.dabs, 20); ++i) {
@@ -79,12 +81,12 @@ int runEditBench(const EditBenchOptions& opt) {
             if (!sculptor.correctOne()) break;
             correct.push_back((nowSeconds() - t0) * 1e3);
         }
-        if (!correct.empty()) out.add("edit.correct_ms" + L + ".p50", median(correct), "ms", "one dab's remote-field zone");
-        out.add("edit.remesh_ms" + L + ".p50", median(remesh), "ms", "the re-mesh alone");
-        out.add("edit.remesh_phase_ms.crossings" + L + ".p50", median(crossingMs), "ms", "changed cells, scan, cells to re-mesh");
-        out.add("edit.remesh_phase_ms.vertices" + L + ".p50", median(vertexMs), "ms", "cycles, vertices, first projection");
-        out.add("edit.remesh_phase_ms.relax" + L + ".p50", median(relaxMs), "ms", "split edges, relaxation, clean-up");
-        out.add("edit.dab_tiles" + L, double(sculptor.lastEdit().tilesRebuilt), "tiles", "tiles rebuilt by the last dab");
+        if (!correct.empty()) out.add("edit.correct_ms" + levelSuffix + ".p50", median(correct), "ms", "one dab's remote-field zone");
+        out.add("edit.remesh_ms" + levelSuffix + ".p50", median(remesh), "ms", "the re-mesh alone");
+        out.add("edit.remesh_phase_ms.crossings" + levelSuffix + ".p50", median(crossingMs), "ms", "changed cells, scan, cells to re-mesh");
+        out.add("edit.remesh_phase_ms.vertices" + levelSuffix + ".p50", median(vertexMs), "ms", "cycles, vertices, first projection");
+        out.add("edit.remesh_phase_ms.relax" + levelSuffix + ".p50", median(relaxMs), "ms", "split edges, relaxation, clean-up");
+        out.add("edit.dab_tiles" + levelSuffix, double(sculptor.lastEdit().tilesRebuilt), "tiles", "tiles rebuilt by the last dab");
 #ifdef KIZAMU_HAVE_OPENVDB
         if (opt.vsOpenVdb) {
             // The same dab positions in an OpenVDB level set of the part at the same resolution.
@@ -99,8 +101,8 @@ int runEditBench(const EditBenchOptions& opt) {
                 vdbTotal.push_back((r.stampSeconds + r.meshSeconds) * 1e3);
                 ratio.push_back(vdbTotal.back() / total[std::size_t(i - 1)]);
             }
-            out.add("edit.openvdb.dab_stamp_ms" + L + ".p50", median(vdbStamp), "ms", "write the sphere into the band voxels");
-            out.add("edit.openvdb.dab_remesh_ms" + L + ".p50", median(vdbTotal), "ms", "stamp + copy the region + volumeToMesh");
+            out.add("edit.openvdb.dab_stamp_ms" + levelSuffix + ".p50", median(vdbStamp), "ms", "write the sphere into the band voxels");
+            out.add("edit.openvdb.dab_remesh_ms" + levelSuffix + ".p50", median(vdbTotal), "ms", "stamp + copy the region + volumeToMesh");
             if (level == opt.levels.front())
                 out.add("edit.vs_openvdb.dab_speedup", median(ratio), "ratio", "OpenVDB stamp + region mesh / our edit + re-mesh");
         }
@@ -135,7 +137,7 @@ int runEditBench(const EditBenchOptions& opt) {
             Sculptor s(part, &pool);
             const double t0 = nowSeconds();
             s.apply(stroke);
-            out.add("edit.stroke500_ms" + L, (nowSeconds() - t0) * 1e3, "ms",
+            out.add("edit.stroke500_ms" + levelSuffix, (nowSeconds() - t0) * 1e3, "ms",
                     "500 samples, one swept volume, " + std::to_string(s.lastEdit().tilesRebuilt) + " tiles");
         }
     }

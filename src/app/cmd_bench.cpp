@@ -18,69 +18,69 @@ void addBenchCommand(CLI::App& app) {
 
     auto* adfCmd = bench->add_subcommand(
         "adf", "ADF generation, memory, distance+gradient query latency and accuracy for the test part");
-    auto o = std::make_shared<bench::AdfBenchOptions>();
-    adfCmd->add_flag("--json", o->json, "One JSON object per figure per line, nothing else on stdout");
-    adfCmd->add_flag("--vs-openvdb", o->vsOpenVdb,
+    auto adfOptions = std::make_shared<bench::AdfBenchOptions>();
+    adfCmd->add_flag("--json", adfOptions->json, "One JSON object per figure per line, nothing else on stdout");
+    adfCmd->add_flag("--vs-openvdb", adfOptions->vsOpenVdb,
                      "Also build the same part as an OpenVDB level set (levels >= 10) and compare");
-    adfCmd->add_option("--levels", o->levels, "Maximum levels to run")
+    adfCmd->add_option("--levels", adfOptions->levels, "Maximum levels to run")
         ->delimiter(',')
         ->check(CLI::Range(1, 16))
         ->expected(1, 16)
         ->capture_default_str();
-    adfCmd->add_option("--queries", o->queries, "Random points and walk steps per level")
+    adfCmd->add_option("--queries", adfOptions->queries, "Random points and walk steps per level")
         ->check(CLI::Range(std::size_t(1000), std::size_t(100'000'000)))
         ->capture_default_str();
-    adfCmd->add_option("--error-points", o->errorPoints, "Band points for the accuracy figure")
+    adfCmd->add_option("--error-points", adfOptions->errorPoints, "Band points for the accuracy figure")
         ->check(CLI::Range(std::size_t(100), std::size_t(100'000'000)))
         ->capture_default_str();
-    adfCmd->add_option("--repeats", o->repeats, "Generation runs per level (median)")
+    adfCmd->add_option("--repeats", adfOptions->repeats, "Generation runs per level (median)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    adfCmd->add_option("--query-passes", o->queryPasses, "Timed passes over the query points (medians)")
+    adfCmd->add_option("--query-passes", adfOptions->queryPasses, "Timed passes over the query points (medians)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    adfCmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
-    adfCmd->add_option("--tile-span", o->tileSpan, "Octree levels inside a stored tile (0: default)")
+    adfCmd->add_option("--threads", adfOptions->threads, "Worker threads (0: all cores)")->capture_default_str();
+    adfCmd->add_option("--tile-span", adfOptions->tileSpan, "Octree levels inside a stored tile (0: default)")
         ->check(CLI::Range(0, 8));
-    adfCmd->callback([o] {
-        const int rc = bench::runAdfBench(*o);
+    adfCmd->callback([adfOptions] {
+        const int rc = bench::runAdfBench(*adfOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 
     auto* meshCmd = bench->add_subcommand(
         "mesh", "SurfaceNets of the test part and real meshes, LOD, points, tile re-mesh, mesh import");
-    auto m = std::make_shared<bench::MeshBenchOptions>();
-    meshCmd->add_flag("--json", m->json, "One JSON object per figure per line, nothing else on stdout");
-    meshCmd->add_flag("--vs-openvdb", m->vsOpenVdb,
+    auto meshOptions = std::make_shared<bench::MeshBenchOptions>();
+    meshCmd->add_flag("--json", meshOptions->json, "One JSON object per figure per line, nothing else on stdout");
+    meshCmd->add_flag("--vs-openvdb", meshOptions->vsOpenVdb,
                       "Also run OpenVDB's volumeToMesh and meshToLevelSet on the same inputs and compare");
-    meshCmd->add_option("--level", m->level, "Finest level of the test part and the imported meshes")
+    meshCmd->add_option("--level", meshOptions->level, "Finest level of the test part and the imported meshes")
         ->check(CLI::Range(4, 12))
         ->capture_default_str();
-    meshCmd->add_option("--repeats", m->repeats, "Timed runs per figure (median)")->check(CLI::Range(1, 100))->capture_default_str();
-    meshCmd->add_option("--points", m->points, "Point-cloud size")
+    meshCmd->add_option("--repeats", meshOptions->repeats, "Timed runs per figure (median)")->check(CLI::Range(1, 100))->capture_default_str();
+    meshCmd->add_option("--points", meshOptions->points, "Point-cloud size")
         ->check(CLI::Range(std::size_t(1), std::size_t(100'000'000)))
         ->capture_default_str();
-    meshCmd->add_option("--models", m->models, "Meshes from Debian's CGAL data (data/meshes/...), e.g. bunny00.off")
+    meshCmd->add_option("--models", meshOptions->models, "Meshes from Debian's CGAL data (data/meshes/...), e.g. bunny00.off")
         ->delimiter(',')
         ->capture_default_str();
-    meshCmd->add_option("--threads", m->threads, "Worker threads (0: all cores)")->capture_default_str();
-    auto* editCmd = bench->add_subcommand("edit", "Carve dabs with and without re-meshing, a long stroke, the chisel slab, undo");
-    auto e = std::make_shared<bench::EditBenchOptions>();
-    editCmd->add_flag("--json", e->json, "One JSON object per figure per line, nothing else on stdout");
-    editCmd->add_flag("--vs-openvdb", e->vsOpenVdb, "Also stamp the same dabs into an OpenVDB level set and mesh the region");
-    editCmd->add_option("--levels", e->levels, "Levels for the dabs")->delimiter(',')->check(CLI::Range(4, 14))->capture_default_str();
-    editCmd->add_option("--dabs", e->dabs, "Dabs per level")->check(CLI::Range(2, 10000))->capture_default_str();
-    editCmd->add_option("--slab-level", e->slabLevel, "Level of the slab replay")->check(CLI::Range(4, 14))->capture_default_str();
-    editCmd->add_option("--slab-strokes", e->slabStrokes, "Strokes of the slab to replay (0: skip)")->capture_default_str();
-    editCmd->add_option("--slab-script", e->slabScript, "The slab's stroke script")->capture_default_str();
-    editCmd->add_option("--threads", e->threads, "Worker threads (0: all cores)")->capture_default_str();
-    editCmd->callback([e] {
-        const int rc = bench::runEditBench(*e);
+    meshCmd->add_option("--threads", meshOptions->threads, "Worker threads (0: all cores)")->capture_default_str();
+    meshCmd->callback([meshOptions] {
+        const int rc = bench::runMeshBench(*meshOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 
-    meshCmd->callback([m] {
-        const int rc = bench::runMeshBench(*m);
+    auto* editCmd = bench->add_subcommand("edit", "Carve dabs with and without re-meshing, a long stroke, the chisel slab, undo");
+    auto editOptions = std::make_shared<bench::EditBenchOptions>();
+    editCmd->add_flag("--json", editOptions->json, "One JSON object per figure per line, nothing else on stdout");
+    editCmd->add_flag("--vs-openvdb", editOptions->vsOpenVdb, "Also stamp the same dabs into an OpenVDB level set and mesh the region");
+    editCmd->add_option("--levels", editOptions->levels, "Levels for the dabs")->delimiter(',')->check(CLI::Range(4, 14))->capture_default_str();
+    editCmd->add_option("--dabs", editOptions->dabs, "Dabs per level")->check(CLI::Range(2, 10000))->capture_default_str();
+    editCmd->add_option("--slab-level", editOptions->slabLevel, "Level of the slab replay")->check(CLI::Range(4, 14))->capture_default_str();
+    editCmd->add_option("--slab-strokes", editOptions->slabStrokes, "Strokes of the slab to replay (0: skip)")->capture_default_str();
+    editCmd->add_option("--slab-script", editOptions->slabScript, "The slab's stroke script")->capture_default_str();
+    editCmd->add_option("--threads", editOptions->threads, "Worker threads (0: all cores)")->capture_default_str();
+    editCmd->callback([editOptions] {
+        const int rc = bench::runEditBench(*editOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 }

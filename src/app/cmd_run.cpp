@@ -5,6 +5,7 @@
 #include "app/commands.h"
 #include "mesh/mesh_export.h"
 #include "mesh/surface_nets.h"
+#include "sculpt/script_start.h"
 #include "sculpt/sculptor.h"
 #include "sculpt/session.h"
 #include "sculpt/stroke_script.h"

@@ -29,7 +29,9 @@ int runCommand(int argc, char** argv) {
         kizamu::app::addGenerateCommand(app);
         kizamu::app::addConvertCommand(app);
         kizamu::app::addRunCommand(app);
+#if KIZAMU_HAVE_BENCH
         kizamu::app::addBenchCommand(app);
+#endif
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);
@@ -52,10 +54,10 @@ int main(int argc, char** argv) {
     kizamu::app::applyMemoryPolicy();
     // The command runs on a thread started after the policy. The main thread's heap began
     // before it (the C++ runtime allocates while it starts) in 4 KiB pages, which an edit's
-    // growth then touched one at a time: a dab with its re-mesh 8 % slower on the 2-vCPU machine
-    // (docs/PERFORMANCE.md, "Twenty-first session"). The thread gets the default stack of new
-    // threads (the main thread's limit, or 2 MiB without one); a command that must own the main
-    // thread (a window, on some platforms) will have to run here instead.
+    // growth would touch one at a time (docs/decisions/0007-mimalloc-huge-pages.md). The
+    // command's thread gets the default stack of new threads (the main thread's limit, or 2 MiB
+    // without one); a command that must own the main thread (a window, on some platforms) will
+    // have to run here instead.
     int code = 0;
     try {
         std::thread([&] { code = runCommand(argc, argv); }).join();

@@ -36,13 +36,12 @@ void applyMemoryPolicy() {
     // initialisation keep 4 KiB pages). Where transparent huge pages are off, nothing changes.
     mi_option_enable(mi_option_large_os_pages);
     // A thread's first segment too: by default it is committed a piece at a time (for short
-    // threads), and pieces cannot be huge pages, so the edit's and the pool's first 32 MiB were
-    // touched 4 KiB at a time (10-15 us a fault on the 2-vCPU virtual machine; a dab with its
-    // re-mesh 8 % slower, docs/PERFORMANCE.md, "Twenty-first session").
+    // threads), and pieces cannot be huge pages, so the edit's and the pool's first 32 MiB would
+    // be touched 4 KiB at a time, a page fault each (docs/decisions/0007-mimalloc-huge-pages.md).
     mi_option_set(mi_option_eager_commit_delay, 0);
     // And freed memory stays committed, as under glibc below: handed back after mimalloc's
-    // delay, a freed 2 MiB page came back zeroed again (800k points +12 %, the one-tile re-mesh
-    // +32 % without this; docs/PERFORMANCE.md, "Twelfth session").
+    // delay, a freed 2 MiB page would come back zeroed and be faulted in again by the next
+    // frame's buffers (docs/decisions/0007-mimalloc-huge-pages.md).
 #if MI_MALLOC_VERSION >= 210
     mi_option_set(mi_option_purge_delay, -1);  // 2.1 renamed decommitting "purging"; -1: never
     gFreedMemoryKept = mi_option_get(mi_option_purge_delay) < 0;
@@ -53,10 +52,10 @@ void applyMemoryPolicy() {
 #elif defined(__GLIBC__) && !defined(KIZAMU_SANITIZER_MALLOC)
     // Meshing, points and edits free and allocate buffers of megabytes every frame; by default
     // glibc hands large ones back to the kernel (fresh mmap above its threshold, heap trimming),
-    // so the next frame takes a page fault per 4 KiB again (800k points lost three quarters of
-    // their time to it). Blocks above 32 MiB (the ceiling of glibc's own adaptive threshold)
-    // are still mapped, and more than 256 MiB free at an arena's top is still returned. A value
-    // glibc refuses leaves its default (and the summary says so).
+    // so the next frame takes a page fault per 4 KiB again
+    // (docs/decisions/0007-mimalloc-huge-pages.md). Blocks above 32 MiB (the ceiling of glibc's
+    // own adaptive threshold) are still mapped, and more than 256 MiB free at an arena's top is
+    // still returned. A value glibc refuses leaves its default (and the summary says so).
     gFreedMemoryKept = mallopt(M_MMAP_THRESHOLD, 32 << 20) == 1;
     gFreedMemoryKept = mallopt(M_TRIM_THRESHOLD, 256 << 20) == 1 && gFreedMemoryKept;
 #endif

@@ -4,9 +4,9 @@
 /// how it asks the kernel for pages.
 ///
 /// Libraries set no process-wide policy; the executable decides, once, first thing in main().
-/// Why it matters (docs/PERFORMANCE.md, "Eleventh session" and "Twelfth session"): an edit's
-/// re-mesh chases pointers through megabytes of per-tile state, so it was bound by TLB misses
-/// and page faults, both dear on a virtual machine (a two-level page walk each).
+/// Why it matters: an edit's re-mesh chases pointers through megabytes of per-tile state, so it
+/// is bound by TLB misses and page faults, both dear on a virtual machine (a two-level page walk
+/// each). The measurements: docs/decisions/0007-mimalloc-huge-pages.md.
 #pragma once
 
 #include <string>

@@ -94,9 +94,8 @@ adf::AdfPtr coarsenAdf(const adf::AdfPtr& fine, double errorWorld, util::ThreadP
     adf::Domain d = fine->domain();
     while (d.maxLevel > 1 && d.finestCellSize() <= errorWorld) --d.maxLevel;  // finest cell in (E, 2E]
     // As few tiles as 2^3: a small generation runs its tiles at once (adf/generate.cpp), so a
-    // few large tiles still generate in parallel, and the mesher's cost per tile (a quarter of
-    // the 2k LOD's mesh with 4^3 tiles) stays small. 4^3 tiles were needed while tiles ran in
-    // colour phases (docs/PERFORMANCE.md, "Twelfth session").
+    // few large tiles still generate in parallel, and the mesher's fixed cost per tile, which
+    // more tiles would multiply, stays small next to the coarse output.
     d.tileSpanLevels = std::clamp(d.maxLevel - 1, 1, d.tileSpanLevels);
     adf::GenerationSettings s = fine->settings();
     s.epsilonCells = errorWorld / d.finestCellSize();

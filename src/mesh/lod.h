@@ -41,7 +41,7 @@ MeshBuffers meshLod(const adf::AdfPtr& fine, double errorWorld, util::ThreadPool
                     SurfaceNetsStats* stats = nullptr);
 
 /// The error (m) whose LOD mesh has about `triangles` triangles (bisection on a log scale,
-/// within 15 %), for benchmarks and for the CLI's --triangles.
+/// within 15 %): what the benchmarks and tests ask for (`kizamu convert --lod` takes an error).
 double lodErrorForTriangles(const adf::AdfPtr& fine, std::size_t triangles, util::ThreadPool* pool = nullptr);
 
 }  // namespace kizamu::mesh

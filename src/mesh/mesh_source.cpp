@@ -57,7 +57,7 @@ public:
             if (mClosed)
                 for (std::size_t j = 0; j < i && sign == 0; ++j) {
                     const double gap = glm::distance(p[i], p[j]);
-                    if (out[i] + std::abs(out[j]) > gap * (1.0 + 1e-9) + mSlack) sign = out[j] < 0.0 ? -1 : 1;
+                    if (out[i] + std::abs(out[j]) > gap * (1.0 + 1e-9) + kSlack) sign = out[j] < 0.0 ? -1 : 1;
                 }
             if (sign == 0) sign = inside(p[i]) ? -1 : 1;
             out[i] *= sign;
@@ -67,8 +67,10 @@ private:
     bool inside(const glm::dvec3& p) const { return mBvh.windingNumber(p) > 0.5; }
     TriangleBvh mBvh;
     bool mClosed;
-    static constexpr double mSlack = 1e-12;  ///< m: rounding of distances and gaps
-};}  // namespace
+    static constexpr double kSlack = 1e-12;  ///< m: rounding of distances and gaps
+};
+
+}  // namespace
 
 adf::SourcePtr makeMeshSource(const MeshBuffers& mesh) {
     if (mesh.triangleCount() == 0 || !mesh.valid()) throw std::invalid_argument("mesh source needs a valid mesh with triangles");

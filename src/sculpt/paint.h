@@ -22,7 +22,7 @@
 
 #include "adf/adf.h"
 #include "adf/colour_layer.h"
-#include "sculpt/stroke_script.h"
+#include "sculpt/stroke.h"
 
 #include <cstddef>
 

@@ -97,9 +97,11 @@ std::vector<glm::dvec3> surfaceSamples(const adf::Adf& adf, const adf::BoxWorld&
         // about k^2 points on the surface, half a finest cell apart in finest leaves and one
         // apart in larger ones (flat there: the distance to a plane sampled that finely is off
         // by spacing^2 / (8 d), under a tenth of a cell beyond the kept band).
-        const glm::vec3 ag = glm::abs(adf::trilinear(c.corners, glm::vec3(0.5f)).gradient);
-        const int axis = ag.x >= ag.y && ag.x >= ag.z ? 0 : (ag.y >= ag.z ? 1 : 2);
-        const int k = c.size == 1 ? 2 : int(std::min<uint32_t>(c.size, 64));
+        const glm::vec3 absGradient = glm::abs(adf::trilinear(c.corners, glm::vec3(0.5f)).gradient);
+        const int axis = absGradient.x >= absGradient.y && absGradient.x >= absGradient.z
+                             ? 0
+                             : (absGradient.y >= absGradient.z ? 1 : 2);
+        const int k = c.size == 1 ? 2 : int(std::min<uint32_t>(c.size, 64));  // grid points per side
         for (int i = 0; i < k; ++i)
             for (int j = 0; j < k; ++j) {
                 glm::vec3 u;
@@ -156,10 +158,11 @@ std::vector<adf::BoxWorld> mergeZones(std::vector<adf::BoxWorld> zones, double m
         merged = false;
         for (std::size_t i = 0; i < zones.size(); ++i)
             for (std::size_t j = i + 1; j < zones.size();) {
-                const adf::BoxWorld u{glm::min(zones[i].min, zones[j].min), glm::max(zones[i].max, zones[j].max)};
-                const glm::dvec3 e = u.max - u.min;
-                if (std::max(e.x, std::max(e.y, e.z)) <= maxExtent && volume(u) <= volume(zones[i]) + volume(zones[j])) {
-                    zones[i] = u;
+                const adf::BoxWorld joined{glm::min(zones[i].min, zones[j].min), glm::max(zones[i].max, zones[j].max)};
+                const glm::dvec3 extent = joined.max - joined.min;
+                if (std::max(extent.x, std::max(extent.y, extent.z)) <= maxExtent &&
+                    volume(joined) <= volume(zones[i]) + volume(zones[j])) {
+                    zones[i] = joined;
                     zones.erase(zones.begin() + std::ptrdiff_t(j));
                     merged = true;
                 } else {

@@ -18,7 +18,7 @@
 
 #include "adf/adf.h"
 #include "sculpt/remote_field.h"
-#include "sculpt/stroke_script.h"
+#include "sculpt/stroke.h"
 
 #include <chrono>
 #include <cstddef>
@@ -117,14 +117,6 @@ private:
     std::size_t mBudget, mHistoryBytes = 0;
     EditStats mLast;
 };
-
-/// A Sculptor at the script's start shape (`level` 0: the script's own), its reference set to
-/// that shape.
-std::unique_ptr<Sculptor> makeSculptor(const Script& script, int level, util::ThreadPool* pool = nullptr,
-                                       std::size_t historyBytes = std::size_t(1) << 30);
-
-/// The snapshot a script starts from, at `level` (0: the script's own level).
-adf::AdfPtr startAdf(const Script& script, int level, util::ThreadPool* pool = nullptr);
 
 /// The region a stroke regenerates: its swept box plus the band and two finest cells, clipped
 /// to the domain.

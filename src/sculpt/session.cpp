@@ -4,6 +4,7 @@
 #include "sculpt/session.h"
 
 #include "adf/adf_file.h"
+#include "sculpt/script_start.h"
 #include "util/atomic_file.h"
 #include "util/file_error.h"
 

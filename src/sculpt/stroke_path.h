@@ -13,7 +13,7 @@
 #pragma once
 
 #include "adf/adf.h"
-#include "sculpt/stroke_script.h"
+#include "sculpt/stroke.h"
 
 #include <vector>
 

@@ -1,13 +1,19 @@
 #!/usr/bin/env bash
 # End-to-end checks of the kizamu executable: generate, info, damaged files, and the
-# benchmark's JSON contract. Usage: cli_test.sh path/to/kizamu [mimalloc|default]
+# benchmark's JSON contract. Usage: cli_test.sh path/to/kizamu [mimalloc|default] [bench|nobench]
+# (the third argument: whether the build has the benchmarks, KIZAMU_BUILD_BENCH)
 set -uo pipefail
 kizamu="$1"
 allocator="${2:-default}"
+benchmarks="${3:-bench}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+finish() {
+    if [ "$failures" -eq 0 ]; then echo "cli: all checks passed"; exit 0; fi
+    echo "cli: $failures check(s) failed"; exit 1
+}
 
 # --version names the allocator actually serving malloc (asked of the allocator, not the build)
 version=$("$kizamu" --version) || fail "--version exited non-zero"
@@ -137,7 +143,14 @@ PY
 done
 python3 "$repo/scripts/make_slab.py" | cmp -s - "$repo/examples/slab2000.jsonl" || fail "examples/slab2000.jsonl differs from scripts/make_slab.py"
 
+# Without the benchmark library there is no `bench` command, and nothing more to check.
+if [ "$benchmarks" = nobench ]; then
+    "$kizamu" --help | grep -q "^ *bench " && fail "built without the benchmarks, but --help lists 'bench'"
+    finish
+fi
+
 # bench contract: only JSON objects on stdout, every figure the contract names present
+"$kizamu" --help | grep -q "^ *bench " || fail "built with the benchmarks, but --help lacks 'bench'"
 "$kizamu" bench adf --json --levels 6,7 --queries 4000 --error-points 2000 --repeats 1 \
     >"$tmp/bench.json" 2>/dev/null || fail "bench adf exited non-zero"
 python3 - "$tmp/bench.json" <<'PY' || failures=$((failures + 1))
@@ -197,5 +210,4 @@ assert not missing, f"missing figures: {missing}"
 assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
 PY
 
-if [ "$failures" -eq 0 ]; then echo "cli: all checks passed"; exit 0; fi
-echo "cli: $failures check(s) failed"; exit 1
+finish

@@ -4,7 +4,7 @@
 #include "adf/adf_source.h"
 #include "adf/generate.h"
 
-#include "adf/surface_points.h"
+#include "tests/support/surface_points.h"
 #include "adf/test_part.h"
 #include "tests/util/adf_compare.h"
 #include "util/thread_pool.h"

@@ -4,7 +4,6 @@
 #include "mesh/mesh_source.h"
 
 #include "adf/generate.h"
-#include "adf/surface_points.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>

@@ -3,6 +3,7 @@
 // following at an offset, depth and height limits, masks and keep-out force fields.
 #include "sculpt/bezier_path.h"
 #include "sculpt/force_field.h"
+#include "sculpt/script_start.h"
 #include "sculpt/sculptor.h"
 #include "sculpt/stroke_path.h"
 #include "sculpt/stroke_script.h"

@@ -2,6 +2,7 @@
 // The paint tool: colours where the stroke meets the surface, opacity, untouched distance tiles,
 // undo/redo, carving after painting, mirrored paint, incremental meshes with colours, scripts.
 #include "sculpt/paint.h"
+#include "sculpt/script_start.h"
 #include "sculpt/sculptor.h"
 #include "sculpt/stroke_script.h"
 

@@ -2,6 +2,7 @@
 // Remote-field correction (Kizamu 5.4): after CSG edits the field away from the surface is
 // compared with brute-force distance to the mesh of the surface.
 #include "sculpt/remote_field.h"
+#include "sculpt/script_start.h"
 #include "sculpt/sculptor.h"
 
 #include "adf/generate.h"

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
+#include "sculpt/script_start.h"
 #include "sculpt/sculptor.h"
 #include "sculpt/stroke_script.h"
 #include "sculpt/swept_tool.h"

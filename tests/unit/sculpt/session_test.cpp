@@ -5,6 +5,7 @@
 #include "sculpt/session.h"
 
 #include "adf/adf_file.h"
+#include "sculpt/script_start.h"
 #include "tests/util/adf_compare.h"
 #include "util/file_error.h"
 

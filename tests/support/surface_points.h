@@ -6,6 +6,10 @@
 /// access pattern), and a crease detector: trilinear cells cannot follow a gradient jump, so
 /// accuracy figures treat points near creases separately. Deterministic for a given seed.
 /// Not for the haptic thread (allocates). Any thread.
+///
+/// Part of kizamu_testing (tests/support/), the library that tests and benchmarks link: nothing
+/// in src/ uses these. They keep namespace kizamu::adf because they are queries of an
+/// adf::DistanceSource, the way the core's own are.
 #pragma once
 
 #include "adf/distance_source.h"

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file surface_points.cpp
 /// @brief Projection, random surface points, walks and crease detection.
-#include "adf/surface_points.h"
+#include "tests/support/surface_points.h"
 
 #include <glm/geometric.hpp>
 
