@@ -22,6 +22,7 @@
 #include <bit>
 #include <cassert>
 #include <chrono>
+#include <functional>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -296,6 +297,162 @@ void compactIncidences(TileMesh& tm) {
     tm.incidences.swap(kept);
 }
 
+using TileMap = std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>;
+
+/// What every phase of an update reads: the two snapshots and their lattice geometry, the pool,
+/// and the mesher's tiles (`ensureTile` makes the state of a tile of the new snapshot that has
+/// none yet; null if the key is no tile's). Lives in update()'s frame; phases take it by reference.
+struct UpdateContext {
+    UpdateContext(const Adf& before, const Adf& after, util::ThreadPool* threads, TileMap& tileMap,
+                  std::function<TileMesh*(uint64_t)> ensure)
+        : oldAdf(before), newAdf(after), pool(threads), tiles(tileMap), ensureTile(std::move(ensure)),
+          maxLevel(after.domain().maxLevel), slotShift(uint32_t(maxLevel - after.domain().tileLevel())),
+          slots(after.domain().slotsPerAxis()) {}
+
+    /// The tile of snapshot `s` whose packed origin is `key`; null if no tile of `s` starts there.
+    const Tile* tileOfKey(const Adf& s, uint64_t key) const {
+        const Tile* t = s.tileAtSlot(unpackLattice(key) >> slotShift);
+        return packLattice(t->latticeOrigin()) == key ? t : nullptr;
+    }
+    /// The side of tile `t`, in lattice units.
+    uint32_t extentOf(const Tile& t) const { return 1u << uint32_t(maxLevel - t.level()); }
+
+    const Adf& oldAdf;
+    const Adf& newAdf;
+    util::ThreadPool* pool;
+    TileMap& tiles;
+    std::function<TileMesh*(uint64_t)> ensureTile;
+    int maxLevel;
+    uint32_t slotShift;  ///< slot coordinates = lattice coordinates >> slotShift
+    uint32_t slots;      ///< slots per axis
+};
+
+/// The keys of the tiles the new snapshot does not share with the old one (of both snapshots,
+/// sorted), and per key the cells where the old and the new tile differ.
+struct RebuiltTiles {
+    std::vector<uint64_t> keys;
+    std::vector<std::vector<LatticeBox>> changedBoxes;
+    /// Per key, where both tiles exist at one level: the old tile's node word at each box (else empty).
+    std::vector<std::vector<uint32_t>> oldWords;
+};
+
+/// Phase 0a: finds the slots whose tiles differ, then compares each such tile cell by cell (a
+/// tile that is new, gone or at another level differs as a whole).
+/// In: both snapshots. Out: RebuiltTiles.
+/// Complexity: O(chunks the snapshots do not share) to find the slots, O(nodes) per tile compared.
+/// Threading: parallel over the tiles, the largest rebuilt tile first (nearly always the edit's
+/// crater): usually the caller takes it, as it takes the crater in every later phase and in the
+/// edit that rebuilt it.
+RebuiltTiles compareRebuiltTiles(const UpdateContext& ctx) {
+    const Adf& oldAdf = ctx.oldAdf;
+    const Adf& newAdf = ctx.newAdf;
+    RebuiltTiles rebuilt;
+    std::vector<uint64_t>& keys = rebuilt.keys;
+    // The old tile of every TileMesh is the old snapshot's, so the keys of both are listed.
+    newAdf.forEachSlotDiffering(oldAdf, [&](glm::uvec3 slot) {
+        keys.push_back(packLattice(oldAdf.tileAtSlot(slot)->latticeOrigin()));
+        keys.push_back(packLattice(newAdf.tileAtSlot(slot)->latticeOrigin()));
+    });
+    sortUnique(keys);
+    rebuilt.changedBoxes.resize(keys.size());
+    rebuilt.oldWords.resize(keys.size());
+    auto nodes = [&](std::size_t i) {
+        const Tile* t = ctx.tileOfKey(newAdf, keys[i]);
+        return t ? t->nodeCount() : 0u;
+    };
+    util::parallelForHeaviestFirst(ctx.pool, keys.size(), nodes, [&](std::size_t i) {
+        const Tile* was = ctx.tileOfKey(oldAdf, keys[i]);
+        const Tile* now = ctx.tileOfKey(newAdf, keys[i]);
+        std::vector<LatticeBox>& boxes = rebuilt.changedBoxes[i];
+        if (was && now && was->level() == now->level()) {
+            appendChangedCells(*was, *now, ctx.maxLevel, boxes, &rebuilt.oldWords[i]);
+        } else {
+            if (was) boxes.push_back({was->latticeOrigin(), ctx.extentOf(*was)});
+            if (now) boxes.push_back({now->latticeOrigin(), ctx.extentOf(*now)});
+        }
+    });
+    return rebuilt;
+}
+
+/// A tile whose closed box touches a changed cell: the bounding box of those cells.
+struct Touched {
+    glm::uvec3 lo{UINT32_MAX}, hi{0};
+    uint32_t cells = 0;  ///< changed cells touching it: how much it has to scan
+};
+using TouchedTiles = std::unordered_map<uint64_t, Touched>;
+
+/// Phase 0b: marks every changed cell in `changed` and finds, by key, the tiles of the new
+/// snapshot whose closed box touches one (counted in st.changedCells).
+/// Complexity: O(slots each changed cell touches), nearly always one or two. Serial.
+TouchedTiles markChangedCells(const UpdateContext& ctx, const RebuiltTiles& rebuilt, ChangedCells& changed,
+                              SurfaceNetsStats& st) {
+    const uint32_t shift = ctx.slotShift;
+    TouchedTiles touched;
+    for (const std::vector<LatticeBox>& boxes : rebuilt.changedBoxes)
+        for (const LatticeBox& b : boxes) {
+            ++st.changedCells;
+            changed.mark(b);
+            const glm::uvec3 hi = b.lo + b.size;
+            glm::uvec3 s0 = b.lo >> shift, s1 = glm::min(hi >> shift, glm::uvec3(ctx.slots - 1));
+            for (int k = 0; k < 3; ++k)
+                if (s0[k] > 0 && (b.lo[k] & ((1u << shift) - 1)) == 0) --s0[k];
+            for (uint32_t z = s0.z; z <= s1.z; ++z)
+                for (uint32_t y = s0.y; y <= s1.y; ++y)
+                    for (uint32_t x = s0.x; x <= s1.x; ++x) {
+                        Touched& t = touched[packLattice(ctx.newAdf.tileAtSlot({x, y, z})->latticeOrigin())];
+                        t.lo = glm::min(t.lo, b.lo);
+                        t.hi = glm::max(t.hi, hi);
+                        ++t.cells;
+                    }
+        }
+    return touched;
+}
+
+/// Phase 0c: points the state of each rebuilt tile at its new tile. A tile that is gone is
+/// touched everywhere, so its scan removes every crossing it holds (and the cells around them
+/// go with them). Complexity: O(rebuilt tiles). Serial.
+void followRebuiltTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, TouchedTiles& touched) {
+    for (uint64_t k : rebuilt.keys) {
+        auto it = ctx.tiles.find(k);
+        if (it == ctx.tiles.end()) continue;
+        const Tile* now = ctx.tileOfKey(ctx.newAdf, k);
+        if (!now) {
+            Touched& t = touched[k];  // (its changed-cell count kept: it orders the scan)
+            t.lo = glm::uvec3(0);
+            t.hi = glm::uvec3(UINT32_MAX);
+        } else if (now != it->second->tile) {
+            setTile(ctx.newAdf, *now, *it->second);
+        }
+    }
+}
+
+/// The tiles whose crossings at changed cells are recomputed, by key, with what touches each.
+struct ScanList {
+    std::vector<TileMesh*> tiles;
+    std::vector<Touched> boxes;
+};
+
+/// Phase 0d: the touched tiles that hold crossings or may emit some, by key (a touched tile of
+/// the new snapshot gets its state here). Complexity: O(t log t), t touched tiles. Serial.
+ScanList listTilesToScan(const UpdateContext& ctx, const TouchedTiles& touched) {
+    std::vector<uint64_t> keys;
+    for (const auto& [k, t] : touched) keys.push_back(k);
+    std::sort(keys.begin(), keys.end());
+    ScanList toScan;
+    for (uint64_t k : keys) {
+        auto it = ctx.tiles.find(k);
+        TileMesh* tm = it != ctx.tiles.end() ? it->second.get() : nullptr;
+        if (!tm) {
+            const Tile* t = ctx.tileOfKey(ctx.newAdf, k);
+            if (!t || !mayEmit(*t)) continue;  // emits nothing
+            tm = ctx.ensureTile(k);
+        }
+        toScan.tiles.push_back(tm);
+        toScan.boxes.push_back(touched.at(k));
+    }
+    return toScan;
+}
+
 }  // namespace
 
 void SurfaceMesher::update(adf::AdfPtr next) {
@@ -307,99 +464,24 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     const auto tStart = std::chrono::steady_clock::now();
     const adf::AdfPtr before = std::move(mAdf);  // its tiles stay alive until the update is done
     mAdf = std::move(next);
-    const Adf& oldAdf = *before;
-    const Adf& a = *mAdf;
-    const int maxLevel = a.domain().maxLevel;
-    const uint32_t shift = uint32_t(maxLevel - a.domain().tileLevel());
-    const uint32_t slots = a.domain().slotsPerAxis();
+    const UpdateContext ctx(*before, *mAdf, mPool, mTiles, [this](uint64_t key) { return ensureTile(key); });
     SurfaceNetsStats st;
-    auto tileOfKey = [&](const Adf& s, uint64_t key) -> const Tile* {
-        const Tile* t = s.tileAtSlot(unpackLattice(key) >> shift);
-        return packLattice(t->latticeOrigin()) == key ? t : nullptr;
-    };
-    auto extentOf = [&](const Tile& t) { return 1u << uint32_t(maxLevel - t.level()); };
 
-    // 0. Tiles the new snapshot does not share with the old one, and old tiles that are gone,
-    // compared cell by cell.
-    // The slots holding different tiles, found in the chunks the snapshots do not share (the
-    // old tile of every TileMesh is the old snapshot's).
-    std::vector<uint64_t> dirty;
-    a.forEachSlotDiffering(oldAdf, [&](glm::uvec3 slot) {
-        dirty.push_back(packLattice(oldAdf.tileAtSlot(slot)->latticeOrigin()));
-        dirty.push_back(packLattice(a.tileAtSlot(slot)->latticeOrigin()));
-    });
-    sortUnique(dirty);
-    std::vector<std::vector<LatticeBox>> boxesOf(dirty.size());
-    std::vector<std::vector<uint32_t>> oldWordsOf(dirty.size());  // the old tile's node at each box
-    // The largest rebuilt tile first (nearly always the edit's crater): usually the caller takes
-    // it, as it usually takes the crater in every later phase and in the edit that rebuilt it.
-    auto nodes = [&](std::size_t i) {
-        const Tile* t = tileOfKey(a, dirty[i]);
-        return t ? t->nodeCount() : 0u;
-    };
-    util::parallelForHeaviestFirst(mPool, dirty.size(), nodes, [&](std::size_t i) {
-        const Tile* was = tileOfKey(oldAdf, dirty[i]);
-        const Tile* now = tileOfKey(a, dirty[i]);
-        if (was && now && was->level() == now->level()) {
-            appendChangedCells(*was, *now, maxLevel, boxesOf[i], &oldWordsOf[i]);
-        } else {
-            if (was) boxesOf[i].push_back({was->latticeOrigin(), extentOf(*was)});
-            if (now) boxesOf[i].push_back({now->latticeOrigin(), extentOf(*now)});
-        }
-    });
-    ChangedCells changed(a);
-    // Tiles whose closed box touches a changed cell, with the bounding box of those cells.
-    struct Touched {
-        glm::uvec3 lo{UINT32_MAX}, hi{0};
-        uint32_t cells = 0;  ///< changed cells touching it: how much it has to scan
-    };
-    std::unordered_map<uint64_t, Touched> touched;
-    for (const std::vector<LatticeBox>& boxes : boxesOf)
-        for (const LatticeBox& b : boxes) {
-            ++st.changedCells;
-            changed.mark(b);
-            const glm::uvec3 hi = b.lo + b.size;
-            glm::uvec3 s0 = b.lo >> shift, s1 = glm::min(hi >> shift, glm::uvec3(slots - 1));
-            for (int k = 0; k < 3; ++k)
-                if (s0[k] > 0 && (b.lo[k] & ((1u << shift) - 1)) == 0) --s0[k];
-            for (uint32_t z = s0.z; z <= s1.z; ++z)
-                for (uint32_t y = s0.y; y <= s1.y; ++y)
-                    for (uint32_t x = s0.x; x <= s1.x; ++x) {
-                        Touched& t = touched[packLattice(a.tileAtSlot({x, y, z})->latticeOrigin())];
-                        t.lo = glm::min(t.lo, b.lo);
-                        t.hi = glm::max(t.hi, hi);
-                        ++t.cells;
-                    }
-        }
-    // Gone tiles: every crossing and vertex they hold goes.
-    for (uint64_t k : dirty) {
-        auto it = mTiles.find(k);
-        if (it == mTiles.end()) continue;
-        const Tile* now = tileOfKey(a, k);
-        if (!now) {
-            Touched& t = touched[k];  // (its changed-cell count kept: it orders the scan)
-            t.lo = glm::uvec3(0);
-            t.hi = glm::uvec3(UINT32_MAX);
-        } else if (now != it->second->tile) {
-            setTile(a, *now, *it->second);
-        }
-    }
-    std::vector<uint64_t> touchedKeys;
-    for (const auto& [k, t] : touched) touchedKeys.push_back(k);
-    std::sort(touchedKeys.begin(), touchedKeys.end());
-    std::vector<TileMesh*> scanTiles;
-    std::vector<Touched> scanBox;
-    for (uint64_t k : touchedKeys) {
-        auto it = mTiles.find(k);
-        TileMesh* tm = it != mTiles.end() ? it->second.get() : nullptr;
-        if (!tm) {
-            const Tile* t = tileOfKey(a, k);
-            if (!t || !mayEmit(*t)) continue;  // emits nothing
-            tm = ensureTile(k);
-        }
-        scanTiles.push_back(tm);
-        scanBox.push_back(touched[k]);
-    }
+    const RebuiltTiles rebuilt = compareRebuiltTiles(ctx);
+    ChangedCells changed(ctx.newAdf);
+    TouchedTiles touched = markChangedCells(ctx, rebuilt, changed, st);
+    followRebuiltTiles(ctx, rebuilt, touched);
+    const ScanList toScan = listTilesToScan(ctx, touched);
+
+    const Adf& oldAdf = ctx.oldAdf;
+    const Adf& a = ctx.newAdf;
+    const int maxLevel = ctx.maxLevel;
+    auto tileOfKey = [&](const Adf& s, uint64_t key) { return ctx.tileOfKey(s, key); };
+    const std::vector<uint64_t>& dirty = rebuilt.keys;
+    const std::vector<std::vector<LatticeBox>>& boxesOf = rebuilt.changedBoxes;
+    const std::vector<std::vector<uint32_t>>& oldWordsOf = rebuilt.oldWords;
+    const std::vector<TileMesh*>& scanTiles = toScan.tiles;
+    const std::vector<Touched>& scanBox = toScan.boxes;
 
     while (mScanned.size() < scanTiles.size()) mScanned.push_back(std::make_unique<ScannedLeaves>());
 
@@ -776,7 +858,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
             throw std::logic_error("surface nets: a tile that is gone still holds mesh");
         emptied.push_back(k);
     }
-    for (const std::vector<TileMesh*>* list : {&scanTiles, &meshTiles})
+    for (const std::vector<TileMesh*>* list : {&scanTiles, static_cast<const std::vector<TileMesh*>*>(&meshTiles)})
         for (const TileMesh* tm : *list)
             if (tm->liveCrossings == 0 && tm->liveVertices == 0) emptied.push_back(tm->key);
     sortUnique(emptied);
