@@ -453,6 +453,213 @@ ScanList listTilesToScan(const UpdateContext& ctx, const TouchedTiles& touched) 
     return toScan;
 }
 
+/// How the whole mesh's totals move (the tiles an update does not visit hold what they held).
+struct TotalDeltas {
+    int64_t crossings = 0, vertices = 0, splitEdges = 0, crossingSlots = 0;
+};
+
+/// A scanned tile's leaf set, kept by the mesher across updates (SurfaceMesher::ScannedLeaves):
+/// the boundary leaves its scan found near the changed cells, and their index by cell key.
+struct ScannedLeavesRef {
+    std::vector<BoundaryCell>& leaves;
+    FlatMap64& byCell;
+};
+
+/// What rescanning one tile did to its crossings at changed cells.
+struct TileRescan {
+    std::vector<Crossing*> removed, added, kept;
+    std::vector<uint32_t> released;  ///< the removed records' slots: read until the update ends
+    SurfaceNetsStats st;
+};
+
+/// Where one tile's scan looks: the bounding box of the changed cells touching it, as a box and
+/// as the one-box region the boundary-leaf walks take, and the changed cells themselves.
+struct ScanRegion {
+    Touched box;
+    std::vector<LatticeBox> region;
+    const ChangedCells::Query& changedAt;
+    /// Only a leaf with a corner on a changed cell can emit (or have emitted) a crossing that
+    /// starts on one: the walks test it before decoding a leaf (many in the box fail).
+    LeafFilter cornerOnChanged;
+};
+
+/// Phase 1, one tile: the old crossings that start on a changed cell in the scan's box, as
+/// (key, slot) in `buffers.old` (unsorted, a crossing may come twice). Each was emitted by a
+/// boundary leaf of the old tile touching the region and is listed by that leaf's vertices,
+/// found through the cell index (no scan of the tile's crossings). Where the tile was rebuilt
+/// at its level, such a leaf is either in the new tile too (in `newLeaves`, which the new walk
+/// found) or inside one of the cells the tile comparison found changed, so the old tile is not
+/// walked again. Complexity: O(incidences of the leaves' vertices). Reads `tm`, and crossings of
+/// other tiles only in fields no task writes in this phase.
+void listOldCrossings(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const TileMesh& tm, const Tile& was,
+                      const Tile* now, bool current, const std::vector<BoundaryCell>& newLeaves,
+                      const ScanRegion& scan, UpdateScratch& buffers) {
+    const std::vector<uint64_t>& rebuiltKeys = rebuilt.keys;
+    std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
+    std::vector<uint64_t>& oldCells = buffers.oldCells;
+    std::size_t compared = rebuiltKeys.size();  // the tile comparison's entry for it
+    if (current && &was != now && was.level() == now->level()) {
+        compared = std::size_t(std::lower_bound(rebuiltKeys.begin(), rebuiltKeys.end(), tm.key) - rebuiltKeys.begin());
+        if (compared == rebuiltKeys.size() || rebuiltKeys[compared] != tm.key)
+            throw std::logic_error("surface nets: a rebuilt tile was not compared");
+    }
+    if (&was == now || compared < rebuiltKeys.size()) {
+        for (const BoundaryCell& e : newLeaves) oldCells.push_back(packLattice(e.origin));
+        if (compared < rebuiltKeys.size())
+            for (std::size_t k = 0; k < rebuilt.changedBoxes[compared].size(); ++k) {
+                const LatticeBox& b = rebuilt.changedBoxes[compared][k];
+                appendLeafCellsIn(was, rebuilt.oldWords[compared][k], b.lo, b.size, oldCells);
+            }
+    } else {
+        std::vector<BoundaryCell>& wasLeaves = buffers.oldLeaves;
+        wasLeaves.clear();
+        appendBoundaryCellsTouching(was, ctx.maxLevel, scan.region, wasLeaves, scan.cornerOnChanged);
+        for (const BoundaryCell& e : wasLeaves) oldCells.push_back(packLattice(e.origin));
+    }
+    for (const uint64_t cell : oldCells) {
+        const uint32_t* firstVertex = tm.cellVertex.find(cell);
+        if (!firstVertex) continue;
+        for (uint32_t vi = *firstVertex; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
+            const Vertex& v = tm.vertices[vi];
+            for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+                // Another tile's crossing: only fields no task writes in this phase.
+                const Crossing& x = *tm.incidences[j].x;
+                // Emitted by this cell (a cell of this tile: its vertex is the tile's).
+                if (x.ringCell[x.emitter] != cell) continue;
+                const glm::uvec3 start = x.start();
+                if (inBox(start, scan.box.lo, scan.box.hi) && scan.changedAt.pointChanged(start))
+                    old.emplace_back(x.key(), x.slot);
+            }
+        }
+    }
+}
+
+/// Phase 1, one tile: merges its old crossings at changed cells (`old`, (key, slot), sorted and
+/// unique) with the fresh ones by key. An old one without a fresh one is removed, a fresh one
+/// without an old one added, and a pair is kept in place if it is the same record with each
+/// ring cell in a tile of the same key (else replaced). Records never move: `freshByKey` is
+/// scratch for the fresh ones' order. Complexity: O(f log f + o). Writes only `tm`'s records.
+void mergeCrossings(const UpdateContext& ctx, TileMesh& tm, const std::vector<std::pair<uint64_t, uint32_t>>& old,
+                    const std::vector<Crossing>& fresh, std::vector<std::pair<uint64_t, uint32_t>>& freshByKey,
+                    TileRescan& out) {
+    freshByKey.resize(fresh.size());
+    for (uint32_t j = 0; j < fresh.size(); ++j) freshByKey[j] = {fresh[j].key(), j};
+    std::sort(freshByKey.begin(), freshByKey.end());
+    auto remove = [&](uint32_t j) {
+        Crossing& x = tm.crossings[j];
+        x.alive = 0;
+        --tm.liveCrossings;
+        tm.plainTriangles -= plainTriangles(x);
+        out.removed.push_back(&x);
+        out.released.push_back(j);
+    };
+    auto add = [&](const Crossing& x) {
+        // A slot an earlier update released (its record is read by nobody since), else a new
+        // one; never one released in this update: removed records are read until its end.
+        const uint32_t j = tm.crossings.allocate();
+        tm.crossings[j] = x;
+        tm.crossings[j].slot = j;
+        ++tm.liveCrossings;
+        tm.plainTriangles += plainTriangles(x);
+        out.added.push_back(&tm.crossings[j]);
+    };
+    std::size_t o = 0, f = 0;  // next in `old`, in `freshByKey`
+    while (o < old.size() || f < freshByKey.size()) {
+        if (f == freshByKey.size() || (o < old.size() && old[o].first < freshByKey[f].first)) {
+            remove(old[o++].second);
+        } else if (o == old.size() || freshByKey[f].first < old[o].first) {
+            add(fresh[freshByKey[f++].second]);
+        } else {
+            Crossing& x = tm.crossings[old[o].second];
+            const Crossing& y = fresh[freshByKey[f].second];
+            // The same record, and each ring cell in a tile of the same key: the vertex refs
+            // it keeps name the tiles that hold those cells now. (Generated coarse tiles are
+            // single leaves, so equal cells and levels imply it; a loaded file's need not be.)
+            bool same = x.sameAs(y);
+            for (int q = 0; q < 4 && same; ++q)
+                same = ownerKey(ctx.oldAdf, x.ringCell[q]) == ownerKey(ctx.newAdf, x.ringCell[q]);
+            if (same) {
+                out.kept.push_back(&x);
+            } else {
+                remove(old[o].second);
+                add(y);
+            }
+            ++o;
+            ++f;
+        }
+    }
+}
+
+/// Phase 1, one tile: recomputes its crossings that start on a changed cell. The new tile's
+/// boundary leaves near the changed cells go to `scanned` (with their index by cell, for the
+/// cells phase), the crossings they emit there are computed afresh and merged with the old ones.
+/// A tile that is gone only loses its old crossings. Complexity: O(leaves in the box + their
+/// crossings). Writes only `tm`, `scanned` and `out`; uses this thread's UpdateScratch.
+void rescanTile(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const ChangedCells& changed, TileMesh& tm,
+                const Touched& box, const ScannedLeavesRef& scanned, TileRescan& out) {
+    indexCells(tm);
+    const ChangedCells::Query changedAt(changed);
+    const glm::uvec3 hi = glm::min(box.hi, glm::uvec3(ctx.newAdf.domain().latticeSize()));
+    const ScanRegion scan{box,
+                          {{box.lo, std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z})}},
+                          changedAt,
+                          {[](const void* q, glm::uvec3 lo, uint32_t size) {
+                               return static_cast<const ChangedCells::Query*>(q)->cornerChanged(lo, size);
+                           },
+                           &changedAt}};
+    UpdateScratch& buffers = updateScratch();
+    std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
+    std::vector<BoundaryCell>& leaves = scanned.leaves;  // the new tile's (none if it is gone)
+    old.clear();
+    leaves.clear();
+    buffers.oldCells.clear();
+    const Tile* now = ctx.tileOfKey(ctx.newAdf, tm.key);
+    const bool current = now == tm.tile;  // else the tile is gone: only old crossings go
+    const Tile* was = nullptr;
+    if (tm.liveCrossings > 0) {
+        was = ctx.tileOfKey(ctx.oldAdf, tm.key);
+        if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
+    }
+    if (current) appendBoundaryCellsTouching(*now, ctx.maxLevel, scan.region, leaves, scan.cornerOnChanged);
+    if (was) listOldCrossings(ctx, rebuilt, tm, *was, now, current, leaves, scan, buffers);
+    std::vector<Crossing>& fresh = buffers.fresh;
+    fresh.clear();
+    if (current) {
+        out.st.boundaryLeaves = leaves.size();
+        const StartFilter onChanged{[](const void* q, glm::uvec3 p) {
+                                        return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
+                                    },
+                                    &changedAt};
+        computeCrossings(ctx.newAdf, *now, leaves, fresh, out.st, onChanged);
+    }
+    scanned.byCell.clear();
+    if (current) {
+        scanned.byCell.reserve(leaves.size());
+        for (uint32_t j = 0; j < leaves.size(); ++j) scanned.byCell.assign(packLattice(leaves[j].origin), j);
+    }
+    sortUnique(old);  // a cell of both tiles may come twice
+    mergeCrossings(ctx, tm, old, fresh, buffers.order, out);
+}
+
+/// Phase 1: recomputes the crossings that start on a changed cell, by the tiles that can emit
+/// them (a crossing depends only on the leaves around its start point and on its emitter's
+/// corners, so the others stay as they are).
+/// In: the touched tiles and their boxes. Out: per tile, the crossings removed, added and kept;
+/// the new tiles' leaves near the changed cells in `scanned` (one per tile to scan).
+/// Complexity: O(leaves near the changed cells + their crossings).
+/// Threading: parallel over tiles, busiest first (an edit's crater tile holds most of the work:
+/// the other threads take the small ones and all finish together); results do not depend on it.
+std::vector<TileRescan> rescanCrossings(const UpdateContext& ctx, const RebuiltTiles& rebuilt,
+                                        const ChangedCells& changed, const ScanList& toScan,
+                                        const std::vector<ScannedLeavesRef>& scanned) {
+    std::vector<TileRescan> scans(toScan.tiles.size());
+    auto changedCells = [&](std::size_t i) { return toScan.boxes[i].cells; };
+    util::parallelForHeaviestFirst(ctx.pool, toScan.tiles.size(), changedCells, [&](std::size_t i) {
+        rescanTile(ctx, rebuilt, changed, *toScan.tiles[i], toScan.boxes[i], scanned[i], scans[i]);
+    });
+    return scans;
+}
+
 }  // namespace
 
 void SurfaceMesher::update(adf::AdfPtr next) {
@@ -475,169 +682,28 @@ void SurfaceMesher::update(adf::AdfPtr next) {
 
     const Adf& oldAdf = ctx.oldAdf;
     const Adf& a = ctx.newAdf;
-    const int maxLevel = ctx.maxLevel;
     auto tileOfKey = [&](const Adf& s, uint64_t key) { return ctx.tileOfKey(s, key); };
     const std::vector<uint64_t>& dirty = rebuilt.keys;
-    const std::vector<std::vector<LatticeBox>>& boxesOf = rebuilt.changedBoxes;
-    const std::vector<std::vector<uint32_t>>& oldWordsOf = rebuilt.oldWords;
     const std::vector<TileMesh*>& scanTiles = toScan.tiles;
-    const std::vector<Touched>& scanBox = toScan.boxes;
 
     while (mScanned.size() < scanTiles.size()) mScanned.push_back(std::make_unique<ScannedLeaves>());
 
-    // 1. Crossings starting on a changed cell: recomputed by the tiles that can emit them.
-    struct ScanOut {
-        std::vector<Crossing*> removed, added, kept;
-        std::vector<uint32_t> released;
-        SurfaceNetsStats st;
-    };
-    std::vector<ScanOut> scans(scanTiles.size());
+    std::vector<ScannedLeavesRef> scannedLeaves;
+    scannedLeaves.reserve(scanTiles.size());
+    for (std::size_t i = 0; i < scanTiles.size(); ++i) scannedLeaves.push_back({mScanned[i]->leaves, mScanned[i]->byCell});
+    TotalDeltas deltas;
     // Only a scanned tile's pool can grow, and only a dropped tile's records go: the record
     // count moves by those, as the other totals do (not a pass over every tile per update).
-    int64_t slotDelta = 0;
-    for (const TileMesh* tm : scanTiles) slotDelta -= int64_t(tm->crossings.size());
-    // Busiest tiles first (an edit's crater tile holds most of the work): then the other
-    // thread's share is the small ones and both finish together. Results do not depend on it.
-    auto changedCells = [&](std::size_t i) { return scanBox[i].cells; };
-    util::parallelForHeaviestFirst(mPool, scanTiles.size(), changedCells, [&](std::size_t i) {
-        TileMesh& tm = *scanTiles[i];
-        indexCells(tm);
-        ScanOut& out = scans[i];
-        const ChangedCells::Query changedAt(changed);
-        const Touched box = scanBox[i];
-        const glm::uvec3 hi = glm::min(box.hi, glm::uvec3(a.domain().latticeSize()));
-        const std::vector<LatticeBox> region{{box.lo, std::max({hi.x - box.lo.x, hi.y - box.lo.y, hi.z - box.lo.z})}};
-        // Only a leaf with a corner on a changed cell can emit (or have emitted) such a crossing:
-        // the walks test it before decoding a leaf (more than half of those in the box fail).
-        const LeafFilter cornerOnChanged{[](const void* q, glm::uvec3 lo, uint32_t size) {
-                                             return static_cast<const ChangedCells::Query*>(q)->cornerChanged(lo, size);
-                                         },
-                                         &changedAt};
-        // Old ones: each was emitted by a boundary leaf of the old tile touching the region, and
-        // is listed by that leaf's vertex (found through the cell index, no scan of the tile).
-        // Where the tile was rebuilt at its level, such a leaf is either in the new tile too (the
-        // new walk finds it) or lies inside one of the cells the tile comparison found changed:
-        // the old tile is not walked again (a sixth of an update's instructions).
-        UpdateScratch& buffers = updateScratch();
-        std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
-        ScannedLeaves& scanned = *mScanned[i];
-        std::vector<BoundaryCell>& leaves = scanned.leaves;  // the new tile's (none if it is gone)
-        std::vector<uint64_t>& oldCells = buffers.oldCells;
-        old.clear();
-        leaves.clear();
-        oldCells.clear();
-        const Tile* now = tileOfKey(a, tm.key);
-        const bool current = now == tm.tile;  // else the tile is gone: only old crossings go
-        const Tile* was = nullptr;
-        if (tm.liveCrossings > 0) {
-            was = tileOfKey(oldAdf, tm.key);
-            if (!was) throw std::logic_error("surface nets: a tile's crossings outlived its tile");
-        }
-        if (current) appendBoundaryCellsTouching(*now, maxLevel, region, leaves, cornerOnChanged);
-        if (was) {
-            std::size_t compared = dirty.size();  // the tile comparison's entry for it
-            if (current && was != now && was->level() == now->level()) {
-                compared = std::size_t(std::lower_bound(dirty.begin(), dirty.end(), tm.key) - dirty.begin());
-                if (compared == dirty.size() || dirty[compared] != tm.key)
-                    throw std::logic_error("surface nets: a rebuilt tile was not compared");
-            }
-            if (was == now || compared < dirty.size()) {
-                for (const BoundaryCell& e : leaves) oldCells.push_back(packLattice(e.origin));
-                if (compared < dirty.size())
-                    for (std::size_t k = 0; k < boxesOf[compared].size(); ++k) {
-                        const LatticeBox& b = boxesOf[compared][k];
-                        appendLeafCellsIn(*was, oldWordsOf[compared][k], b.lo, b.size, oldCells);
-                    }
-            } else {
-                std::vector<BoundaryCell>& wasLeaves = buffers.oldLeaves;
-                wasLeaves.clear();
-                appendBoundaryCellsTouching(*was, maxLevel, region, wasLeaves, cornerOnChanged);
-                for (const BoundaryCell& e : wasLeaves) oldCells.push_back(packLattice(e.origin));
-            }
-            for (const uint64_t cell : oldCells) {
-                const uint32_t* firstVertex = tm.cellVertex.find(cell);
-                if (!firstVertex) continue;
-                for (uint32_t vi = *firstVertex; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
-                    const Vertex& v = tm.vertices[vi];
-                    for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
-                        // Another tile's crossing: only fields no task writes in this phase.
-                        const Crossing& x = *tm.incidences[j].x;
-                        // Emitted by this cell (a cell of this tile: its vertex is the tile's).
-                        if (x.ringCell[x.emitter] != cell) continue;
-                        const glm::uvec3 start = x.start();
-                        if (inBox(start, box.lo, box.hi) && changedAt.pointChanged(start)) old.emplace_back(x.key(), x.slot);
-                    }
-                }
-            }
-        }
-        std::vector<Crossing>& fresh = buffers.fresh;
-        fresh.clear();
-        if (current) {
-            out.st.boundaryLeaves = leaves.size();
-            const StartFilter onChanged{[](const void* q, glm::uvec3 p) {
-                                            return static_cast<const ChangedCells::Query*>(q)->pointChanged(p);
-                                        },
-                                        &changedAt};
-            computeCrossings(a, *now, leaves, fresh, out.st, onChanged);
-        }
-        scanned.byCell.clear();
-        if (current) {
-            scanned.byCell.reserve(leaves.size());
-            for (uint32_t j = 0; j < leaves.size(); ++j) scanned.byCell.assign(packLattice(leaves[j].origin), j);
-        }
-        sortUnique(old);  // a cell of both tiles may come twice
-        std::vector<std::pair<uint64_t, uint32_t>>& order = buffers.order;  // (key, index): no record moves
-        order.resize(fresh.size());
-        for (uint32_t j = 0; j < fresh.size(); ++j) order[j] = {fresh[j].key(), j};
-        std::sort(order.begin(), order.end());
-        std::size_t o = 0, f = 0;
-        auto remove = [&](uint32_t j) {
-            Crossing& x = tm.crossings[j];
-            x.alive = 0;
-            --tm.liveCrossings;
-            tm.plainTriangles -= plainTriangles(x);
-            out.removed.push_back(&x);
-            out.released.push_back(j);
-        };
-        auto add = [&](const Crossing& x) {
-            // A slot an earlier update released (its record is read by nobody since), else a new
-            // one; never one released in this update: removed records are read until its end.
-            const uint32_t j = tm.crossings.allocate();
-            tm.crossings[j] = x;
-            tm.crossings[j].slot = j;
-            ++tm.liveCrossings;
-            tm.plainTriangles += plainTriangles(x);
-            out.added.push_back(&tm.crossings[j]);
-        };
-        while (o < old.size() || f < order.size()) {
-            if (f == order.size() || (o < old.size() && old[o].first < order[f].first)) {
-                remove(old[o++].second);
-            } else if (o == old.size() || order[f].first < old[o].first) {
-                add(fresh[order[f++].second]);
-            } else {
-                Crossing& x = tm.crossings[old[o].second];
-                const Crossing& y = fresh[order[f].second];
-                // The same record, and each ring cell in a tile of the same key: the vertex refs
-                // it keeps name the tiles that hold those cells now. (Generated coarse tiles are
-                // single leaves, so equal cells and levels imply it; a loaded file's need not be.)
-                bool same = x.sameAs(y);
-                for (int q = 0; q < 4 && same; ++q) same = ownerKey(oldAdf, x.ringCell[q]) == ownerKey(a, x.ringCell[q]);
-                if (same) {
-                    out.kept.push_back(&x);
-                } else {
-                    remove(old[o].second);
-                    add(y);
-                }
-                ++o;
-                ++f;
-            }
-        }
-    });
+    for (const TileMesh* tm : scanTiles) deltas.crossingSlots -= int64_t(tm->crossings.size());
+    const std::vector<TileRescan> scans = rescanCrossings(ctx, rebuilt, changed, toScan, scannedLeaves);
     st.tilesScanned = scanTiles.size();
+    int64_t& slotDelta = deltas.crossingSlots;
     std::vector<CellTask> tasks;
     const ChangedCells::Query changedAt(changed);
     // Totals move by what changed (the tiles not visited hold what they held).
-    int64_t crossingDelta = 0, vertexDelta = 0, splitDelta = 0;
+    int64_t& crossingDelta = deltas.crossings;
+    int64_t& vertexDelta = deltas.vertices;
+    int64_t& splitDelta = deltas.splitEdges;
     // A cell is named by each of its crossings (about four): it is queued once (a cell key
     // names one cell of one tile) and its added crossings are grouped by its number, so the
     // sort sees only the distinct cells (sorting every mention was a fifth of an update's work).
@@ -653,7 +719,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         // (docs/PERFORMANCE.md, "Sixteenth session"). A cell has about four crossings and a
         // crossing four cells, so the cells come to about as many as the crossings named.
         std::size_t crossings = 0, addedMentions = 0;
-        for (const ScanOut& s : scans) {
+        for (const TileRescan& s : scans) {
             crossings += s.removed.size() + s.added.size() + s.kept.size();
             addedMentions += 4 * s.added.size();
         }
@@ -661,7 +727,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
         tasks.reserve(crossings);
         addedAt.reserve(addedMentions);
     }
-    for (const ScanOut& s : scans) {
+    for (const TileRescan& s : scans) {
         crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
         st.boundaryLeaves += s.st.boundaryLeaves;
         st.openCrossings += s.st.openCrossings;
