@@ -660,6 +660,80 @@ std::vector<TileRescan> rescanCrossings(const UpdateContext& ctx, const RebuiltT
     return scans;
 }
 
+/// The cells to re-mesh, each once, sorted by tile then cell, and the crossings each gains.
+struct RemeshQueue {
+    std::vector<CellTask> cells;
+    /// Cell i's added crossings are added[addedBegin[i]..addedBegin[i + 1]) (in scan order).
+    std::vector<uint32_t> addedBegin;
+    std::vector<Crossing*> added;
+};
+
+/// Phase 1c: adds the scans' counters to `st`, and their crossings added and removed to `deltas`.
+void addRescanCounts(const std::vector<TileRescan>& scans, SurfaceNetsStats& st, TotalDeltas& deltas) {
+    for (const TileRescan& s : scans) {
+        deltas.crossings += int64_t(s.added.size()) - int64_t(s.removed.size());
+        st.boundaryLeaves += s.st.boundaryLeaves;
+        st.openCrossings += s.st.openCrossings;
+        st.crossingsComputed += s.st.crossingsComputed;
+    }
+}
+
+/// Phase 1d: the cells whose vertices are recomputed: every ring cell of a removed or added
+/// crossing (a cell's vertices depend on the crossings around it), and every changed cell a
+/// kept crossing names (its corners changed). Removed crossings name their cells' owners in
+/// the old snapshot, the others in the new one.
+/// In: the scans. Out: RemeshQueue. Complexity: O(c log c) in the c cells queued, O(1) per
+/// crossing's mention. Serial.
+RemeshQueue queueCellsToRemesh(const UpdateContext& ctx, const ChangedCells& changed,
+                               const std::vector<TileRescan>& scans) {
+    RemeshQueue queue;
+    std::vector<CellTask>& cells = queue.cells;
+    const ChangedCells::Query changedAt(changed);
+    // A cell is named by each of its crossings (about four): it is queued once (a cell key
+    // names one cell of one tile) and its added crossings are grouped by its number, so the
+    // sort sees only the distinct cells.
+    FlatMap64 queued;  // cell -> number
+    auto queueCell = [&](uint64_t owner, uint64_t cell) {
+        const uint32_t number = queued.findOrAssign(cell, uint32_t(cells.size()));
+        if (number == cells.size()) cells.push_back({owner, cell, number});
+        return number;
+    };
+    std::vector<std::pair<uint32_t, Crossing*>> addedAt;  // (cell number, crossing)
+    {
+        // Room for them at once, so the map is not rehashed as it grows. A cell has about four
+        // crossings and a crossing four cells, so the cells come to about as many as the
+        // crossings named.
+        std::size_t crossings = 0, addedMentions = 0;
+        for (const TileRescan& s : scans) {
+            crossings += s.removed.size() + s.added.size() + s.kept.size();
+            addedMentions += 4 * s.added.size();
+        }
+        queued.reserve(crossings);
+        cells.reserve(crossings);
+        addedAt.reserve(addedMentions);
+    }
+    for (const TileRescan& s : scans) {
+        for (Crossing* x : s.removed)
+            for (int q = 0; q < 4; ++q) queueCell(ownerKey(ctx.oldAdf, x->ringCell[q]), x->ringCell[q]);
+        for (Crossing* x : s.added)
+            for (int q = 0; q < 4; ++q)
+                if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
+                    addedAt.emplace_back(queueCell(ownerKey(ctx.newAdf, x->ringCell[q]), x->ringCell[q]), x);
+        for (Crossing* x : s.kept)
+            for (int q = 0; q < 4; ++q)
+                if (changedAt.unitChanged(unpackLattice(x->ringCell[q])))
+                    queueCell(ownerKey(ctx.newAdf, x->ringCell[q]), x->ringCell[q]);
+    }
+    std::sort(cells.begin(), cells.end());
+    // Added crossings by cell (a counting sort by each cell's rank in the sorted queue).
+    std::vector<uint32_t> rank(cells.size());
+    for (uint32_t i = 0; i < cells.size(); ++i) rank[cells[i].number] = i;
+    queue.added.resize(addedAt.size());
+    groupByRank(addedAt.size(), rank, queue.addedBegin, [&](std::size_t j) { return addedAt[j].first; },
+                [&](std::size_t j, uint32_t at) { queue.added[at] = addedAt[j].second; });
+    return queue;
+}
+
 }  // namespace
 
 void SurfaceMesher::update(adf::AdfPtr next) {
@@ -680,8 +754,6 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     followRebuiltTiles(ctx, rebuilt, touched);
     const ScanList toScan = listTilesToScan(ctx, touched);
 
-    const Adf& oldAdf = ctx.oldAdf;
-    const Adf& a = ctx.newAdf;
     auto tileOfKey = [&](const Adf& s, uint64_t key) { return ctx.tileOfKey(s, key); };
     const std::vector<uint64_t>& dirty = rebuilt.keys;
     const std::vector<TileMesh*>& scanTiles = toScan.tiles;
@@ -697,58 +769,15 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     for (const TileMesh* tm : scanTiles) deltas.crossingSlots -= int64_t(tm->crossings.size());
     const std::vector<TileRescan> scans = rescanCrossings(ctx, rebuilt, changed, toScan, scannedLeaves);
     st.tilesScanned = scanTiles.size();
+    addRescanCounts(scans, st, deltas);
+    const RemeshQueue queue = queueCellsToRemesh(ctx, changed, scans);
     int64_t& slotDelta = deltas.crossingSlots;
-    std::vector<CellTask> tasks;
-    const ChangedCells::Query changedAt(changed);
-    // Totals move by what changed (the tiles not visited hold what they held).
-    int64_t& crossingDelta = deltas.crossings;
     int64_t& vertexDelta = deltas.vertices;
     int64_t& splitDelta = deltas.splitEdges;
-    // A cell is named by each of its crossings (about four): it is queued once (a cell key
-    // names one cell of one tile) and its added crossings are grouped by its number, so the
-    // sort sees only the distinct cells (sorting every mention was a fifth of an update's work).
-    FlatMap64 queued;  // cell -> number
-    auto queueCell = [&](uint64_t owner, uint64_t cell) {
-        const uint32_t number = queued.findOrAssign(cell, uint32_t(tasks.size()));
-        if (number == tasks.size()) tasks.push_back({owner, cell, number});
-        return number;
-    };
-    std::vector<std::pair<uint32_t, Crossing*>> addedAt;  // (cell number, crossing)
-    {
-        // Room for them at once: grown a step at a time, the map was rehashed seven times a dab
-        // (docs/PERFORMANCE.md, "Sixteenth session"). A cell has about four crossings and a
-        // crossing four cells, so the cells come to about as many as the crossings named.
-        std::size_t crossings = 0, addedMentions = 0;
-        for (const TileRescan& s : scans) {
-            crossings += s.removed.size() + s.added.size() + s.kept.size();
-            addedMentions += 4 * s.added.size();
-        }
-        queued.reserve(crossings);
-        tasks.reserve(crossings);
-        addedAt.reserve(addedMentions);
-    }
-    for (const TileRescan& s : scans) {
-        crossingDelta += int64_t(s.added.size()) - int64_t(s.removed.size());
-        st.boundaryLeaves += s.st.boundaryLeaves;
-        st.openCrossings += s.st.openCrossings;
-        st.crossingsComputed += s.st.crossingsComputed;
-        for (Crossing* x : s.removed)
-            for (int q = 0; q < 4; ++q) queueCell(ownerKey(oldAdf, x->ringCell[q]), x->ringCell[q]);
-        for (Crossing* x : s.added)
-            for (int q = 0; q < 4; ++q)
-                if (std::find(x->ringCell, x->ringCell + q, x->ringCell[q]) == x->ringCell + q)
-                    addedAt.emplace_back(queueCell(ownerKey(a, x->ringCell[q]), x->ringCell[q]), x);
-        for (Crossing* x : s.kept)
-            for (int q = 0; q < 4; ++q)
-                if (changedAt.unitChanged(unpackLattice(x->ringCell[q]))) queueCell(ownerKey(a, x->ringCell[q]), x->ringCell[q]);
-    }
-    std::sort(tasks.begin(), tasks.end());
-    // Added crossings by task (a counting sort): task i's are added[addedBegin[i]..addedBegin[i + 1]).
-    std::vector<uint32_t> rank(tasks.size()), addedBegin;
-    for (uint32_t i = 0; i < tasks.size(); ++i) rank[tasks[i].number] = i;
-    std::vector<Crossing*> added(addedAt.size());
-    groupByRank(addedAt.size(), rank, addedBegin, [&](std::size_t j) { return addedAt[j].first; },
-                [&](std::size_t j, uint32_t at) { added[at] = addedAt[j].second; });
+    const Adf& a = ctx.newAdf;
+    const std::vector<CellTask>& tasks = queue.cells;
+    const std::vector<uint32_t>& addedBegin = queue.addedBegin;
+    const std::vector<Crossing*>& added = queue.added;
 
     const auto tPhase1 = std::chrono::steady_clock::now();
     // 2. Cells around changed crossings, and changed cells: all their vertices, from scratch.
@@ -939,7 +968,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.crossingMs = ms(tStart, tPhase1);
     st.vertexMs = ms(tPhase1, tPhase2);
     st.relaxMs = ms(tPhase2, tPhase3);
-    st.crossings = std::size_t(int64_t(mStats.crossings) + crossingDelta);
+    st.crossings = std::size_t(int64_t(mStats.crossings) + deltas.crossings);
     st.vertices = std::size_t(int64_t(mStats.vertices) + vertexDelta);
     st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
     st.crossingSlots = std::size_t(int64_t(mStats.crossingSlots) + slotDelta);
