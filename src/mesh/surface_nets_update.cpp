@@ -734,6 +734,173 @@ RemeshQueue queueCellsToRemesh(const UpdateContext& ctx, const ChangedCells& cha
     return queue;
 }
 
+/// The tiles holding cells to re-mesh, in queue order (by key), and each one's run of the queue.
+struct RemeshTiles {
+    std::vector<TileMesh*> tiles;
+    /// Tile i's cells are queue.cells[cellBegin[i]..cellBegin[i + 1]).
+    std::vector<std::size_t> cellBegin;
+};
+
+/// Phase 2a: the tiles owning the queued cells (a tile of the new snapshot gets its state here).
+/// Complexity: O(queued cells). Serial.
+RemeshTiles listTilesToRemesh(const UpdateContext& ctx, const RemeshQueue& queue) {
+    const std::vector<CellTask>& cells = queue.cells;
+    RemeshTiles toRemesh;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (i > 0 && cells[i].owner == cells[i - 1].owner) continue;
+        auto it = ctx.tiles.find(cells[i].owner);
+        TileMesh* tm = it != ctx.tiles.end() ? it->second.get() : ctx.ensureTile(cells[i].owner);
+        if (!tm) throw std::logic_error("surface nets: a crossing's cell has no tile");
+        toRemesh.tiles.push_back(tm);
+        toRemesh.cellBegin.push_back(i);
+    }
+    toRemesh.cellBegin.push_back(cells.size());
+    return toRemesh;
+}
+
+/// Phase 2b: this update's mark, from the mesher's counter `stamp`: set on the vertices it makes,
+/// then on those it relaxes because they read one, so each is relaxed once. When the counter
+/// wraps, every tile's marks are cleared (O(vertices), once in 2^32 updates).
+uint32_t nextRelaxMark(TileMap& tiles, uint32_t& stamp) {
+    if (++stamp == 0) {  // wrapped: clear every mark
+        for (const auto& [key, tm] : tiles)
+            for (Projected& p : tm->projected) p.relaxStamp = 0;
+        stamp = 1;
+    }
+    return stamp;
+}
+
+/// Phase 2, one cell: releases its old vertices, appending the incidences of their crossings
+/// that are still alive (the kept ones) to `inc`. An unchanged cell (its origin is on no changed
+/// cell: changed cells are whole octree cells) keeps its corners: copied to `corners`, and then
+/// it returns true.
+bool takeOldVertices(TileMesh& tm, uint64_t cell, const ChangedCells::Query& cellChanged,
+                     std::vector<Incidence>& inc, float corners[8]) {
+    const uint32_t* firstVertex = tm.cellVertex.find(cell);
+    if (!firstVertex) return false;
+    bool haveCorners = false;
+    if (!cellChanged.unitChanged(unpackLattice(cell))) {
+        std::copy(tm.vertices[*firstVertex].corners, tm.vertices[*firstVertex].corners + 8, corners);
+        haveCorners = true;
+    }
+    for (uint32_t vi = *firstVertex; vi != UINT32_MAX;) {
+        const Vertex& v = tm.vertices[vi];
+        for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+            const VertexIncidence& in = tm.incidences[j];
+            if (in.x->alive) inc.push_back({cell, in.x->key(), in.x, in.first, in.last});
+        }
+        tm.liveIncidences -= v.incEnd - v.incBegin;
+        const uint32_t nextVi = v.nextInCell;
+        tm.releaseVertex(vi);
+        vi = nextVi;
+    }
+    tm.cellVertex.erase(cell);
+    return haveCorners;
+}
+
+/// Phase 2, one cell: appends the incidences of queued cell `t` (at key `cell`) with the
+/// crossings it gains.
+void appendAddedIncidences(const RemeshQueue& queue, std::size_t t, uint64_t cell, std::vector<Incidence>& inc) {
+    for (uint32_t k = queue.addedBegin[t]; k < queue.addedBegin[t + 1]; ++k) {
+        Crossing* x = queue.added[k];
+        const int q = int(std::find(x->ringCell, x->ringCell + 4, cell) - x->ringCell);
+        uint8_t first, last;
+        incidenceRun(*x, q, first, last);
+        inc.push_back({cell, x->key(), x, first, last});
+    }
+}
+
+/// Phase 2, one cell: its corners in the new snapshot. A re-meshed cell near a changed one is
+/// nearly always a leaf its tile's scan found (`scanned`, null if the tile was not scanned);
+/// else the leaf is looked up.
+void newCorners(const Adf& newAdf, const ScannedLeavesRef* scanned, uint64_t cell, float corners[8]) {
+    if (const uint32_t* j = scanned ? scanned->byCell.find(cell) : nullptr) {
+        std::copy(scanned->leaves[*j].corners, scanned->leaves[*j].corners + 8, corners);
+    } else {  // a cell without a sign change, or in a tile not scanned
+        const adf::LeafRef leaf = newAdf.findLeaf(unpackLattice(cell));
+        std::copy(leaf.corners, leaf.corners + 8, corners);
+    }
+}
+
+/// Phase 2, one tile: re-meshes its queued cells queue.cells[begin..end) in order, each from
+/// all its crossings (the kept ones from its old vertices, which go, and the added ones); the
+/// cells' multi-crossing faces are found again. The vertices made carry `relaxMark` and are
+/// appended to `made`. Complexity: O(incidences of the cells). Writes only `tm` (and its
+/// crossings' slots of these cells); uses this thread's UpdateScratch.
+void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const RemeshQueue& queue, std::size_t begin,
+                std::size_t end, TileMesh& tm, const ScannedLeavesRef* scanned, uint32_t relaxMark,
+                SurfaceNetsStats& ms, std::vector<VertexRef>& made) {
+    const std::vector<CellTask>& cells = queue.cells;
+    indexCells(tm);  // (a safeguard: a tile with cells to re-mesh touches a changed cell, so its scan indexed it)
+    // The re-meshed cells' multi-crossing faces are found again by meshCell.
+    const auto cellFirst = cells.begin() + std::ptrdiff_t(begin), cellEnd = cells.begin() + std::ptrdiff_t(end);
+    std::erase_if(tm.multiFaces, [&](const MultiFace& mf) {
+        const auto at = std::lower_bound(cellFirst, cellEnd, mf.cellA, [](const CellTask& t, uint64_t c) { return t.cell < c; });
+        return at != cellEnd && at->cell == mf.cellA;
+    });
+    UpdateScratch& buffers = updateScratch();
+    CellScratch& cellScratch = buffers.cell;
+    cellScratch.freshCrossings = false;
+    std::vector<Incidence>& inc = buffers.inc;
+    const ChangedCells::Query cellChanged(changed);
+    for (std::size_t t = begin; t < end; ++t) {
+        const uint64_t cell = cells[t].cell;
+        ++ms.cellsMeshed;
+        inc.clear();
+        float corners[8];
+        const bool haveCorners = takeOldVertices(tm, cell, cellChanged, inc, corners);
+        appendAddedIncidences(queue, t, cell, inc);
+        std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
+        if (inc.empty()) continue;
+        if (!haveCorners) newCorners(ctx.newAdf, scanned, cell, corners);
+        bool anyIn = false, anyOut = false;
+        for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
+        if (!(anyIn && anyOut)) ++ms.signlessCells;
+        const std::size_t incBefore = tm.incidences.size();
+        const uint32_t first = meshCell(ctx.newAdf, tm, inc.data(), uint32_t(inc.size()), corners, cellScratch, ms);
+        tm.liveIncidences += tm.incidences.size() - incBefore;
+        tm.cellVertex.assign(cell, first);
+        for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
+            tm.projected[vi].relaxStamp = relaxMark;
+            made.push_back({&tm, vi});
+        }
+    }
+    compactIncidences(tm);
+}
+
+/// Phase 2: re-meshes the queued cells: all their vertices, from scratch (cycles and first
+/// projection, computed as a build does: incidences sorted by crossing key).
+/// In: the queue, the tiles owning its cells, the scans' leaves (`scanned`, one per tile of
+/// `toScan`). Out: per tile, the vertices made (marked with `relaxMark`); counters in `st`, the
+/// vertex total's move in `deltas`. Complexity: O(incidences of the queued cells).
+/// Threading: parallel over tiles, most cells first, as the scan.
+std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const ChangedCells& changed,
+                                                const RemeshQueue& queue, const RemeshTiles& toRemesh,
+                                                const ScanList& toScan, const std::vector<ScannedLeavesRef>& scanned,
+                                                uint32_t relaxMark, SurfaceNetsStats& st, TotalDeltas& deltas) {
+    const std::vector<TileMesh*>& tiles = toRemesh.tiles;
+    const std::vector<std::size_t>& cellBegin = toRemesh.cellBegin;
+    for (const TileMesh* tm : tiles) deltas.vertices -= tm->liveVertices;
+    std::vector<SurfaceNetsStats> tileStats(tiles.size());
+    std::vector<std::vector<VertexRef>> made(tiles.size());
+    FlatMap64 scanOf;  // tile key -> its index in toScan
+    for (uint32_t i = 0; i < toScan.tiles.size(); ++i) scanOf.assign(toScan.tiles[i]->key, i);
+    auto cellsToMesh = [&](std::size_t ti) { return cellBegin[ti + 1] - cellBegin[ti]; };
+    util::parallelForHeaviestFirst(ctx.pool, tiles.size(), cellsToMesh, [&](std::size_t ti) {
+        TileMesh& tm = *tiles[ti];
+        const uint32_t* scanIndex = scanOf.find(tm.key);
+        remeshTile(ctx, changed, queue, cellBegin[ti], cellBegin[ti + 1], tm, scanIndex ? &scanned[*scanIndex] : nullptr,
+                   relaxMark, tileStats[ti], made[ti]);
+    });
+    for (const TileMesh* tm : tiles) deltas.vertices += tm->liveVertices;
+    st.tilesMeshed = tiles.size();
+    for (const SurfaceNetsStats& s : tileStats) {
+        st.cellsMeshed += s.cellsMeshed;
+        addVertexCounters(st, s);
+    }
+    return made;
+}
+
 }  // namespace
 
 void SurfaceMesher::update(adf::AdfPtr next) {
@@ -772,121 +939,15 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     addRescanCounts(scans, st, deltas);
     const RemeshQueue queue = queueCellsToRemesh(ctx, changed, scans);
     int64_t& slotDelta = deltas.crossingSlots;
-    int64_t& vertexDelta = deltas.vertices;
     int64_t& splitDelta = deltas.splitEdges;
     const Adf& a = ctx.newAdf;
-    const std::vector<CellTask>& tasks = queue.cells;
-    const std::vector<uint32_t>& addedBegin = queue.addedBegin;
-    const std::vector<Crossing*>& added = queue.added;
 
     const auto tPhase1 = std::chrono::steady_clock::now();
-    // 2. Cells around changed crossings, and changed cells: all their vertices, from scratch.
-    std::vector<TileMesh*> meshTiles;
-    std::vector<std::size_t> taskBegin;
-    for (std::size_t i = 0; i < tasks.size(); ++i) {
-        if (i > 0 && tasks[i].owner == tasks[i - 1].owner) continue;
-        auto it = mTiles.find(tasks[i].owner);
-        TileMesh* tm = it != mTiles.end() ? it->second.get() : ensureTile(tasks[i].owner);
-        if (!tm) throw std::logic_error("surface nets: a crossing's cell has no tile");
-        meshTiles.push_back(tm);
-        taskBegin.push_back(i);
-    }
-    taskBegin.push_back(tasks.size());
-    for (const TileMesh* tm : meshTiles) vertexDelta -= tm->liveVertices;
-    // This update's mark: on the vertices it makes (below), then on those it relaxes besides.
-    if (++mRelaxStamp == 0) {  // wrapped: clear every mark
-        for (const auto& [key, tm] : mTiles)
-            for (Projected& p : tm->projected) p.relaxStamp = 0;
-        mRelaxStamp = 1;
-    }
-    const uint32_t relaxMark = mRelaxStamp;
-    std::vector<SurfaceNetsStats> meshStats(meshTiles.size());
-    std::vector<std::vector<VertexRef>> made(meshTiles.size());
-    // A re-meshed cell near a changed one is nearly always a leaf its tile's scan found.
-    FlatMap64 scanOf;  // tile key -> its index in scanTiles
-    for (uint32_t i = 0; i < scanTiles.size(); ++i) scanOf.assign(scanTiles[i]->key, i);
-    auto cellsToMesh = [&](std::size_t ti) { return taskBegin[ti + 1] - taskBegin[ti]; };  // most first, as the scan
-    util::parallelForHeaviestFirst(mPool, meshTiles.size(), cellsToMesh, [&](std::size_t ti) {
-        TileMesh& tm = *meshTiles[ti];
-        indexCells(tm);  // (a safeguard: a tile with cells to re-mesh touches a changed cell, so its scan indexed it)
-        SurfaceNetsStats& ms = meshStats[ti];
-        // The re-meshed cells' multi-crossing faces are found again by meshCell.
-        const auto taskFirst = tasks.begin() + std::ptrdiff_t(taskBegin[ti]), taskEnd = tasks.begin() + std::ptrdiff_t(taskBegin[ti + 1]);
-        std::erase_if(tm.multiFaces, [&](const MultiFace& mf) {
-            const auto at = std::lower_bound(taskFirst, taskEnd, mf.cellA, [](const CellTask& t, uint64_t c) { return t.cell < c; });
-            return at != taskEnd && at->cell == mf.cellA;
-        });
-        UpdateScratch& buffers = updateScratch();
-        CellScratch& cellScratch = buffers.cell;
-        cellScratch.freshCrossings = false;
-        std::vector<Incidence>& inc = buffers.inc;
-        const ChangedCells::Query cellChanged(changed);
-        const uint32_t* scanIndex = scanOf.find(tm.key);
-        const ScannedLeaves* scanned = scanIndex ? mScanned[*scanIndex].get() : nullptr;
-        for (std::size_t t = taskBegin[ti]; t < taskBegin[ti + 1]; ++t) {
-            const uint64_t cell = tasks[t].cell;
-            ++ms.cellsMeshed;
-            inc.clear();
-            // Kept crossings, from the old vertices (which go). An unchanged cell (its origin is
-            // on no changed cell: changed cells are whole octree cells) keeps its corners.
-            float corners[8];
-            bool haveCorners = false;
-            if (const uint32_t* firstVertex = tm.cellVertex.find(cell)) {
-                if (!cellChanged.unitChanged(unpackLattice(cell))) {
-                    std::copy(tm.vertices[*firstVertex].corners, tm.vertices[*firstVertex].corners + 8, corners);
-                    haveCorners = true;
-                }
-                for (uint32_t vi = *firstVertex; vi != UINT32_MAX;) {
-                    const Vertex& v = tm.vertices[vi];
-                    for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
-                        const VertexIncidence& in = tm.incidences[j];
-                        if (in.x->alive) inc.push_back({cell, in.x->key(), in.x, in.first, in.last});
-                    }
-                    tm.liveIncidences -= v.incEnd - v.incBegin;
-                    const uint32_t nextVi = v.nextInCell;
-                    tm.releaseVertex(vi);
-                    vi = nextVi;
-                }
-                tm.cellVertex.erase(cell);
-            }
-            // Added crossings.
-            for (uint32_t k = addedBegin[t]; k < addedBegin[t + 1]; ++k) {
-                Crossing* x = added[k];
-                const int q = int(std::find(x->ringCell, x->ringCell + 4, cell) - x->ringCell);
-                uint8_t first, last;
-                incidenceRun(*x, q, first, last);
-                inc.push_back({cell, x->key(), x, first, last});
-            }
-            std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
-            if (inc.empty()) continue;
-            if (!haveCorners) {
-                if (const uint32_t* j = scanned ? scanned->byCell.find(cell) : nullptr) {
-                    std::copy(scanned->leaves[*j].corners, scanned->leaves[*j].corners + 8, corners);
-                } else {  // a cell without a sign change, or in a tile not scanned
-                    const adf::LeafRef leaf = a.findLeaf(unpackLattice(cell));
-                    std::copy(leaf.corners, leaf.corners + 8, corners);
-                }
-            }
-            bool anyIn = false, anyOut = false;
-            for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
-            if (!(anyIn && anyOut)) ++ms.signlessCells;
-            const std::size_t incBefore = tm.incidences.size();
-            const uint32_t first = meshCell(a, tm, inc.data(), uint32_t(inc.size()), corners, cellScratch, ms);
-            tm.liveIncidences += tm.incidences.size() - incBefore;
-            tm.cellVertex.assign(cell, first);
-            for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
-                tm.projected[vi].relaxStamp = relaxMark;
-                made[ti].push_back({&tm, vi});
-            }
-        }
-        compactIncidences(tm);
-    });
-    for (const TileMesh* tm : meshTiles) vertexDelta += tm->liveVertices;
-    st.tilesMeshed = meshTiles.size();
-    for (const SurfaceNetsStats& s : meshStats) {
-        st.cellsMeshed += s.cellsMeshed;
-        addVertexCounters(st, s);
-    }
+    const RemeshTiles toRemesh = listTilesToRemesh(ctx, queue);
+    const uint32_t relaxMark = nextRelaxMark(mTiles, mRelaxStamp);
+    const std::vector<std::vector<VertexRef>> made =
+        remeshCells(ctx, changed, queue, toRemesh, toScan, scannedLeaves, relaxMark, st, deltas);
+    const std::vector<TileMesh*>& meshTiles = toRemesh.tiles;
 
     const auto tPhase2 = std::chrono::steady_clock::now();
     // 3. Split vertices (rare) of the re-meshed tiles and their neighbours: a multi-crossing
@@ -969,7 +1030,7 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     st.vertexMs = ms(tPhase1, tPhase2);
     st.relaxMs = ms(tPhase2, tPhase3);
     st.crossings = std::size_t(int64_t(mStats.crossings) + deltas.crossings);
-    st.vertices = std::size_t(int64_t(mStats.vertices) + vertexDelta);
+    st.vertices = std::size_t(int64_t(mStats.vertices) + deltas.vertices);
     st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
     st.crossingSlots = std::size_t(int64_t(mStats.crossingSlots) + slotDelta);
 #ifndef NDEBUG
