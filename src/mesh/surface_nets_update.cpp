@@ -901,6 +901,114 @@ std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const 
     return made;
 }
 
+/// The crossing records `tiles` hold, live or released. Only a scanned tile's pool can grow, and
+/// only a dropped tile's records go: the whole mesh's record count moves by those, as the other
+/// totals do (not a pass over every tile per update).
+int64_t crossingSlotsOf(const std::vector<TileMesh*>& tiles) {
+    int64_t slots = 0;
+    for (const TileMesh* tm : tiles) slots += int64_t(tm->crossings.size());
+    return slots;
+}
+
+/// Phase 3a: recomputes the split vertices (rare) of the re-meshed tiles and their neighbours:
+/// a multi-crossing face lies between two adjacent cells, so its owner is the tile of a
+/// re-meshed cell or a neighbour of it. Complexity: O(multi-crossing faces of those tiles).
+/// Serial.
+void splitFacesNear(const UpdateContext& ctx, const RemeshTiles& toRemesh, TotalDeltas& deltas) {
+    std::vector<uint64_t> nearKeys;
+    for (const TileMesh* tm : toRemesh.tiles) neighbourKeys(ctx.newAdf, tm->slotMin, tm->slotEnd, nearKeys);
+    sortUnique(nearKeys);
+    for (uint64_t k : nearKeys) {
+        auto it = ctx.tiles.find(k);
+        if (it == ctx.tiles.end() || (it->second->multiFaces.empty() && it->second->splits.empty())) continue;
+        deltas.splitEdges -= int64_t(it->second->splits.size());
+        splitFaces(*it->second);
+        deltas.splitEdges += int64_t(it->second->splits.size());
+    }
+}
+
+/// Relaxes `list` in blocks of vertices (each vertex is independent: it reads its neighbours'
+/// `projected` and writes its own position, so blocks, not one pool hand-off each). With
+/// `unmarked`, block b reports in (*unmarked)[b] the neighbours it read that do not carry
+/// `relaxMark`. Threading: parallel over blocks.
+void relaxBlocks(util::ThreadPool* pool, const std::vector<VertexRef>& list, uint32_t relaxMark,
+                 std::vector<std::vector<VertexRef>>* unmarked) {
+    constexpr std::size_t kRelaxBlock = 512;
+    const std::size_t blocks = (list.size() + kRelaxBlock - 1) / kRelaxBlock;
+    if (unmarked) unmarked->resize(blocks);
+    util::parallelFor(pool, blocks, [&](std::size_t b) {
+        const std::size_t first = b * kRelaxBlock, end = std::min(list.size(), first + kRelaxBlock);
+        relaxInOrder(end - first, [&](std::size_t k) { return list[first + k]; },
+                     unmarked ? UnmarkedNeighbours{&(*unmarked)[b], relaxMark} : UnmarkedNeighbours{});
+    });
+}
+
+/// Phase 3b: relaxes the new vertices (`made`, per re-meshed tile), then every vertex that reads
+/// one of them (a position after relaxation depends on the neighbours' projected vertices),
+/// each once. Relaxing the new vertices reports the unmarked vertices that read them (found on
+/// the way, not listed beforehand on one thread from every ring cell of every new vertex's
+/// crossings); those are marked in report order and relaxed after.
+/// Returns how many were relaxed. Complexity: O(relaxed vertices x their incidences).
+/// Threading: parallel over blocks of vertices; the marking between the two passes is serial.
+std::size_t relaxNewVertices(const UpdateContext& ctx, const std::vector<std::vector<VertexRef>>& made,
+                             uint32_t relaxMark) {
+    std::vector<VertexRef> newVertices;
+    for (const std::vector<VertexRef>& list : made) newVertices.insert(newVertices.end(), list.begin(), list.end());
+    std::vector<std::vector<VertexRef>> readers;
+    relaxBlocks(ctx.pool, newVertices, relaxMark, &readers);
+    std::vector<VertexRef> readersToRelax;
+    for (const std::vector<VertexRef>& list : readers)
+        for (const VertexRef& r : list) {
+            Projected& w = r.tile->projected[r.index];
+            if (w.relaxStamp == relaxMark) continue;
+            w.relaxStamp = relaxMark;
+            readersToRelax.push_back(r);
+        }
+    relaxBlocks(ctx.pool, readersToRelax, relaxMark, nullptr);
+    return newVertices.size() + readersToRelax.size();
+}
+
+/// Phase 4a: releases the removed crossing records, which the next update may reuse (not this
+/// one: they were read until now). Complexity: O(removed crossings). Serial.
+void releaseRemovedCrossings(const ScanList& toScan, const std::vector<TileRescan>& scans, TotalDeltas& deltas) {
+    for (std::size_t i = 0; i < toScan.tiles.size(); ++i) {
+        for (uint32_t j : scans[i].released) toScan.tiles[i]->crossings.release(j);
+        deltas.crossingSlots += int64_t(toScan.tiles[i]->crossings.size());
+    }
+}
+
+/// Phase 4b: drops the state of the tiles that are gone (which must be empty by now) and of the
+/// tiles left empty (only a visited tile can become empty). Complexity: O(visited tiles). Serial.
+void dropEmptiedTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const ScanList& toScan,
+                      const RemeshTiles& toRemesh, TotalDeltas& deltas) {
+    std::vector<uint64_t> emptied;
+    for (uint64_t k : rebuilt.keys) {
+        auto it = ctx.tiles.find(k);
+        if (it == ctx.tiles.end() || ctx.tileOfKey(ctx.newAdf, k)) continue;
+        if (it->second->liveCrossings || it->second->liveVertices)
+            throw std::logic_error("surface nets: a tile that is gone still holds mesh");
+        emptied.push_back(k);
+    }
+    for (const std::vector<TileMesh*>* list : {&toScan.tiles, &toRemesh.tiles})
+        for (const TileMesh* tm : *list)
+            if (tm->liveCrossings == 0 && tm->liveVertices == 0) emptied.push_back(tm->key);
+    sortUnique(emptied);
+    for (uint64_t k : emptied) {
+        auto it = ctx.tiles.find(k);
+        deltas.splitEdges -= int64_t(it->second->splits.size());
+        deltas.crossingSlots -= int64_t(it->second->crossings.size());
+        ctx.tiles.erase(it);
+    }
+}
+
+/// Phase 4c: the whole mesh's totals in `st`: those `before` the update moved by `deltas`.
+void addTotals(const SurfaceNetsStats& before, const TotalDeltas& deltas, SurfaceNetsStats& st) {
+    st.crossings = std::size_t(int64_t(before.crossings) + deltas.crossings);
+    st.vertices = std::size_t(int64_t(before.vertices) + deltas.vertices);
+    st.splitEdges = std::size_t(int64_t(before.splitEdges) + deltas.splitEdges);
+    st.crossingSlots = std::size_t(int64_t(before.crossingSlots) + deltas.crossingSlots);
+}
+
 }  // namespace
 
 void SurfaceMesher::update(adf::AdfPtr next) {
@@ -914,125 +1022,51 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     mAdf = std::move(next);
     const UpdateContext ctx(*before, *mAdf, mPool, mTiles, [this](uint64_t key) { return ensureTile(key); });
     SurfaceNetsStats st;
+    TotalDeltas deltas;
 
+    // 0. Where the snapshots differ: the changed cells, and the tiles they touch.
     const RebuiltTiles rebuilt = compareRebuiltTiles(ctx);
     ChangedCells changed(ctx.newAdf);
     TouchedTiles touched = markChangedCells(ctx, rebuilt, changed, st);
     followRebuiltTiles(ctx, rebuilt, touched);
     const ScanList toScan = listTilesToScan(ctx, touched);
 
-    auto tileOfKey = [&](const Adf& s, uint64_t key) { return ctx.tileOfKey(s, key); };
-    const std::vector<uint64_t>& dirty = rebuilt.keys;
-    const std::vector<TileMesh*>& scanTiles = toScan.tiles;
-
-    while (mScanned.size() < scanTiles.size()) mScanned.push_back(std::make_unique<ScannedLeaves>());
-
-    std::vector<ScannedLeavesRef> scannedLeaves;
-    scannedLeaves.reserve(scanTiles.size());
-    for (std::size_t i = 0; i < scanTiles.size(); ++i) scannedLeaves.push_back({mScanned[i]->leaves, mScanned[i]->byCell});
-    TotalDeltas deltas;
-    // Only a scanned tile's pool can grow, and only a dropped tile's records go: the record
-    // count moves by those, as the other totals do (not a pass over every tile per update).
-    for (const TileMesh* tm : scanTiles) deltas.crossingSlots -= int64_t(tm->crossings.size());
-    const std::vector<TileRescan> scans = rescanCrossings(ctx, rebuilt, changed, toScan, scannedLeaves);
-    st.tilesScanned = scanTiles.size();
+    // 1. The crossings starting on a changed cell, recomputed; the cells around those that
+    // changed, and the changed cells, queued.
+    while (mScanned.size() < toScan.tiles.size()) mScanned.push_back(std::make_unique<ScannedLeaves>());
+    std::vector<ScannedLeavesRef> scanned;
+    scanned.reserve(toScan.tiles.size());
+    for (std::size_t i = 0; i < toScan.tiles.size(); ++i) scanned.push_back({mScanned[i]->leaves, mScanned[i]->byCell});
+    deltas.crossingSlots -= crossingSlotsOf(toScan.tiles);
+    const std::vector<TileRescan> scans = rescanCrossings(ctx, rebuilt, changed, toScan, scanned);
+    st.tilesScanned = toScan.tiles.size();
     addRescanCounts(scans, st, deltas);
     const RemeshQueue queue = queueCellsToRemesh(ctx, changed, scans);
-    int64_t& slotDelta = deltas.crossingSlots;
-    int64_t& splitDelta = deltas.splitEdges;
-    const Adf& a = ctx.newAdf;
-
     const auto tPhase1 = std::chrono::steady_clock::now();
+
+    // 2. The queued cells: all their vertices, from scratch.
     const RemeshTiles toRemesh = listTilesToRemesh(ctx, queue);
     const uint32_t relaxMark = nextRelaxMark(mTiles, mRelaxStamp);
     const std::vector<std::vector<VertexRef>> made =
-        remeshCells(ctx, changed, queue, toRemesh, toScan, scannedLeaves, relaxMark, st, deltas);
-    const std::vector<TileMesh*>& meshTiles = toRemesh.tiles;
-
+        remeshCells(ctx, changed, queue, toRemesh, toScan, scanned, relaxMark, st, deltas);
     const auto tPhase2 = std::chrono::steady_clock::now();
-    // 3. Split vertices (rare) of the re-meshed tiles and their neighbours: a multi-crossing
-    // face lies between two adjacent cells, so its owner is the tile of a re-meshed cell or a
-    // neighbour of it. Then relaxation of the new vertices and every vertex that reads one of
-    // them (each once: marked with this update's stamp).
-    {
-        std::vector<uint64_t> near;
-        for (const TileMesh* tm : meshTiles) neighbourKeys(a, tm->slotMin, tm->slotEnd, near);
-        sortUnique(near);
-        for (uint64_t k : near) {
-            auto it = mTiles.find(k);
-            if (it == mTiles.end() || (it->second->multiFaces.empty() && it->second->splits.empty())) continue;
-            splitDelta -= int64_t(it->second->splits.size());
-            splitFaces(*it->second);
-            splitDelta += int64_t(it->second->splits.size());
-        }
-    }
-    // The new vertices first; relaxing them reports the unmarked vertices that read them,
-    // relaxed after (each once: marked then). Listing those on one thread beforehand, from every
-    // ring cell of every new vertex's crossings, was a serial 0.05-0.08 ms of a dab
-    // (docs/PERFORMANCE.md, "Sixteenth session"). Each vertex is independent (reads
-    // neighbours' `projected`, writes its own position): blocks of vertices, not one pool
-    // hand-off each.
-    std::vector<VertexRef> newVertices;
-    for (const std::vector<VertexRef>& list : made) newVertices.insert(newVertices.end(), list.begin(), list.end());
-    constexpr std::size_t kRelaxBlock = 512;
-    auto relaxBlocks = [&](const std::vector<VertexRef>& list, std::vector<std::vector<VertexRef>>* unmarked) {
-        const std::size_t blocks = (list.size() + kRelaxBlock - 1) / kRelaxBlock;
-        if (unmarked) unmarked->resize(blocks);
-        util::parallelFor(mPool, blocks, [&](std::size_t b) {
-            const std::size_t first = b * kRelaxBlock, end = std::min(list.size(), first + kRelaxBlock);
-            relaxInOrder(end - first, [&](std::size_t k) { return list[first + k]; },
-                         unmarked ? UnmarkedNeighbours{&(*unmarked)[b], relaxMark} : UnmarkedNeighbours{});
-        });
-    };
-    std::vector<std::vector<VertexRef>> readers;
-    relaxBlocks(newVertices, &readers);
-    std::vector<VertexRef> besides;
-    for (const std::vector<VertexRef>& list : readers)
-        for (const VertexRef& r : list) {
-            Projected& w = r.tile->projected[r.index];
-            if (w.relaxStamp == relaxMark) continue;
-            w.relaxStamp = relaxMark;
-            besides.push_back(r);
-        }
-    relaxBlocks(besides, nullptr);
-    st.verticesRelaxed = newVertices.size() + besides.size();
 
+    // 3. Split vertices near the re-meshed cells; relaxation of the new vertices and their readers.
+    splitFacesNear(ctx, toRemesh, deltas);
+    st.verticesRelaxed = relaxNewVertices(ctx, made, relaxMark);
+
+    // 4. Removed records released, empty tiles dropped, totals.
     // The scans' leaf sets stay for the next update's room, as many as this one scanned (one
     // large edit does not keep hundreds of them for every dab after it).
-    mScanned.resize(scanTiles.size());
-    // Released crossings can be reused from the next update on. Gone tiles must be empty; they
-    // and tiles left empty (only a visited tile can become empty) are dropped.
-    for (std::size_t i = 0; i < scanTiles.size(); ++i) {
-        for (uint32_t j : scans[i].released) scanTiles[i]->crossings.release(j);
-        slotDelta += int64_t(scanTiles[i]->crossings.size());
-    }
-    std::vector<uint64_t> emptied;
-    for (uint64_t k : dirty) {
-        auto it = mTiles.find(k);
-        if (it == mTiles.end() || tileOfKey(a, k)) continue;
-        if (it->second->liveCrossings || it->second->liveVertices)
-            throw std::logic_error("surface nets: a tile that is gone still holds mesh");
-        emptied.push_back(k);
-    }
-    for (const std::vector<TileMesh*>* list : {&scanTiles, static_cast<const std::vector<TileMesh*>*>(&meshTiles)})
-        for (const TileMesh* tm : *list)
-            if (tm->liveCrossings == 0 && tm->liveVertices == 0) emptied.push_back(tm->key);
-    sortUnique(emptied);
-    for (uint64_t k : emptied) {
-        auto it = mTiles.find(k);
-        splitDelta -= int64_t(it->second->splits.size());
-        slotDelta -= int64_t(it->second->crossings.size());
-        mTiles.erase(it);
-    }
+    mScanned.resize(toScan.tiles.size());
+    releaseRemovedCrossings(toScan, scans, deltas);
+    dropEmptiedTiles(ctx, rebuilt, toScan, toRemesh, deltas);
     const auto tPhase3 = std::chrono::steady_clock::now();
     auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
     st.crossingMs = ms(tStart, tPhase1);
     st.vertexMs = ms(tPhase1, tPhase2);
     st.relaxMs = ms(tPhase2, tPhase3);
-    st.crossings = std::size_t(int64_t(mStats.crossings) + deltas.crossings);
-    st.vertices = std::size_t(int64_t(mStats.vertices) + deltas.vertices);
-    st.splitEdges = std::size_t(int64_t(mStats.splitEdges) + splitDelta);
-    st.crossingSlots = std::size_t(int64_t(mStats.crossingSlots) + slotDelta);
+    addTotals(mStats, deltas, st);
 #ifndef NDEBUG
     SurfaceNetsStats recount;
     totals(recount);
