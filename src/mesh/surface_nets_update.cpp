@@ -39,6 +39,10 @@ void sortUnique(std::vector<T>& v) {
     v.erase(std::unique(v.begin(), v.end()), v.end());
 }
 
+inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
+    return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
+}
+
 /// The finest unit cubes inside changed cells, per tile slot: a bitmap (x fastest, so a row
 /// of a 64-cell slot is one word), or the whole slot. Queries come in spatially coherent runs,
 /// so each task queries through its own Query, which caches the last slot looked up.
@@ -236,65 +240,25 @@ private:
     std::unordered_map<uint64_t, Slot> mSlots;
 };
 
-inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
-    return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
-}
+/// A crossing's key and where its record is (a slot of its tile's pool, or an index).
+using KeyedIndex = std::pair<uint64_t, uint32_t>;
 
-/// Appends the keys of the leaves of `t` inside the cell at `origin` of `size`, where `t` holds
-/// the node word `word` (appendChangedCells' beforeWords: a leaf's word for a brick's child).
-/// Complexity: O(cells inside).
-void appendLeafCellsIn(const Tile& t, uint32_t word, glm::uvec3 origin, uint32_t size, std::vector<uint64_t>& out) {
-    if (adf::node::isLeaf(word)) {
-        out.push_back(packLattice(origin));
-        return;
-    }
-    const uint32_t half = size >> 1;
-    for (uint32_t c = 0; c < 8; ++c) {
-        const glm::uvec3 o = origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half;
-        if (adf::node::isBrick(word))
-            out.push_back(packLattice(o));
-        else
-            appendLeafCellsIn(t, t.node(word + c), o, half, out);
-    }
-}
-
-/// A cell to re-mesh (each once), numbered as it was queued; re-meshed by tile, then cell.
-struct CellTask {
-    uint64_t owner, cell;
-    uint32_t number;
-    bool operator<(const CellTask& o) const { return owner != o.owner ? owner < o.owner : cell < o.cell; }
-};
-
-/// An update's per-task buffers, kept per pool thread across updates. Made afresh each time,
-/// they came from the heap's top more often than not (the snapshots an editing session keeps
-/// for undo take the space they freed), so every update paid first-touch page faults for them.
-/// Not reentrant: a task must not start another update (none does).
+/// An update's per-task buffers, kept per pool thread across updates: the snapshots an editing
+/// session keeps for undo take the heap's top, where buffers made afresh would come from, so
+/// each update would fault their pages in again. Not reentrant: a task must not start another
+/// update (none does).
 struct UpdateScratch {
-    std::vector<BoundaryCell> oldLeaves;
-    std::vector<uint64_t> oldCells;
-    std::vector<std::pair<uint64_t, uint32_t>> old, order;  // (key, slot or index)
-    std::vector<Crossing> fresh;
-    std::vector<Incidence> inc;
+    std::vector<BoundaryCell> oldLeaves;  ///< the old tile's leaves near the changed cells
+    std::vector<uint64_t> oldCells;       ///< the old tile's cells that may have emitted there
+    std::vector<KeyedIndex> oldCrossings;  ///< (key, slot) of those crossings
+    std::vector<Crossing> fresh;           ///< the crossings recomputed there
+    std::vector<KeyedIndex> freshByKey;    ///< (key, index in `fresh`), sorted
+    std::vector<Incidence> incidences;  ///< a re-meshed cell's, sorted by crossing key
     CellScratch cell;
 };
 UpdateScratch& updateScratch() {
     thread_local UpdateScratch s;
     return s;
-}
-
-/// Rebuilds `tm`'s incidence list when most of it belongs to re-meshed vertices.
-void compactIncidences(TileMesh& tm) {
-    if (tm.incidences.size() < 2 * tm.liveIncidences + 1024) return;
-    std::vector<VertexIncidence> kept;
-    kept.reserve(tm.liveIncidences);
-    for (Vertex& v : tm.vertices) {
-        if (!v.alive) continue;
-        const uint32_t begin = uint32_t(kept.size());
-        kept.insert(kept.end(), tm.incidences.begin() + v.incBegin, tm.incidences.begin() + v.incEnd);
-        v.incBegin = begin;
-        v.incEnd = uint32_t(kept.size());
-    }
-    tm.incidences.swap(kept);
 }
 
 using TileMap = std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>;
@@ -326,6 +290,13 @@ struct UpdateContext {
     uint32_t slotShift;  ///< slot coordinates = lattice coordinates >> slotShift
     uint32_t slots;      ///< slots per axis
 };
+
+/// How the whole mesh's totals move (the tiles an update does not visit hold what they held).
+struct TotalDeltas {
+    int64_t crossings = 0, vertices = 0, splitEdges = 0, crossingSlots = 0;
+};
+
+// --- Phase 0: where the snapshots differ --------------------------------------------------------
 
 /// The keys of the tiles the new snapshot does not share with the old one (of both snapshots,
 /// sorted), and per key the cells where the old and the new tile differ.
@@ -453,10 +424,7 @@ ScanList listTilesToScan(const UpdateContext& ctx, const TouchedTiles& touched) 
     return toScan;
 }
 
-/// How the whole mesh's totals move (the tiles an update does not visit hold what they held).
-struct TotalDeltas {
-    int64_t crossings = 0, vertices = 0, splitEdges = 0, crossingSlots = 0;
-};
+// --- Phase 1: the crossings at changed cells, and the cells to re-mesh --------------------------
 
 /// A scanned tile's leaf set, kept by the mesher across updates (SurfaceMesher::ScannedLeaves):
 /// the boundary leaves its scan found near the changed cells, and their index by cell key.
@@ -483,9 +451,27 @@ struct ScanRegion {
     LeafFilter cornerOnChanged;
 };
 
+/// Appends the keys of the leaves of `t` inside the cell at `origin` of `size`, where `t` holds
+/// the node word `word` (appendChangedCells' beforeWords: a leaf's word for a brick's child).
+/// Complexity: O(cells inside).
+void appendLeafCellsIn(const Tile& t, uint32_t word, glm::uvec3 origin, uint32_t size, std::vector<uint64_t>& out) {
+    if (adf::node::isLeaf(word)) {
+        out.push_back(packLattice(origin));
+        return;
+    }
+    const uint32_t half = size >> 1;
+    for (uint32_t c = 0; c < 8; ++c) {
+        const glm::uvec3 o = origin + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * half;
+        if (adf::node::isBrick(word))
+            out.push_back(packLattice(o));
+        else
+            appendLeafCellsIn(t, t.node(word + c), o, half, out);
+    }
+}
+
 /// Phase 1, one tile: the old crossings that start on a changed cell in the scan's box, as
-/// (key, slot) in `buffers.old` (unsorted, a crossing may come twice). Each was emitted by a
-/// boundary leaf of the old tile touching the region and is listed by that leaf's vertices,
+/// (key, slot) in `buffers.oldCrossings` (unsorted, a crossing may come twice). Each was emitted
+/// by a boundary leaf of the old tile touching the region and is listed by that leaf's vertices,
 /// found through the cell index (no scan of the tile's crossings). Where the tile was rebuilt
 /// at its level, such a leaf is either in the new tile too (in `newLeaves`, which the new walk
 /// found) or inside one of the cells the tile comparison found changed, so the old tile is not
@@ -495,7 +481,7 @@ void listOldCrossings(const UpdateContext& ctx, const RebuiltTiles& rebuilt, con
                       const Tile* now, bool current, const std::vector<BoundaryCell>& newLeaves,
                       const ScanRegion& scan, UpdateScratch& buffers) {
     const std::vector<uint64_t>& rebuiltKeys = rebuilt.keys;
-    std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
+    std::vector<KeyedIndex>& oldCrossings = buffers.oldCrossings;  // (key, slot)
     std::vector<uint64_t>& oldCells = buffers.oldCells;
     std::size_t compared = rebuiltKeys.size();  // the tile comparison's entry for it
     if (current && &was != now && was.level() == now->level()) {
@@ -528,20 +514,20 @@ void listOldCrossings(const UpdateContext& ctx, const RebuiltTiles& rebuilt, con
                 if (x.ringCell[x.emitter] != cell) continue;
                 const glm::uvec3 start = x.start();
                 if (inBox(start, scan.box.lo, scan.box.hi) && scan.changedAt.pointChanged(start))
-                    old.emplace_back(x.key(), x.slot);
+                    oldCrossings.emplace_back(x.key(), x.slot);
             }
         }
     }
 }
 
-/// Phase 1, one tile: merges its old crossings at changed cells (`old`, (key, slot), sorted and
-/// unique) with the fresh ones by key. An old one without a fresh one is removed, a fresh one
-/// without an old one added, and a pair is kept in place if it is the same record with each
-/// ring cell in a tile of the same key (else replaced). Records never move: `freshByKey` is
-/// scratch for the fresh ones' order. Complexity: O(f log f + o). Writes only `tm`'s records.
-void mergeCrossings(const UpdateContext& ctx, TileMesh& tm, const std::vector<std::pair<uint64_t, uint32_t>>& old,
-                    const std::vector<Crossing>& fresh, std::vector<std::pair<uint64_t, uint32_t>>& freshByKey,
-                    TileRescan& out) {
+/// Phase 1, one tile: merges its old crossings at changed cells (`oldCrossings`, (key, slot),
+/// sorted and unique) with the fresh ones by key. An old one without a fresh one is removed, a
+/// fresh one without an old one added, and a pair is kept in place if it is the same record
+/// with each ring cell in a tile of the same key (else replaced). Records never move:
+/// `freshByKey` is scratch for the fresh ones' order. Complexity: O(f log f + o). Writes only
+/// `tm`'s records.
+void mergeCrossings(const UpdateContext& ctx, TileMesh& tm, const std::vector<KeyedIndex>& oldCrossings,
+                    const std::vector<Crossing>& fresh, std::vector<KeyedIndex>& freshByKey, TileRescan& out) {
     freshByKey.resize(fresh.size());
     for (uint32_t j = 0; j < fresh.size(); ++j) freshByKey[j] = {fresh[j].key(), j};
     std::sort(freshByKey.begin(), freshByKey.end());
@@ -563,14 +549,14 @@ void mergeCrossings(const UpdateContext& ctx, TileMesh& tm, const std::vector<st
         tm.plainTriangles += plainTriangles(x);
         out.added.push_back(&tm.crossings[j]);
     };
-    std::size_t o = 0, f = 0;  // next in `old`, in `freshByKey`
-    while (o < old.size() || f < freshByKey.size()) {
-        if (f == freshByKey.size() || (o < old.size() && old[o].first < freshByKey[f].first)) {
-            remove(old[o++].second);
-        } else if (o == old.size() || freshByKey[f].first < old[o].first) {
+    std::size_t o = 0, f = 0;  // next in `oldCrossings`, in `freshByKey`
+    while (o < oldCrossings.size() || f < freshByKey.size()) {
+        if (f == freshByKey.size() || (o < oldCrossings.size() && oldCrossings[o].first < freshByKey[f].first)) {
+            remove(oldCrossings[o++].second);
+        } else if (o == oldCrossings.size() || freshByKey[f].first < oldCrossings[o].first) {
             add(fresh[freshByKey[f++].second]);
         } else {
-            Crossing& x = tm.crossings[old[o].second];
+            Crossing& x = tm.crossings[oldCrossings[o].second];
             const Crossing& y = fresh[freshByKey[f].second];
             // The same record, and each ring cell in a tile of the same key: the vertex refs
             // it keeps name the tiles that hold those cells now. (Generated coarse tiles are
@@ -581,7 +567,7 @@ void mergeCrossings(const UpdateContext& ctx, TileMesh& tm, const std::vector<st
             if (same) {
                 out.kept.push_back(&x);
             } else {
-                remove(old[o].second);
+                remove(oldCrossings[o].second);
                 add(y);
             }
             ++o;
@@ -608,9 +594,9 @@ void rescanTile(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const Cha
                            },
                            &changedAt}};
     UpdateScratch& buffers = updateScratch();
-    std::vector<std::pair<uint64_t, uint32_t>>& old = buffers.old;  // (key, slot)
+    std::vector<KeyedIndex>& oldCrossings = buffers.oldCrossings;  // (key, slot)
     std::vector<BoundaryCell>& leaves = scanned.leaves;  // the new tile's (none if it is gone)
-    old.clear();
+    oldCrossings.clear();
     leaves.clear();
     buffers.oldCells.clear();
     const Tile* now = ctx.tileOfKey(ctx.newAdf, tm.key);
@@ -637,8 +623,8 @@ void rescanTile(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const Cha
         scanned.byCell.reserve(leaves.size());
         for (uint32_t j = 0; j < leaves.size(); ++j) scanned.byCell.assign(packLattice(leaves[j].origin), j);
     }
-    sortUnique(old);  // a cell of both tiles may come twice
-    mergeCrossings(ctx, tm, old, fresh, buffers.order, out);
+    sortUnique(oldCrossings);  // a cell of both tiles may come twice
+    mergeCrossings(ctx, tm, oldCrossings, fresh, buffers.freshByKey, out);
 }
 
 /// Phase 1: recomputes the crossings that start on a changed cell, by the tiles that can emit
@@ -659,6 +645,22 @@ std::vector<TileRescan> rescanCrossings(const UpdateContext& ctx, const RebuiltT
     });
     return scans;
 }
+
+/// The crossing records `tiles` hold, live or released. Only a scanned tile's pool can grow, and
+/// only a dropped tile's records go: the whole mesh's record count moves by those, as the other
+/// totals do (not a pass over every tile per update).
+int64_t crossingSlotsOf(const std::vector<TileMesh*>& tiles) {
+    int64_t slots = 0;
+    for (const TileMesh* tm : tiles) slots += int64_t(tm->crossings.size());
+    return slots;
+}
+
+/// A cell to re-mesh (each once), numbered as it was queued; re-meshed by tile, then cell.
+struct CellTask {
+    uint64_t owner, cell;
+    uint32_t number;
+    bool operator<(const CellTask& o) const { return owner != o.owner ? owner < o.owner : cell < o.cell; }
+};
 
 /// The cells to re-mesh, each once, sorted by tile then cell, and the crossings each gains.
 struct RemeshQueue {
@@ -734,6 +736,8 @@ RemeshQueue queueCellsToRemesh(const UpdateContext& ctx, const ChangedCells& cha
     return queue;
 }
 
+// --- Phase 2: the queued cells re-meshed --------------------------------------------------------
+
 /// The tiles holding cells to re-mesh, in queue order (by key), and each one's run of the queue.
 struct RemeshTiles {
     std::vector<TileMesh*> tiles;
@@ -771,11 +775,11 @@ uint32_t nextRelaxMark(TileMap& tiles, uint32_t& stamp) {
 }
 
 /// Phase 2, one cell: releases its old vertices, appending the incidences of their crossings
-/// that are still alive (the kept ones) to `inc`. An unchanged cell (its origin is on no changed
-/// cell: changed cells are whole octree cells) keeps its corners: copied to `corners`, and then
-/// it returns true.
+/// that are still alive (the kept ones) to `incidences`. An unchanged cell (its origin is on no
+/// changed cell: changed cells are whole octree cells) keeps its corners: copied to `corners`,
+/// and then it returns true.
 bool takeOldVertices(TileMesh& tm, uint64_t cell, const ChangedCells::Query& cellChanged,
-                     std::vector<Incidence>& inc, float corners[8]) {
+                     std::vector<Incidence>& incidences, float corners[8]) {
     const uint32_t* firstVertex = tm.cellVertex.find(cell);
     if (!firstVertex) return false;
     bool haveCorners = false;
@@ -787,7 +791,7 @@ bool takeOldVertices(TileMesh& tm, uint64_t cell, const ChangedCells::Query& cel
         const Vertex& v = tm.vertices[vi];
         for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
             const VertexIncidence& in = tm.incidences[j];
-            if (in.x->alive) inc.push_back({cell, in.x->key(), in.x, in.first, in.last});
+            if (in.x->alive) incidences.push_back({cell, in.x->key(), in.x, in.first, in.last});
         }
         tm.liveIncidences -= v.incEnd - v.incBegin;
         const uint32_t nextVi = v.nextInCell;
@@ -800,13 +804,14 @@ bool takeOldVertices(TileMesh& tm, uint64_t cell, const ChangedCells::Query& cel
 
 /// Phase 2, one cell: appends the incidences of queued cell `t` (at key `cell`) with the
 /// crossings it gains.
-void appendAddedIncidences(const RemeshQueue& queue, std::size_t t, uint64_t cell, std::vector<Incidence>& inc) {
+void appendAddedIncidences(const RemeshQueue& queue, std::size_t t, uint64_t cell,
+                           std::vector<Incidence>& incidences) {
     for (uint32_t k = queue.addedBegin[t]; k < queue.addedBegin[t + 1]; ++k) {
         Crossing* x = queue.added[k];
         const int q = int(std::find(x->ringCell, x->ringCell + 4, cell) - x->ringCell);
         uint8_t first, last;
         incidenceRun(*x, q, first, last);
-        inc.push_back({cell, x->key(), x, first, last});
+        incidences.push_back({cell, x->key(), x, first, last});
     }
 }
 
@@ -820,6 +825,21 @@ void newCorners(const Adf& newAdf, const ScannedLeavesRef* scanned, uint64_t cel
         const adf::LeafRef leaf = newAdf.findLeaf(unpackLattice(cell));
         std::copy(leaf.corners, leaf.corners + 8, corners);
     }
+}
+
+/// Rebuilds `tm`'s incidence list when most of it belongs to re-meshed vertices.
+void compactIncidences(TileMesh& tm) {
+    if (tm.incidences.size() < 2 * tm.liveIncidences + 1024) return;
+    std::vector<VertexIncidence> kept;
+    kept.reserve(tm.liveIncidences);
+    for (Vertex& v : tm.vertices) {
+        if (!v.alive) continue;
+        const uint32_t begin = uint32_t(kept.size());
+        kept.insert(kept.end(), tm.incidences.begin() + v.incBegin, tm.incidences.begin() + v.incEnd);
+        v.incBegin = begin;
+        v.incEnd = uint32_t(kept.size());
+    }
+    tm.incidences.swap(kept);
 }
 
 /// Phase 2, one tile: re-meshes its queued cells queue.cells[begin..end) in order, each from
@@ -841,23 +861,25 @@ void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const Rem
     UpdateScratch& buffers = updateScratch();
     CellScratch& cellScratch = buffers.cell;
     cellScratch.freshCrossings = false;
-    std::vector<Incidence>& inc = buffers.inc;
+    std::vector<Incidence>& incidences = buffers.incidences;
     const ChangedCells::Query cellChanged(changed);
     for (std::size_t t = begin; t < end; ++t) {
         const uint64_t cell = cells[t].cell;
         ++ms.cellsMeshed;
-        inc.clear();
+        incidences.clear();
         float corners[8];
-        const bool haveCorners = takeOldVertices(tm, cell, cellChanged, inc, corners);
-        appendAddedIncidences(queue, t, cell, inc);
-        std::sort(inc.begin(), inc.end(), [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
-        if (inc.empty()) continue;
+        const bool haveCorners = takeOldVertices(tm, cell, cellChanged, incidences, corners);
+        appendAddedIncidences(queue, t, cell, incidences);
+        std::sort(incidences.begin(), incidences.end(),
+                  [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
+        if (incidences.empty()) continue;
         if (!haveCorners) newCorners(ctx.newAdf, scanned, cell, corners);
         bool anyIn = false, anyOut = false;
         for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
         if (!(anyIn && anyOut)) ++ms.signlessCells;
         const std::size_t incBefore = tm.incidences.size();
-        const uint32_t first = meshCell(ctx.newAdf, tm, inc.data(), uint32_t(inc.size()), corners, cellScratch, ms);
+        const uint32_t first =
+            meshCell(ctx.newAdf, tm, incidences.data(), uint32_t(incidences.size()), corners, cellScratch, ms);
         tm.liveIncidences += tm.incidences.size() - incBefore;
         tm.cellVertex.assign(cell, first);
         for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
@@ -901,14 +923,7 @@ std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const 
     return made;
 }
 
-/// The crossing records `tiles` hold, live or released. Only a scanned tile's pool can grow, and
-/// only a dropped tile's records go: the whole mesh's record count moves by those, as the other
-/// totals do (not a pass over every tile per update).
-int64_t crossingSlotsOf(const std::vector<TileMesh*>& tiles) {
-    int64_t slots = 0;
-    for (const TileMesh* tm : tiles) slots += int64_t(tm->crossings.size());
-    return slots;
-}
+// --- Phase 3: split vertices and relaxation -----------------------------------------------------
 
 /// Phase 3a: recomputes the split vertices (rare) of the re-meshed tiles and their neighbours:
 /// a multi-crossing face lies between two adjacent cells, so its owner is the tile of a
@@ -967,6 +982,8 @@ std::size_t relaxNewVertices(const UpdateContext& ctx, const std::vector<std::ve
     relaxBlocks(ctx.pool, readersToRelax, relaxMark, nullptr);
     return newVertices.size() + readersToRelax.size();
 }
+
+// --- Phase 4: released records, dropped tiles, totals -------------------------------------------
 
 /// Phase 4a: releases the removed crossing records, which the next update may reuse (not this
 /// one: they were read until now). Complexity: O(removed crossings). Serial.
