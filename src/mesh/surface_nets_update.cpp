@@ -2,6 +2,24 @@
 /// @file surface_nets_update.cpp
 /// @brief SurfaceMesher::update: sub-tile re-meshing after an edit.
 ///
+/// Takes the mesher's state for the previous snapshot and the new snapshot; leaves the state of
+/// the new one, whose mesh equals a build's bit for bit. update() calls its phases in order, one
+/// function each (an UpdateContext carries the snapshots, the pool and the tiles):
+///   0. compareRebuiltTiles, markChangedCells, followRebuiltTiles, listTilesToScan: the tiles the
+///      snapshots do not share, the cells where they differ (ChangedCells), the tiles they touch.
+///   1. rescanCrossings, queueCellsToRemesh: the crossings starting on a changed cell recomputed
+///      (removed, added or kept in place), and the cells whose vertices that changes queued.
+///   2. listTilesToRemesh, remeshCells: the queued cells' vertices, from scratch.
+///   3. splitFacesNear, relaxNewVertices: split vertices near them; relaxation of the new
+///      vertices and of the vertices that read them.
+///   4. releaseRemovedCrossings, dropEmptiedTiles, addTotals.
+/// Complexity: O(slots) to find the rebuilt tiles, O(nodes of the rebuilt tiles) to compare
+/// them, and otherwise work proportional to the changed cells (see each phase).
+/// Threading: update() runs on the mesher's owning thread; phases 0a, 1a and 2c run one tile per
+/// pool task, heaviest first, and 3b blocks of vertices. A task writes only its tile's records
+/// (and its cells' slots of crossings), so the result does not depend on the schedule; the rest
+/// is serial.
+///
 /// Why it is exact. A crossing depends only on the leaves whose closed boxes contain its start
 /// point p (its emitter and the leaves found around p) and on the emitter's corners; so a
 /// crossing whose p lies on no changed cell is the same record in both snapshots, and only
@@ -303,7 +321,7 @@ struct TotalDeltas {
 struct RebuiltTiles {
     std::vector<uint64_t> keys;
     std::vector<std::vector<LatticeBox>> changedBoxes;
-    /// Per key, where both tiles exist at one level: the old tile's node word at each box (else empty).
+    /// Per key, where both tiles exist at one level: the old tile's node word at each box.
     std::vector<std::vector<uint32_t>> oldWords;
 };
 
@@ -380,8 +398,8 @@ TouchedTiles markChangedCells(const UpdateContext& ctx, const RebuiltTiles& rebu
 }
 
 /// Phase 0c: points the state of each rebuilt tile at its new tile. A tile that is gone is
-/// touched everywhere, so its scan removes every crossing it holds (and the cells around them
-/// go with them). Complexity: O(rebuilt tiles). Serial.
+/// touched everywhere, so its scan removes every crossing it holds and re-meshing their cells
+/// every vertex. Complexity: O(rebuilt tiles). Serial.
 void followRebuiltTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, TouchedTiles& touched) {
     for (uint64_t k : rebuilt.keys) {
         auto it = ctx.tiles.find(k);
@@ -469,7 +487,7 @@ void appendLeafCellsIn(const Tile& t, uint32_t word, glm::uvec3 origin, uint32_t
     }
 }
 
-/// Phase 1, one tile: the old crossings that start on a changed cell in the scan's box, as
+/// Phase 1a, one tile: the old crossings that start on a changed cell in the scan's box, as
 /// (key, slot) in `buffers.oldCrossings` (unsorted, a crossing may come twice). Each was emitted
 /// by a boundary leaf of the old tile touching the region and is listed by that leaf's vertices,
 /// found through the cell index (no scan of the tile's crossings). Where the tile was rebuilt
@@ -485,7 +503,8 @@ void listOldCrossings(const UpdateContext& ctx, const RebuiltTiles& rebuilt, con
     std::vector<uint64_t>& oldCells = buffers.oldCells;
     std::size_t compared = rebuiltKeys.size();  // the tile comparison's entry for it
     if (current && &was != now && was.level() == now->level()) {
-        compared = std::size_t(std::lower_bound(rebuiltKeys.begin(), rebuiltKeys.end(), tm.key) - rebuiltKeys.begin());
+        const auto at = std::lower_bound(rebuiltKeys.begin(), rebuiltKeys.end(), tm.key);
+        compared = std::size_t(at - rebuiltKeys.begin());
         if (compared == rebuiltKeys.size() || rebuiltKeys[compared] != tm.key)
             throw std::logic_error("surface nets: a rebuilt tile was not compared");
     }
@@ -520,7 +539,7 @@ void listOldCrossings(const UpdateContext& ctx, const RebuiltTiles& rebuilt, con
     }
 }
 
-/// Phase 1, one tile: merges its old crossings at changed cells (`oldCrossings`, (key, slot),
+/// Phase 1a, one tile: merges its old crossings at changed cells (`oldCrossings`, (key, slot),
 /// sorted and unique) with the fresh ones by key. An old one without a fresh one is removed, a
 /// fresh one without an old one added, and a pair is kept in place if it is the same record
 /// with each ring cell in a tile of the same key (else replaced). Records never move:
@@ -576,7 +595,7 @@ void mergeCrossings(const UpdateContext& ctx, TileMesh& tm, const std::vector<Ke
     }
 }
 
-/// Phase 1, one tile: recomputes its crossings that start on a changed cell. The new tile's
+/// Phase 1a, one tile: recomputes its crossings that start on a changed cell. The new tile's
 /// boundary leaves near the changed cells go to `scanned` (with their index by cell, for the
 /// cells phase), the crossings they emit there are computed afresh and merged with the old ones.
 /// A tile that is gone only loses its old crossings. Complexity: O(leaves in the box + their
@@ -627,7 +646,7 @@ void rescanTile(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const Cha
     mergeCrossings(ctx, tm, oldCrossings, fresh, buffers.freshByKey, out);
 }
 
-/// Phase 1: recomputes the crossings that start on a changed cell, by the tiles that can emit
+/// Phase 1a: recomputes the crossings that start on a changed cell, by the tiles that can emit
 /// them (a crossing depends only on the leaves around its start point and on its emitter's
 /// corners, so the others stay as they are).
 /// In: the touched tiles and their boxes. Out: per tile, the crossings removed, added and kept;
@@ -670,7 +689,7 @@ struct RemeshQueue {
     std::vector<Crossing*> added;
 };
 
-/// Phase 1c: adds the scans' counters to `st`, and their crossings added and removed to `deltas`.
+/// Phase 1b: adds the scans' counters to `st`, and their crossings added and removed to `deltas`.
 void addRescanCounts(const std::vector<TileRescan>& scans, SurfaceNetsStats& st, TotalDeltas& deltas) {
     for (const TileRescan& s : scans) {
         deltas.crossings += int64_t(s.added.size()) - int64_t(s.removed.size());
@@ -680,7 +699,7 @@ void addRescanCounts(const std::vector<TileRescan>& scans, SurfaceNetsStats& st,
     }
 }
 
-/// Phase 1d: the cells whose vertices are recomputed: every ring cell of a removed or added
+/// Phase 1c: the cells whose vertices are recomputed: every ring cell of a removed or added
 /// crossing (a cell's vertices depend on the crossings around it), and every changed cell a
 /// kept crossing names (its corners changed). Removed crossings name their cells' owners in
 /// the old snapshot, the others in the new one.
@@ -774,7 +793,7 @@ uint32_t nextRelaxMark(TileMap& tiles, uint32_t& stamp) {
     return stamp;
 }
 
-/// Phase 2, one cell: releases its old vertices, appending the incidences of their crossings
+/// Phase 2c, one cell: releases its old vertices, appending the incidences of their crossings
 /// that are still alive (the kept ones) to `incidences`. An unchanged cell (its origin is on no
 /// changed cell: changed cells are whole octree cells) keeps its corners: copied to `corners`,
 /// and then it returns true.
@@ -802,7 +821,7 @@ bool takeOldVertices(TileMesh& tm, uint64_t cell, const ChangedCells::Query& cel
     return haveCorners;
 }
 
-/// Phase 2, one cell: appends the incidences of queued cell `t` (at key `cell`) with the
+/// Phase 2c, one cell: appends the incidences of queued cell `t` (at key `cell`) with the
 /// crossings it gains.
 void appendAddedIncidences(const RemeshQueue& queue, std::size_t t, uint64_t cell,
                            std::vector<Incidence>& incidences) {
@@ -815,7 +834,7 @@ void appendAddedIncidences(const RemeshQueue& queue, std::size_t t, uint64_t cel
     }
 }
 
-/// Phase 2, one cell: its corners in the new snapshot. A re-meshed cell near a changed one is
+/// Phase 2c, one cell: its corners in the new snapshot. A re-meshed cell near a changed one is
 /// nearly always a leaf its tile's scan found (`scanned`, null if the tile was not scanned);
 /// else the leaf is looked up.
 void newCorners(const Adf& newAdf, const ScannedLeavesRef* scanned, uint64_t cell, float corners[8]) {
@@ -842,7 +861,7 @@ void compactIncidences(TileMesh& tm) {
     tm.incidences.swap(kept);
 }
 
-/// Phase 2, one tile: re-meshes its queued cells queue.cells[begin..end) in order, each from
+/// Phase 2c, one tile: re-meshes its queued cells queue.cells[begin..end) in order, each from
 /// all its crossings (the kept ones from its old vertices, which go, and the added ones); the
 /// cells' multi-crossing faces are found again. The vertices made carry `relaxMark` and are
 /// appended to `made`. Complexity: O(incidences of the cells). Writes only `tm` (and its
@@ -855,7 +874,8 @@ void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const Rem
     // The re-meshed cells' multi-crossing faces are found again by meshCell.
     const auto cellFirst = cells.begin() + std::ptrdiff_t(begin), cellEnd = cells.begin() + std::ptrdiff_t(end);
     std::erase_if(tm.multiFaces, [&](const MultiFace& mf) {
-        const auto at = std::lower_bound(cellFirst, cellEnd, mf.cellA, [](const CellTask& t, uint64_t c) { return t.cell < c; });
+        const auto at = std::lower_bound(cellFirst, cellEnd, mf.cellA,
+                                         [](const CellTask& t, uint64_t c) { return t.cell < c; });
         return at != cellEnd && at->cell == mf.cellA;
     });
     UpdateScratch& buffers = updateScratch();
@@ -890,7 +910,7 @@ void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const Rem
     compactIncidences(tm);
 }
 
-/// Phase 2: re-meshes the queued cells: all their vertices, from scratch (cycles and first
+/// Phase 2c: re-meshes the queued cells: all their vertices, from scratch (cycles and first
 /// projection, computed as a build does: incidences sorted by crossing key).
 /// In: the queue, the tiles owning its cells, the scans' leaves (`scanned`, one per tile of
 /// `toScan`). Out: per tile, the vertices made (marked with `relaxMark`); counters in `st`, the
@@ -911,8 +931,9 @@ std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const 
     util::parallelForHeaviestFirst(ctx.pool, tiles.size(), cellsToMesh, [&](std::size_t ti) {
         TileMesh& tm = *tiles[ti];
         const uint32_t* scanIndex = scanOf.find(tm.key);
-        remeshTile(ctx, changed, queue, cellBegin[ti], cellBegin[ti + 1], tm, scanIndex ? &scanned[*scanIndex] : nullptr,
-                   relaxMark, tileStats[ti], made[ti]);
+        const ScannedLeavesRef* leaves = scanIndex ? &scanned[*scanIndex] : nullptr;
+        remeshTile(ctx, changed, queue, cellBegin[ti], cellBegin[ti + 1], tm, leaves, relaxMark, tileStats[ti],
+                   made[ti]);
     });
     for (const TileMesh* tm : tiles) deltas.vertices += tm->liveVertices;
     st.tilesMeshed = tiles.size();
@@ -1053,7 +1074,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     while (mScanned.size() < toScan.tiles.size()) mScanned.push_back(std::make_unique<ScannedLeaves>());
     std::vector<ScannedLeavesRef> scanned;
     scanned.reserve(toScan.tiles.size());
-    for (std::size_t i = 0; i < toScan.tiles.size(); ++i) scanned.push_back({mScanned[i]->leaves, mScanned[i]->byCell});
+    for (std::size_t i = 0; i < toScan.tiles.size(); ++i)
+        scanned.push_back({mScanned[i]->leaves, mScanned[i]->byCell});
     deltas.crossingSlots -= crossingSlotsOf(toScan.tiles);
     const std::vector<TileRescan> scans = rescanCrossings(ctx, rebuilt, changed, toScan, scanned);
     st.tilesScanned = toScan.tiles.size();
