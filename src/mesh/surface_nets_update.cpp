@@ -864,11 +864,11 @@ void compactIncidences(TileMesh& tm) {
 /// Phase 2c, one tile: re-meshes its queued cells queue.cells[begin..end) in order, each from
 /// all its crossings (the kept ones from its old vertices, which go, and the added ones); the
 /// cells' multi-crossing faces are found again. The vertices made carry `relaxMark` and are
-/// appended to `made`. Complexity: O(incidences of the cells). Writes only `tm` (and its
-/// crossings' slots of these cells); uses this thread's UpdateScratch.
+/// appended to `made`, the tile's counters to `stats`. Complexity: O(incidences of the cells).
+/// Writes only `tm` (and its crossings' slots of these cells); uses this thread's UpdateScratch.
 void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const RemeshQueue& queue, std::size_t begin,
                 std::size_t end, TileMesh& tm, const ScannedLeavesRef* scanned, uint32_t relaxMark,
-                SurfaceNetsStats& ms, std::vector<VertexRef>& made) {
+                SurfaceNetsStats& stats, std::vector<VertexRef>& made) {
     const std::vector<CellTask>& cells = queue.cells;
     indexCells(tm);  // (a safeguard: a tile with cells to re-mesh touches a changed cell, so its scan indexed it)
     // The re-meshed cells' multi-crossing faces are found again by meshCell.
@@ -885,7 +885,7 @@ void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const Rem
     const ChangedCells::Query cellChanged(changed);
     for (std::size_t t = begin; t < end; ++t) {
         const uint64_t cell = cells[t].cell;
-        ++ms.cellsMeshed;
+        ++stats.cellsMeshed;
         incidences.clear();
         float corners[8];
         const bool haveCorners = takeOldVertices(tm, cell, cellChanged, incidences, corners);
@@ -896,10 +896,10 @@ void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const Rem
         if (!haveCorners) newCorners(ctx.newAdf, scanned, cell, corners);
         bool anyIn = false, anyOut = false;
         for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
-        if (!(anyIn && anyOut)) ++ms.signlessCells;
+        if (!(anyIn && anyOut)) ++stats.signlessCells;
         const std::size_t incBefore = tm.incidences.size();
         const uint32_t first =
-            meshCell(ctx.newAdf, tm, incidences.data(), uint32_t(incidences.size()), corners, cellScratch, ms);
+            meshCell(ctx.newAdf, tm, incidences.data(), uint32_t(incidences.size()), corners, cellScratch, stats);
         tm.liveIncidences += tm.incidences.size() - incBefore;
         tm.cellVertex.assign(cell, first);
         for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
@@ -995,9 +995,9 @@ std::size_t relaxNewVertices(const UpdateContext& ctx, const std::vector<std::ve
     std::vector<VertexRef> readersToRelax;
     for (const std::vector<VertexRef>& list : readers)
         for (const VertexRef& r : list) {
-            Projected& w = r.tile->projected[r.index];
-            if (w.relaxStamp == relaxMark) continue;
-            w.relaxStamp = relaxMark;
+            Projected& reader = r.tile->projected[r.index];
+            if (reader.relaxStamp == relaxMark) continue;
+            reader.relaxStamp = relaxMark;
             readersToRelax.push_back(r);
         }
     relaxBlocks(ctx.pool, readersToRelax, relaxMark, nullptr);
