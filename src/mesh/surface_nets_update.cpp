@@ -13,8 +13,9 @@
 ///   3. splitFacesNear, relaxNewVertices: split vertices near them; relaxation of the new
 ///      vertices and of the vertices that read them.
 ///   4. releaseRemovedCrossings, dropEmptiedTiles, addTotals.
-/// Complexity: O(slots) to find the rebuilt tiles, O(nodes of the rebuilt tiles) to compare
-/// them, and otherwise work proportional to the changed cells (see each phase).
+/// Complexity: O(root entries + slots of the chunks the snapshots do not share) to find the
+/// rebuilt tiles, O(nodes of the rebuilt tiles) to compare them, and otherwise work
+/// proportional to the changed cells (see each phase).
 /// Threading: update() runs on the mesher's owning thread; phases 0a, 1a and 2c run one tile per
 /// pool task, heaviest first, and 3b blocks of vertices. A task writes only its tile's records
 /// (and its cells' slots of crossings), so the result does not depend on the schedule; the rest
@@ -328,7 +329,8 @@ struct RebuiltTiles {
 /// Phase 0a: finds the slots whose tiles differ, then compares each such tile cell by cell (a
 /// tile that is new, gone or at another level differs as a whole).
 /// In: both snapshots. Out: RebuiltTiles.
-/// Complexity: O(chunks the snapshots do not share) to find the slots, O(nodes) per tile compared.
+/// Complexity: O(root entries + slots of the chunks not shared) to find the slots (Adf::
+/// forEachSlotDiffering), O(nodes) per tile compared.
 /// Threading: parallel over the tiles, the largest rebuilt tile first (nearly always the edit's
 /// crater): usually the caller takes it, as it takes the crater in every later phase and in the
 /// edit that rebuilt it.
@@ -690,6 +692,7 @@ struct RemeshQueue {
 };
 
 /// Phase 1b: adds the scans' counters to `st`, and their crossings added and removed to `deltas`.
+/// Complexity: O(tiles scanned). Serial.
 void addRescanCounts(const std::vector<TileRescan>& scans, SurfaceNetsStats& st, TotalDeltas& deltas) {
     for (const TileRescan& s : scans) {
         deltas.crossings += int64_t(s.added.size()) - int64_t(s.removed.size());
@@ -783,7 +786,7 @@ RemeshTiles listTilesToRemesh(const UpdateContext& ctx, const RemeshQueue& queue
 
 /// Phase 2b: this update's mark, from the mesher's counter `stamp`: set on the vertices it makes,
 /// then on those it relaxes because they read one, so each is relaxed once. When the counter
-/// wraps, every tile's marks are cleared (O(vertices), once in 2^32 updates).
+/// wraps, every tile's marks are cleared (O(vertices), once in 2^32 updates). Serial.
 uint32_t nextRelaxMark(TileMap& tiles, uint32_t& stamp) {
     if (++stamp == 0) {  // wrapped: clear every mark
         for (const auto& [key, tm] : tiles)
