@@ -27,13 +27,22 @@ namespace kizamu::mesh::detail {
 using adf::BoundaryCell;
 using util::FlatMap64;
 
+/// A tile's share of the mesh, kept from one build or update to the next: owned by
+/// SurfaceMesher::mTiles, freed on its home thread. What lives shorter is held elsewhere: a
+/// build's boundary leaves and border list by the build (TileBuild), an update's scanned leaves
+/// by SurfaceMesher::mScanned, the assembly's numbering by the mesh() call (so mesh() only reads
+/// tiles), per-thread scratch by each thread.
 struct TileMesh {
+    // The tile (setTile).
     const adf::Tile* tile = nullptr;
     uint64_t key = 0;
     glm::uvec3 slotMin{0}, slotEnd{0};  ///< slots covered
     /// Packed (packLattice): set where a cell's offset from `key` leaves the tile's box (inTile).
     uint64_t outside = 0;
-    unsigned home = 0;  ///< the pool thread that builds it and assembles its share (util::parallelForHomes)
+    /// Scheduling: the pool thread that builds it, assembles its share and frees it
+    /// (util::parallelForHomes).
+    unsigned home = 0;
+    // The mesh.
     SlotPool<Crossing> crossings;  ///< emitted by this tile's leaves
     uint32_t liveCrossings = 0;
     std::vector<Vertex> vertices;  ///< a build numbers them by cell in walk order, then cycle
@@ -45,23 +54,19 @@ struct TileMesh {
     std::size_t liveIncidences = 0;
     std::vector<MultiFace> multiFaces;
     std::vector<SplitVertex> splits;  ///< numbered after `vertices`
-    /// Cell key -> its first vertex, for every cell with a vertex: an update reaches the
-    /// vertices and crossings around a changed cell through it. A build leaves it to the first
-    /// update that visits the tile (indexCells): a mesh built once and never updated (meshAdf,
-    /// a benchmark) does not pay for it (docs/decisions/0010-mesher-per-tile-state.md).
-    FlatMap64 cellVertex;
-    bool cellVertexPending = false;  ///< cellVertex is yet to be made from `vertices`
+    /// The lazy cell index: cell key -> its first vertex, for every cell with a vertex. An
+    /// update reaches the vertices and crossings around a changed cell through it. A build
+    /// leaves it to the first update that visits the tile (indexCells): a mesh built once and
+    /// never updated (meshAdf, a benchmark) does not pay for it
+    /// (docs/decisions/0010-mesher-per-tile-state.md).
+    struct LazyCellIndex : FlatMap64 {
+        bool pending = false;  ///< yet to be made from `vertices`
+    };
+    LazyCellIndex cellVertex;
     /// Triangles of its live crossings' polygons, were none of them split (plainTriangles),
     /// kept by a build and updates as crossings come and go: the assembly counts only the few
     /// split ones instead of reading every crossing.
     uint32_t plainTriangles = 0;
-    uint32_t offset = 0;  ///< first vertex in the assembled mesh
-    /// Slots below this are numbered by slot (outNumber empty): the assembly's fast path.
-    uint32_t denseEnd = 0;
-    /// Vertex slot (then split) -> number within the tile's share of the mesh; empty where no
-    /// slot is released (the number is the slot).
-    std::vector<uint32_t> outNumber;
-    uint32_t share = 0;  ///< the tile's position in the assembly's order
 
     uint32_t allocateVertex() {
         // Copied from a blank record: a record zeroed in place compiles to `rep stos`, whose
@@ -136,11 +141,11 @@ inline uint64_t ownerKey(const adf::Adf& adf, uint64_t cell) {
 /// (a coarse tile may appear more than once).
 void neighbourKeys(const adf::Adf& adf, glm::uvec3 lo, glm::uvec3 end, std::vector<uint64_t>& out);
 
-/// Makes `tm.cellVertex` if a build left it (cellVertexPending). A build allocates each cell's
-/// vertices in consecutive slots, first to last, so a cell's first vertex has the lowest slot.
+/// Makes `tm.cellVertex` if a build left it (pending). A build allocates each cell's vertices in
+/// consecutive slots, first to last, so a cell's first vertex has the lowest slot.
 inline void indexCells(TileMesh& tm) {
-    if (!tm.cellVertexPending) return;
-    tm.cellVertexPending = false;
+    if (!tm.cellVertex.pending) return;
+    tm.cellVertex.pending = false;
     tm.cellVertex.clear();
     tm.cellVertex.reserve(tm.vertices.size());
     for (uint32_t i = 0; i < tm.vertices.size(); ++i)

@@ -240,7 +240,7 @@ void computeVertices(const Adf& adf, TileBuild& tile, const std::vector<TileBuil
     }
     tm.liveIncidences = tm.incidences.size();
     tm.cellVertex.clear();
-    tm.cellVertexPending = true;
+    tm.cellVertex.pending = true;
 }
 
 /// Where two segments of one face join the same two vertices, the dual mesh would use one edge
