@@ -46,10 +46,11 @@ struct RingLeaf {
 /// - the path of the last search: a search near it climbs only to their common cell. It keeps
 ///   node indices only: a cell's size and origin follow from its depth and the point, and a
 ///   child's index from one bit per axis (sizes are powers of two: shifts, no divisions).
-/// Why a cache of its own rather than adf::AdfAccessor: the mesher asks by block and level,
-/// needs the leaf's origin and level rather than its value, and most asks repeat a block a
-/// neighbouring leaf asked about, which the block cache answers without a descent
-/// (docs/decisions/0013-leaf-locator-cache.md).
+/// Why a second cached descent beside adf::AdfAccessor (which caches the path and the leaf's
+/// decoded corners, for sampling): the mesher asks by block and needs the leaf's origin and
+/// level, never its values, and most asks repeat a block a neighbouring leaf asked about, which
+/// the block cache answers with no descent at all; the path alone (what the accessor offers,
+/// without its decoding) costs measurably more (docs/decisions/0013-leaf-locator-cache.md).
 /// One per computeCrossings call (8 KiB of cache, no allocation); not thread-safe.
 class LeafLocator {
 public:
