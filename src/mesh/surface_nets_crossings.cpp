@@ -60,8 +60,8 @@ public:
         std::fill(std::begin(mKeys), std::end(mKeys), kEmpty);
     }
 
-    /// The reference stays valid until the next call (returned by reference: a copy was moved
-    /// through the stack in overlapping pieces, a stalled load in the crossing phase).
+    /// The reference stays valid until the next call. By reference: a returned copy is moved
+    /// through the stack in overlapping pieces, and the load that reads it back stalls.
     /// `block`: the packed origin of a block of `size` (aligned to it).
     const RingLeaf& locate(uint64_t block, uint32_t size) {
         // Lattice coordinates stay below 2^17: bits 57 up of a packed point are free.
@@ -277,7 +277,7 @@ void computeCrossings(const Adf& adf, const Tile& tile, const std::vector<Bounda
             const float v0 = leaf.corners[c0], v1 = leaf.corners[c1];
             const float t = v0 / (v0 - v1);
             // Added on its axis only (adding zero elsewhere changes nothing): written through an
-            // array indexed by the axis, the point was read back before the store had landed.
+            // array indexed by the axis, the point would be read back before the store lands.
             const float along = t * float(leaf.size);
             x.point = glm::vec3(float(p.x) + (k == 0 ? along : 0.0f), float(p.y) + (k == 1 ? along : 0.0f),
                                 float(p.z) + (k == 2 ? along : 0.0f));

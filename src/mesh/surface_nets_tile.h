@@ -154,8 +154,9 @@ inline void indexCells(TileMesh& tm) {
 
 /// A tile's cells by their place in it (the origin's offset, 6 bits an axis), for tiles at most
 /// 64 lattice units a side (those at the tile level with the default 6-level tiles): what a
-/// build numbers its cells through and looks its leaves up in without a hash map's probing.
-/// Larger tiles use a hash map and the leaf locator.
+/// build numbers its cells through and looks its leaves up in without a hash map's probing
+/// (docs/decisions/0012-mesher-homes-and-place-table.md). Larger tiles use a hash map and the
+/// leaf locator.
 /// Build scratch: one table per thread, 1 MiB, shared by the crossing and vertex phases (one
 /// tile at a time); each user leaves every entry it set empty again (ClearOnExit).
 class PlaceTable {
