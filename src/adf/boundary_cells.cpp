@@ -18,8 +18,7 @@ namespace {
 constexpr uint32_t kAll27 = (1u << 27) - 1;
 
 /// Bit g: q[g] < 0, for g < 27 (q holds 32 values). SSE2 packs the values to bytes with
-/// saturation (signs kept) and takes their sign bits: the loop of compares took a tenth of the
-/// walk.
+/// saturation (signs kept) and takes their sign bits: four instructions for 27 compares.
 inline uint32_t negatives27(const int16_t* q) {
 #if defined(__SSE2__)
     const __m128i* v = reinterpret_cast<const __m128i*>(q);

@@ -5,10 +5,9 @@
 /// The mesher's crossings are pointed at by other tiles' vertices; an incremental update
 /// replaces a few of them and must not move the rest (a std::vector would on growth, a
 /// std::deque allocates blocks of 512 bytes). Elements live in fixed chunks of 2^kChunkBits,
-/// allocated without clearing. 64 per chunk: a level-10 tile emits about 75 crossings (232 bytes
-/// each when this was measured, 128 now), and a LOD or a sparse ADF has many tiles with a few;
-/// chunks of 512 cost every such tile 119 KB of freshly zeroed pages (measured: meshing the
-/// 2k-triangle LOD's 64-tile coarse ADF took 6.5-8 ms with those, 2.1-2.2 ms with these).
+/// allocated without clearing. 64 per chunk: a level-10 tile emits about 75 crossings, and a
+/// LOD or a sparse ADF has many tiles with a few, so larger chunks would give every such tile
+/// pages of memory it never uses (docs/decisions/0010-mesher-per-tile-state.md).
 /// Complexity: O(1) per operation. Threading: none; one owner (a TileMesh) at a time.
 /// Memory: whole chunks, never returned before clear().
 #pragma once

@@ -36,12 +36,15 @@
 /// pool (each on the thread that built it).
 /// Memory: 128 bytes per crossing (a removed one's record is reused by a later update), 64 + 16
 /// + 24 per vertex (plus its incidences) and 16-21 per cell index entry (a flat hash at most
-/// 3/4 full). A build also keeps, per pool thread, scratch
-/// the size of the largest tile's boundary leaves and incidences, reused by the next tile and
-/// the next build (growing them per tile cost most of a small LOD mesh's allocations), a table
-/// of a tile's cells by place (1 MiB, surface_nets.cpp's PlaceTable), and an
-/// update keeps the boundary leaves its scan found near the changed cells, per tile scanned,
-/// until the next update (its cells phase takes their corners).
+/// 3/4 full). A build also keeps, per pool thread, scratch the size of the largest tile's
+/// boundary leaves and incidences, reused by the next tile and the next build, and a table of a
+/// tile's cells by place (1 MiB, surface_nets_tile.h's PlaceTable); an update keeps the
+/// boundary leaves its scan found near the changed cells, per tile scanned, until the next
+/// update (its cells phase takes their corners).
+/// Files: the phases are in surface_nets_crossings.cpp, surface_nets_cycles.cpp,
+/// surface_nets_vertices.cpp, surface_nets_assembly.cpp and surface_nets_update.cpp; the build
+/// and its scheduling in surface_nets.cpp; the internal state in namespace detail
+/// (surface_nets_records.h, surface_nets_tile.h, surface_nets_internal.h).
 #pragma once
 
 #include "adf/adf.h"
@@ -58,6 +61,11 @@ class ThreadPool;
 }
 
 namespace kizamu::mesh {
+
+namespace detail {
+struct TileMesh;       // a tile's share of the mesh (surface_nets_tile.h)
+struct ScannedLeaves;  // an update's boundary leaves of one scanned tile (surface_nets_tile.h)
+}  // namespace detail
 
 /// Counters of the last build or update.
 struct SurfaceNetsStats {
@@ -107,26 +115,22 @@ public:
     const SurfaceNetsStats& stats() const { return mStats; }
     const adf::AdfPtr& snapshot() const { return mAdf; }
 
-    struct TileMesh;
-
 private:
-    TileMesh* ensureTile(uint64_t key);  ///< null if `key` is no tile of the snapshot
+    detail::TileMesh* ensureTile(uint64_t key);  ///< null if `key` is no tile of the snapshot
     void dropEmptyTiles();
     /// Drops every tile, each freed on the thread that built it (its home): a free from
-    /// another thread is mimalloc's slow path, and one thread freeing them all took 1 % of
-    /// meshing the test part.
+    /// another thread is mimalloc's slow path (docs/decisions/0012-mesher-homes-and-place-table.md).
     void clearTiles();
     void totals(SurfaceNetsStats& st) const;
 
     util::ThreadPool* mPool;
     adf::AdfPtr mAdf;
-    std::unordered_map<uint64_t, std::unique_ptr<TileMesh>> mTiles;
+    std::unordered_map<uint64_t, std::unique_ptr<detail::TileMesh>> mTiles;
     uint32_t mRelaxStamp = 0;  ///< update counter marking vertices queued for relaxation
     SurfaceNetsStats mStats;
     /// An update's scanned tiles' leaves, one set per tile: as many as the last update scanned
     /// stay, for their vectors' room.
-    struct ScannedLeaves;
-    std::vector<std::unique_ptr<ScannedLeaves>> mScanned;
+    std::vector<std::unique_ptr<detail::ScannedLeaves>> mScanned;
 };
 
 /// Convenience: the SurfaceNets mesh of one snapshot.
