@@ -19,6 +19,7 @@
 #include "adf/generate_rule.h"
 #include "adf/generate_tile.h"
 #include "adf/lattice.h"
+#include "util/flat_map.h"
 #include "util/thread_pool.h"
 
 #include <glm/common.hpp>
@@ -45,60 +46,6 @@ TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, u
     const uint32_t nodeWord = node::makeLeaf(0, t);
     return Tile::create(level, origin, {&nodeWord, 1}, {corners, 8}, {}, version, finestCell);
 }
-
-/// Open-addressing map from packed lattice keys to values: the tile pass looks up 18
-/// neighbours per tile and the upper pass caches its samples here, both hot enough that
-/// std::unordered_map's node allocations showed in profiles.
-template <class V>
-class FlatKeyMap {
-public:
-    /// Pointer to the value of `key`, inserting `fresh` first if absent; `inserted` says which.
-    V* findOrInsert(uint64_t key, V fresh, bool& inserted) {
-        if ((mSize + 1) * 2 > mKeys.size()) grow();
-        std::size_t i = slotOf(key);
-        while (mKeys[i] != kEmpty) {
-            if (mKeys[i] == key) {
-                inserted = false;
-                return &mValues[i];
-            }
-            i = (i + 1) & (mKeys.size() - 1);
-        }
-        mKeys[i] = key;
-        mValues[i] = fresh;
-        ++mSize;
-        inserted = true;
-        return &mValues[i];
-    }
-    const V* find(uint64_t key) const {
-        if (mKeys.empty()) return nullptr;
-        for (std::size_t i = slotOf(key);; i = (i + 1) & (mKeys.size() - 1)) {
-            if (mKeys[i] == key) return &mValues[i];
-            if (mKeys[i] == kEmpty) return nullptr;
-        }
-    }
-    void reserve(std::size_t n) {
-        while (mKeys.size() < 2 * n + 2) grow();
-    }
-
-private:
-    static constexpr uint64_t kEmpty = ~uint64_t(0);
-    std::size_t slotOf(uint64_t key) const {
-        return std::size_t((key * 0x9e3779b97f4a7c15ull) >> 20) & (mKeys.size() - 1);
-    }
-    void grow() {
-        std::vector<uint64_t> keys = std::move(mKeys);
-        std::vector<V> values = std::move(mValues);
-        mKeys.assign(std::max<std::size_t>(64, keys.size() * 2), kEmpty);
-        mValues.assign(mKeys.size(), V{});
-        mSize = 0;
-        bool inserted;
-        for (std::size_t i = 0; i < keys.size(); ++i)
-            if (keys[i] != kEmpty) *findOrInsert(keys[i], values[i], inserted) = values[i];
-    }
-    std::vector<uint64_t> mKeys;
-    std::vector<V> mValues;
-    std::size_t mSize = 0;
-};
 
 /// One generation or regeneration run.
 class Run {
@@ -128,8 +75,7 @@ private:
     TileGenerator generator() const { return TileGenerator(mDomain, mSettings, mSource, mRegionMin, mRegionMax); }
 
     float sample(glm::uvec3 p) {
-        bool fresh;
-        float* v = mUpperSamples.findOrInsert(packLattice(p), 0.0f, fresh);
+        const auto [v, fresh] = mUpperSamples.tryInsert(packLattice(p), 0.0f);
         if (fresh) {
             const glm::dvec3 w = mDomain.latticeToWorld(p.x, p.y, p.z);
             *v = checkedDistance(mSource.distance(w), w);
@@ -188,10 +134,9 @@ private:
         // colours one after another on one thread: generateSmall runs them all at once instead.
         const unsigned threads = mPool ? mPool->threadCount() : 1u;
         if (threads > 1 && mJobs.size() < 8u * threads) return generateSmall(threads);
-        FlatKeyMap<uint32_t> jobOfSlot;
+        util::FlatMap64 jobOfSlot;
         jobOfSlot.reserve(mJobs.size());
-        bool inserted;
-        for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.findOrInsert(packLattice(mJobs[j].slot), uint32_t(j), inserted);
+        for (std::size_t j = 0; j < mJobs.size(); ++j) jobOfSlot.assign(packLattice(mJobs[j].slot), uint32_t(j));
         std::vector<BorderSamples> borders(mJobs.size());
         std::vector<TilePtr> tiles(mJobs.size());
         std::vector<int> colour(mJobs.size());
@@ -371,7 +316,7 @@ private:
     util::ThreadPool* mPool;
     uint64_t mVersion;
     AdfBuilder mBuilder;
-    FlatKeyMap<float> mUpperSamples;
+    util::FlatMap<float> mUpperSamples;  ///< the upper pass's samples by packed lattice point
     std::vector<TileJob> mJobs;
     std::vector<Candidate> mCoalesceCandidates;
     uint64_t mEvaluations = 0, mCoarseTiles = 0, mCells = 0;
