@@ -84,7 +84,7 @@ struct LeafRef {
 struct Chunk {
     std::array<const Tile*, 512> tiles{};  ///< what readers use
     /// Keeps them alive (writer side only): each distinct tile once, in pointer order (a chunk
-    /// holds about 60 distinct tiles on a sculpted slab; one owner per slot cost 8 KB a chunk).
+    /// holds far fewer distinct tiles than slots; docs/decisions/0008-two-level-tile-table.md).
     std::vector<TilePtr> owners;
 };
 using ChunkPtr = std::shared_ptr<const Chunk>;
@@ -339,8 +339,9 @@ inline Sample trilinear(const float* v, const glm::vec3& f) {
 
 /// trilinear's value, bit for bit (the same operations on the same operands), as three steps
 /// of one form, a + f (b - a), each on four values at once where SSE is there: a third of the
-/// instructions but a longer chain of them. Relaxation, which samples between other work, took
-/// 20 % less time with it; a chain of dependent projections took 3 % more.
+/// instructions but a longer chain of them. Relaxation, which samples between other work, gains
+/// from the fewer instructions; a chain of dependent projections pays for the longer chain and
+/// keeps trilinear (docs/decisions/0024-mesher-build-shortcuts.md).
 inline Sample trilinearPacked(const float* v, const glm::vec3& f) {
 #if defined(__SSE__)
     const __m128 lo = _mm_loadu_ps(v), hi = _mm_loadu_ps(v + 4);

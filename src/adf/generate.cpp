@@ -149,9 +149,9 @@ private:
         // Colour by colour, but without a barrier between colours: tiles are handed out in colour
         // order, and a tile waits only for its neighbours of lower colours (already handed out,
         // so running or done: no cycle), not for the whole colour before it. A tile reads
-        // exactly the borders it read with barriers, so the result and the evaluation count are
-        // unchanged. With barriers, each of the 8 colours waited for its slowest tile: a LOD's
-        // 64 tiles spent a fifth of their coarsening waiting (docs/PERFORMANCE.md).
+        // exactly the borders it would read with a barrier per colour, so the result and the
+        // evaluation count are the same; a barrier would make each of the 8 colours wait for
+        // its slowest tile (docs/decisions/0016-generation-colours-without-barriers.md).
         std::vector<std::size_t> order;
         order.reserve(mJobs.size());
         for (const auto& items : byColour) order.insert(order.end(), items.begin(), items.end());
@@ -196,8 +196,8 @@ private:
     /// border points it shares with a neighbour itself, and each from its root: the roots
     /// first, then the large tiles' 8 children as parts side by side with the other tiles, each
     /// tile's parts joined by the task finishing its last one. A dab's tiles are uneven (one
-    /// usually holds most of the crater: 1-2.8 ms against under 0.5 ms for the rest), so whole
-    /// tiles left the second thread idle. Parts evaluate the points they share again: the
+    /// usually holds most of the crater), so whole tiles would leave the other threads idle
+    /// (docs/decisions/0017-small-runs-in-parts.md). Parts evaluate the points they share again: the
     /// values are the same (the source is a function of the point), and the tiles come out as
     /// build() makes them (tested: the same bits on 1, 2 and 3 threads); only the evaluation
     /// count depends on the thread count.
@@ -232,29 +232,27 @@ private:
         }
         // A tile goes in parts when it holds more than a share of that work: in a regeneration
         // (an edit's region, uneven: a dab's crater tile and its heavy neighbours) a quarter of
-        // a thread's share (with half a share, a dab's threads idled a fifth longer, for 0.4 %
-        // fewer samples); in a generation (spread over the domain, even: a LOD's 2^3 tiles) half
-        // a thread's share, which keeps even tiles whole up to 4 threads. The others continue
-        // from their roots whole, one task each, so their children share one scratch volume and
-        // evaluate no point twice (a LOD's 2^3 even tiles took 31 % more samples in parts, and
-        // 20 % more time).
+        // a thread's share; in a generation (spread over the domain, even: a LOD's 2^3 tiles)
+        // half a thread's share, which keeps even tiles whole up to 4 threads. The others
+        // continue from their roots whole, one task each, so their children share one scratch
+        // volume and evaluate no point twice; even tiles in parts would evaluate their shared
+        // points again for no gain in balance (docs/decisions/0017-small-runs-in-parts.md).
         const uint64_t sharesPerThread = mBase ? 4 : 2;
         std::vector<std::size_t> split, whole;  // jobs whose root waits for its children
         for (std::size_t j = 0; j < n; ++j) {
             if (tiles[j]) continue;
             (sharesPerThread * work[j] * threads > total ? split : whole).push_back(j);
         }
-        // Items heaviest first, parts and whole tiles alike: one handed out late kept a thread
-        // busy alone after the other had run out of items (a dab's crater child; a dab's
-        // heaviest whole tile, when whole tiles went last in index order: up to 1 ms of thread
-        // time idle in a 2.4 ms dab).
+        // Items heaviest first, parts and whole tiles alike: a heavy one handed out late (a dab's
+        // crater child, or its heaviest whole tile) would keep a thread busy alone after the
+        // others ran out of items (docs/decisions/0021-heaviest-first-scheduling.md).
         std::vector<Part> parts(8 * split.size());
         auto weight = [&](std::size_t i) {
             return i < parts.size() ? childWork(split[i / 8], int(i % 8)) : work[whole[i - parts.size()]];
         };
         // The task finishing a tile's last part joins them, while the other threads go on with
-        // the items left: a loop of joins after all parts left one thread idle for as long as
-        // the largest join took (a dab's crater tile: 0.1-0.25 ms of its 2.3).
+        // the items left: a loop of joins after all parts would leave the other threads idle for
+        // as long as the largest join takes.
         const std::unique_ptr<std::atomic<int>[]> partsLeft(new std::atomic<int>[split.size()]);
         for (std::size_t k = 0; k < split.size(); ++k) partsLeft[k].store(8, std::memory_order_relaxed);
         util::parallelForHeaviestFirst(mPool, parts.size() + whole.size(), weight, [&](std::size_t item) {

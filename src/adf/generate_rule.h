@@ -34,7 +34,8 @@ constexpr int kCentre = 13;  // a variable, not an enum: ensure() takes its addr
 /// Half the diagonal of a unit cube.
 constexpr double kHalfDiagonal = 0.8660254037844386;
 
-/// Fraction of ε̂ the 19-point test allows (see CellRule::firstLook).
+/// Fraction of ε̂ the 19-point test allows (see CellRule::firstLook;
+/// docs/decisions/0020-error-test-margin.md).
 constexpr double kCriterionMargin = 0.75;
 
 /// The 18 half-grid points that are neither corners nor the centre.
@@ -104,9 +105,10 @@ struct CellRule {
     /// the error test only across a kink of the field (a medial sheet from a sharp edge) or
     /// a focal point, where finest children miss the bound as well: splitting would halve an
     /// error the accuracy contract already leaves out (within two finest cells of a crease,
-    /// ARCHITECTURE.md "Accuracy at creases"), at 8 times the cells. Not applied higher up:
+    /// docs/decisions/0025-accuracy-at-creases.md), at 8 times the cells. Not applied higher up:
     /// a cell four finest cells wide across a kink is off by half a cell two cells from it
-    /// (|x - 1| on [0, 4], at x = 3), beyond that allowance, as the CSG accuracy test shows.
+    /// (|x - 1| on [0, 4], at x = 3), beyond that allowance, as the CSG accuracy test shows
+    /// (docs/decisions/0019-distance-grading-at-finest-level.md).
     bool farFromSurface(const float* v, int level) const {
         return finestParent(level) && atLeastCells(nearestOf(v, 27), 1.0);
     }

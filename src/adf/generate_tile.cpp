@@ -59,8 +59,8 @@ public:
 
 private:
     /// The volume this thread released last, which it takes again first: its lines are in this
-    /// core's caches, where the shared list handed them to either thread (a line written by the
-    /// other core took about 250 ns to reach on the 2-vCPU machine).
+    /// core's caches, where the shared list would hand them to either thread and a line written
+    /// by another core is slow to reach (docs/decisions/0014-generation-flat-map-and-scratch.md).
     static std::unique_ptr<TileScratch>& threadsOwn() {
         thread_local std::unique_ptr<TileScratch> own;
         return own;
@@ -226,8 +226,8 @@ void TileGenerator::prefetchChildren(glm::uvec3 o, uint32_t childSize, int child
 }
 
 void TileGenerator::evaluate(const glm::uvec3* local, int n) {
-    // One loop per way of asking: a branch per point cost a full generation 1.7 % more
-    // instructions.
+    // One loop per way of asking, the choice made once per call rather than per point
+    // (docs/decisions/0014-generation-flat-map-and-scratch.md).
     if (mLatticeSource)
         evaluateAt<glm::uvec3>(local, n);
     else

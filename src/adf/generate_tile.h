@@ -61,8 +61,8 @@ constexpr int neighbourIndex(glm::ivec3 o) { return kNeighbourOfOffset[(o.x + 1)
 /// (named by the neighbour across it); read by the neighbours of higher colours, generated after it
 /// (an edge neighbour reads its edge, a face neighbour its face and the 4 edges around it, see
 /// kBorderLists). Points are packed local coordinates. One array grouped by face and edge,
-/// filled once when the tile is done: 18 growing lists cost a small tile (a LOD's) dozens of
-/// allocations, most of its generation's.
+/// filled once when the tile is done, rather than 18 growing lists: a small tile (a LOD's) would
+/// spend most of its allocations on them.
 struct BorderSamples {
     std::vector<std::pair<uint32_t, float>> entries;
     std::array<uint32_t, kNeighbours + 1> begin{};  ///< face or edge n's: [begin[n], begin[n + 1])
@@ -209,16 +209,17 @@ private:
 
     /// Makes the half-grid points `gs` of the cell at `o` (half size `half`) valid, evaluating
     /// the missing ones in one batch, and loads them into v. Indices by table (mGridStep): a
-    /// cell's points are nearly all valid already (prefetchChildren), and working out each one's
-    /// coordinates to look it up cost a full generation 7 % of its instructions. `prefetched`:
-    /// they are all valid (the parent's prefetchChildren took them), so they are only loaded.
+    /// cell's points are nearly all valid already (prefetchChildren), so finding them is the
+    /// common cost, and a table step per point is cheaper than working out its coordinates
+    /// (docs/decisions/0014-generation-flat-map-and-scratch.md). `prefetched`: they are all
+    /// valid (the parent's prefetchChildren took them), so they are only loaded.
     void ensure(glm::uvec3 o, uint32_t half, const int* gs, int n, float* v, bool prefetched);
 
     /// Evaluates, in two large batches, what the 8 children of a cell will ask for first: their
     /// centres, then the face and edge centres of those the centre does not settle. The set of
     /// evaluated points is the one the children would evaluate one by one (each child still
-    /// looks at its centre first), but a source call now covers up to 144 points instead of
-    /// 1 or 18, which halves the per-point cost of a CSG tree.
+    /// looks at its centre first), but a source call covers up to 144 points instead of 1 or
+    /// 18, which spreads a CSG tree's per-call cost over many more points.
     /// Children that will be copied from the old tile (`keep`) need no samples (if the copy
     /// turns out impossible, subdivide evaluates them itself: only the batching differs).
     void prefetchChildren(glm::uvec3 o, uint32_t childSize, int childLevel, const Keep* keep);

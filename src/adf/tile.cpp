@@ -205,8 +205,9 @@ int32_t leafStepOf(float scale, double finestCell) {
 
 /// Division by a step (1 to 65535) of a numerator below 2^17 as one multiply: with
 /// m = floor(2^40 / step) + 1, a * m / 2^40 exceeds a / step by under 2^-23, less than the
-/// 1 / step that lies between a / step and the next whole number, so the floor is exact. (The
-/// integer division it replaces took a third of the time of packing a tile's values.)
+/// 1 / step that lies between a / step and the next whole number, so the floor is exact. An
+/// integer division per value would dominate packing a tile's values
+/// (docs/decisions/0003-bricks-and-packed-forms.md).
 struct StepDivision {
     int32_t step;
     uint64_t magic;

@@ -7,7 +7,8 @@
 /// update can find the vertices (and through them the crossings) around changed cells without
 /// scanning the tile; generation caches the upper pass's samples and finds a tile's neighbours
 /// by slot. std::unordered_map costs a node allocation per entry and 40 bytes per entry
-/// (docs/decisions/0014-generation-flat-map-and-scratch.md).
+/// (docs/decisions/0010-mesher-per-tile-state.md,
+/// docs/decisions/0014-generation-flat-map-and-scratch.md).
 /// Linear probing with multiplicative (Fibonacci) hashing; erase shifts the following run back,
 /// so there are no tombstones and lookups stay short after many updates.
 /// Complexity: O(1) expected per operation. Threading: none; one owner at a time.
