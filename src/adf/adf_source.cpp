@@ -104,6 +104,11 @@ private:
     /// of the source that filled it and emptied when another source uses the thread, so no entry
     /// outlives the snapshot it points into. The filled blocks (fill()) are kept beside them,
     /// under the same tag.
+    /// Why not AdfAccessor's one leaf and its path: a regeneration asks in two interleaved
+    /// streams (points, and the neighbours of points on a leaf's faces) and keeps per leaf what
+    /// it learnt of its neighbours (finerNeighbours), both lost when a single entry is replaced;
+    /// with one leaf per stream a dab's edit takes more instructions and time
+    /// (docs/decisions/0013-leaf-locator-cache.md).
     struct Cache {
         static constexpr int kSize = 256;  ///< 8 x 8 x 4 blocks, about 20 KB
         uint64_t owner = 0;
