@@ -477,6 +477,7 @@ private:
     /// (tile.cpp's GridForm order).
     int brickForm(uint32_t brick) const { return bricks().form(brick); }
     static Tile* allocate(const Counts& n);
+    struct Packing;  ///< build's packing steps (tile.cpp)
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed
     /// (`copies`, whose source must share the scale: take its packing; of a copied packed brick
     /// only the centre, value 13, is read: its steps are its source's bytes).
