@@ -77,23 +77,34 @@ void throwNonFinite(const glm::dvec3& p) {
                             std::to_string(p.y) + ", " + std::to_string(p.z) + ")");
 }
 
-TileGenerator::TileGenerator(const Domain& d, const GenerationSettings& s, const DistanceSource& src,
-                             glm::uvec3 regionMin, glm::uvec3 regionMax)
-    : mDomain(d), mRule(d, s, src), mSource(src), mLatticeSource(src.answersLattice(d)),
-      mRegionMin(regionMin), mRegionMax(regionMax),
-      mSpan(d.cellLattice(d.tileLevel())), mDim(mSpan + 1),
-      mScratch(ScratchPool::instance().acquire(mDim)), mValues(mScratch->values),
-      mStamp(mScratch->stamp), mCurrent(mScratch->current), mNodes(mScratch->nodes),
-      mLeafCorners(mScratch->leafCorners), mBrickValues(mScratch->brickValues), mLeafFrom(mScratch->leafFrom),
-      mBrickFrom(mScratch->brickFrom), mRecorded(mScratch->border) {
+TileGenerator::TileGenerator(const Domain& d, const GenerationSettings& s,
+                             const DistanceSource& src, glm::uvec3 regionMin, glm::uvec3 regionMax)
+    : mDomain(d),
+      mRule(d, s, src),
+      mSource(src),
+      mLatticeSource(src.answersLattice(d)),
+      mRegionMin(regionMin),
+      mRegionMax(regionMax),
+      mSpan(d.cellLattice(d.tileLevel())),
+      mDim(mSpan + 1),
+      mScratch(ScratchPool::instance().acquire(mDim)),
+      mValues(mScratch->values),
+      mStamp(mScratch->stamp),
+      mCurrent(mScratch->current),
+      mNodes(mScratch->nodes),
+      mLeafCorners(mScratch->leafCorners),
+      mBrickValues(mScratch->brickValues),
+      mLeafFrom(mScratch->leafFrom),
+      mBrickFrom(mScratch->brickFrom),
+      mRecorded(mScratch->border) {
     for (int g = 0; g < 27; ++g) mGridStep[g] = index(gridOffset(g));
 }
 
 TileGenerator::~TileGenerator() { ScratchPool::instance().release(std::move(mScratch)); }
 
-
-TilePtr TileGenerator::build(const TileJob& job, const std::array<const BorderSamples*, kNeighbours>& neighbours,
-              BorderSamples& border, uint64_t version) {
+TilePtr TileGenerator::build(const TileJob& job,
+                             const std::array<const BorderSamples*, kNeighbours>& neighbours,
+                             BorderSamples& border, uint64_t version) {
     begin(job);
     for (int i = 0; i < kNeighbours; ++i)
         if (neighbours[i]) importFrom(*neighbours[i], i);
@@ -280,8 +291,8 @@ void TileGenerator::evaluateAt(const glm::uvec3* local, int n) {
 
 // ---- subdivision ----
 
-void TileGenerator::subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched,
-               const OldCell& old) {
+void TileGenerator::subdivide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level,
+                              bool keepChecked, bool prefetched, const OldCell& old) {
     Split split;
     if (!decide(nodeIndex, o, s, level, keepChecked, prefetched, old, split)) children(nodeIndex, o, s, level, split);
 }
@@ -296,8 +307,8 @@ void TileGenerator::children(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int l
     finishParent(nodeIndex, first, leafMark, split);
 }
 
-bool TileGenerator::decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level, bool keepChecked, bool prefetched, const OldCell& old,
-            Split& split) {
+bool TileGenerator::decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int level,
+                           bool keepChecked, bool prefetched, const OldCell& old, Split& split) {
     // (A tile's root: its children are checked by their parent.)
     if (!keepChecked && keepsOld(o, s, level, old) == Keep::Copy && copyOld(nodeIndex, old)) return true;
     float* v = split.v;
@@ -337,7 +348,8 @@ bool TileGenerator::decide(uint32_t nodeIndex, glm::uvec3 o, uint32_t s, int lev
     return false;
 }
 
-void TileGenerator::child(uint32_t nodeIndex, glm::uvec3 o, uint32_t half, int childLevel, int c, const Split& split, bool prefetched) {
+void TileGenerator::child(uint32_t nodeIndex, glm::uvec3 o, uint32_t half, int childLevel, int c,
+                          const Split& split, bool prefetched) {
     const glm::uvec3 co = o + childOffset(c) * half;
     if (split.keep[c] == Keep::Leaf) {
         float childCorners[8];
