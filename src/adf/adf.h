@@ -279,7 +279,7 @@ private:
 /// smallest cached cell that contains the new point before descending again.
 /// Why not the old field's leaf table (adf_source.cpp's Cache): one stream of nearby points
 /// (a stylus path) leaves a leaf for a neighbour and rarely returns to one left earlier, so a
-/// table of recent leaves answers it no better than the path does, while costing 20 KB per
+/// table of recent leaves answers it about as fast as the path does, while costing 20 KB per
 /// accessor next to the haptic loop's own data; and every query here needs the corners decoded
 /// and a gradient, which the table decodes lazily (docs/decisions/0013-leaf-locator-cache.md).
 /// Not thread-safe: one per thread. Must not outlive the snapshot it reads.
