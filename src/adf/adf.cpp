@@ -74,7 +74,7 @@ float Adf::latticeDistance(glm::uvec3 p) const noexcept {
 void Adf::latticeDistances(std::span<const glm::uvec3> points, std::span<float> out) const noexcept {
     assert(points.size() == out.size() && "latticeDistances writes one value per point");
     // As many as a LOD's batch (AdfSampler's kBatch, mesh/lod.cpp): all of its points side by
-    // side overlap more loads than 16 at a time did (docs/PERFORMANCE.md, "Thirteenth session").
+    // side overlap more loads than fewer lanes (docs/decisions/0023-lod-coarse-lattice.md).
     constexpr std::size_t kLanes = 64;
     const glm::uvec3 last(mDomain.latticeSize() - 1);
     for (std::size_t first = 0; first < points.size(); first += kLanes) {
@@ -309,8 +309,8 @@ AdfPtr AdfBuilder::build(uint64_t version) {
     // Only a chunk this builder wrote can hold an unassigned slot (a shared one was checked when
     // its builder published it): an edit checks the chunks it touched, not every slot (262k at
     // level 12). Each written chunk keeps one owner per tile it still shows, sorted: only the
-    // tiles this builder appended need sorting, and only the ones it overwrote can have gone
-    // (sorting all of a chunk's slots and owners instead took an edit 35 us).
+    // tiles this builder appended need sorting, and only the ones it overwrote can have gone,
+    // so an edit never sorts all of a chunk's slots (docs/decisions/0008-two-level-tile-table.md).
     auto byTile = [](const TilePtr& x, const TilePtr& y) { return x.get() < y.get(); };
     for (OwnChunk& own : mOwnChunks) {
         Chunk* chunk = own.chunk.get();

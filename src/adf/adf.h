@@ -84,7 +84,7 @@ struct LeafRef {
 struct Chunk {
     std::array<const Tile*, 512> tiles{};  ///< what readers use
     /// Keeps them alive (writer side only): each distinct tile once, in pointer order (a chunk
-    /// holds about 60 distinct tiles on a sculpted slab; one owner per slot cost 8 KB a chunk).
+    /// holds far fewer distinct tiles than slots; docs/decisions/0008-two-level-tile-table.md).
     std::vector<TilePtr> owners;
 };
 using ChunkPtr = std::shared_ptr<const Chunk>;
@@ -277,6 +277,11 @@ private:
 /// down to it (as OpenVDB's ValueAccessor caches nodes): a query in the same leaf costs one
 /// trilinear evaluation, and a step into a neighbouring leaf climbs only as far as the
 /// smallest cached cell that contains the new point before descending again.
+/// Why not the old field's leaf table (adf_source.cpp's Cache): one stream of nearby points
+/// (a stylus path) leaves a leaf for a neighbour and rarely returns to one left earlier, so a
+/// table of recent leaves answers it about as fast as the path does, while costing 20 KB per
+/// accessor next to the haptic loop's own data; and every query here needs the corners decoded
+/// and a gradient, which the table decodes lazily (docs/decisions/0013-leaf-locator-cache.md).
 /// Not thread-safe: one per thread. Must not outlive the snapshot it reads.
 class AdfAccessor {
 public:
@@ -339,8 +344,9 @@ inline Sample trilinear(const float* v, const glm::vec3& f) {
 
 /// trilinear's value, bit for bit (the same operations on the same operands), as three steps
 /// of one form, a + f (b - a), each on four values at once where SSE is there: a third of the
-/// instructions but a longer chain of them. Relaxation, which samples between other work, took
-/// 20 % less time with it; a chain of dependent projections took 3 % more.
+/// instructions but a longer chain of them. Relaxation, which samples between other work, gains
+/// from the fewer instructions; a chain of dependent projections pays for the longer chain and
+/// keeps trilinear (docs/decisions/0024-mesher-build-shortcuts.md).
 inline Sample trilinearPacked(const float* v, const glm::vec3& f) {
 #if defined(__SSE__)
     const __m128 lo = _mm_loadu_ps(v), hi = _mm_loadu_ps(v + 4);

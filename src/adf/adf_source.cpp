@@ -39,10 +39,10 @@ constexpr std::array<uint8_t, 8> kSubsetsOf = [] {
 ///
 /// Two ways to the same value: point by point (a cached descent, the corner rule and an
 /// interpolation, value()), or, in a block of 8^3 lattice points asked for often, every point
-/// of it at once from one pass over the leaves around it (fill()). A dab's edit asks for 14k
-/// points of its region, most in the few blocks of its crater, where the pass costs a fraction
-/// of the point-by-point answers (about 420 instructions each, a third of the edit's); a block
-/// asked only at a few corners of coarse cells is never filled. The two ways give the same
+/// of it at once from one pass over the leaves around it (fill()). A dab's edit asks for most
+/// of its points in the few blocks of its crater, where the pass costs a fraction of the
+/// point-by-point answers; a block asked only at a few corners of coarse cells is never filled
+/// (docs/decisions/0015-old-field-cache-and-blocks.md). The two ways give the same
 /// bits (the same stored corners, the same interpolation), so which one answers a point
 /// changes no result.
 class AdfSource final : public DistanceSource {
@@ -55,7 +55,7 @@ public:
         for (std::size_t i = 0; i < p.size(); ++i) out[i] = value(p[i], cache);
     }
     /// Its own lattice: an edit's generation asks for lattice points, which the source would
-    /// otherwise round back from their world positions (a sixth of its instructions per point).
+    /// otherwise round back from their world positions, a cost on every point.
     bool answersLattice(const Domain& d) const override { return d == mAdf->domain(); }
     void latticeDistances(const Domain& d, std::span<const glm::uvec3> lattice, std::span<double> out) const override {
         if (!answersLattice(d)) return DistanceSource::latticeDistances(d, lattice, out);
@@ -97,13 +97,18 @@ private:
     /// Leaves found recently, kept per thread across calls: a regeneration asks for a tile's
     /// points in many small, coherent batches. Direct-mapped by the point's 4-cell block (the
     /// table wraps every 32 x 32 x 16 finest cells): a lookup that misses the hint tries one
-    /// entry and otherwise descends into it, cheaper than the search of a few recent leaves this
-    /// replaced (dab edits -3 % instructions), and it keeps more of the leaves a tile's
-    /// traversal returns to. A leaf answers for the points of its half-open box exactly as a
+    /// entry and otherwise descends into it, cheaper than searching a few recent leaves, and it
+    /// keeps more of the leaves a tile's traversal returns to
+    /// (docs/decisions/0015-old-field-cache-and-blocks.md). A leaf answers for the points of its half-open box exactly as a
     /// fresh descent would, so the cache changes no result. It is tagged with the serial number
     /// of the source that filled it and emptied when another source uses the thread, so no entry
     /// outlives the snapshot it points into. The filled blocks (fill()) are kept beside them,
     /// under the same tag.
+    /// Why not AdfAccessor's one leaf and its path: a regeneration asks in two interleaved
+    /// streams (points, and the neighbours of points on a leaf's faces) and keeps per leaf what
+    /// it learnt of its neighbours (finerNeighbours), both lost when a single entry is replaced;
+    /// with one leaf per stream a dab's edit takes more instructions and time
+    /// (docs/decisions/0013-leaf-locator-cache.md).
     struct Cache {
         static constexpr int kSize = 256;  ///< 8 x 8 x 4 blocks, about 20 KB
         uint64_t owner = 0;
@@ -147,7 +152,7 @@ private:
     /// cell of its size across its lower faces along m) lies in finer leaves: only those can
     /// have a point on the leaf's faces as a corner. One descent per leaf and m, kept with the
     /// leaf: most face points of a leaf have neighbours no finer than it, and then need no
-    /// lookup of their own (dab edits -6 % instructions).
+    /// lookup of their own.
     uint32_t finerNeighbours(CachedLeaf& leaf, uint32_t axes) const {
         const uint32_t wanted = kSubsetsOf[axes];
         for (uint32_t missing = wanted & ~uint32_t(leaf.neighboursKnown); missing != 0; missing &= missing - 1) {

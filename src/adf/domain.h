@@ -31,7 +31,7 @@ struct Domain {
     glm::dvec3 originWorld{0.0};  ///< minimum corner, m
     double sizeWorld = 1.0;       ///< edge length, m
     int maxLevel = 10;            ///< finest octree level (root is level 0)
-    int tileSpanLevels = 6;       ///< levels inside one tile; docs/ARCHITECTURE.md says why 6
+    int tileSpanLevels = 6;       ///< levels inside one tile (docs/decisions/0001-tile-span-6.md)
 
     /// Level of the stored tiles (the tile roots).
     int tileLevel() const { return std::max(0, maxLevel - tileSpanLevels); }

@@ -205,8 +205,9 @@ int32_t leafStepOf(float scale, double finestCell) {
 
 /// Division by a step (1 to 65535) of a numerator below 2^17 as one multiply: with
 /// m = floor(2^40 / step) + 1, a * m / 2^40 exceeds a / step by under 2^-23, less than the
-/// 1 / step that lies between a / step and the next whole number, so the floor is exact. (The
-/// integer division it replaces took a third of the time of packing a tile's values.)
+/// 1 / step that lies between a / step and the next whole number, so the floor is exact. An
+/// integer division per value would dominate packing a tile's values
+/// (docs/decisions/0003-bricks-and-packed-forms.md).
 struct StepDivision {
     int32_t step;
     uint64_t magic;
@@ -356,7 +357,101 @@ LeafGroups findLeafGroups(std::span<const uint32_t> nodes, std::span<const int16
     }
     return g;
 }
+
+/// How an own lone leaf is stored; own leaves are numbered narrow, then wide.
+enum OwnLeafForm : uint8_t { kLeafNarrow, kLeafWide, kGrouped };
+
 }  // namespace
+
+/// The parts of Tile::build that pack one kind of item, with access to the tile's layout.
+struct Tile::Packing {
+    /// Each lone leaf's form (leafForm) and, for narrow ones, its 7 steps (leafDeltas, 7 per leaf):
+    /// grouped leaves are marked kGrouped; a copied narrow own leaf keeps its source's steps; the
+    /// others are packed narrow where they fit. Then siblings left apart that would agree once
+    /// decoded are made wide (see below).
+    /// `from`, `copied`: the tile copied from (or null) and per leaf the one it copies (TileCopies).
+    static void ownLeaves(std::span<const int16_t> leafCorners, const LeafGroups& groups, const Tile* from,
+                          std::span<const uint32_t> copied, int32_t leafStep, std::vector<uint8_t>& leafForm,
+                          std::vector<int8_t>& leafDeltas) {
+        const auto leafCount = uint32_t(leafCorners.size() / 8);
+        for (uint32_t l = 0; l < leafCount; ++l) {
+            const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
+            if (groups.of[l] != LeafGroups::kNone) {
+                leafForm[l] = kGrouped;
+                continue;
+            }
+            // A copied narrow own leaf keeps its packing (the values alone decide it); a wide one
+            // is packed again, since it may have been wide only for siblings it no longer has.
+            if (from && copied[l] != TileCopies::kNotCopied && copied[l] >= 8 * from->mGroupCount &&
+                copied[l] - 8 * from->mGroupCount < from->mNarrowLeafCount) {
+                const uint32_t i = copied[l] - 8 * from->mGroupCount;
+                std::memcpy(leafDeltas.data() + 7 * std::size_t(l), from->at<int8_t>(from->mLeafDeltasAt) + 7 * std::size_t(i), 7);
+                leafForm[l] = kLeafNarrow;
+                continue;
+            }
+            leafForm[l] = packs(q + 1, 7, q[0], leafStep, leafDeltas.data() + 7 * std::size_t(l)) ? kLeafNarrow : kLeafWide;
+        }
+        // Siblings left apart (their shared corners differ) must still differ once decoded, or
+        // building the tile again would group them: where their packed corners would agree (rare:
+        // each rounds from its own corner 0), they stay wide, whose values are exact.
+        for (const Siblings& sib : groups.apart) {
+            std::array<std::array<int16_t, 8>, 8> decoded;
+            for (int m = 0; m < sib.count; ++m) {
+                const uint32_t l = sib.leaf[std::size_t(m)];
+                const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
+                auto& v = decoded[std::size_t(m)];
+                if (leafForm[l] == kLeafNarrow)
+                    unpackLeaf(q[0], leafDeltas.data() + 7 * std::size_t(l), leafStep, v.data());
+                else
+                    std::copy(q, q + 8, v.begin());
+            }
+            std::array<int16_t, 27> grid{};
+            std::array<bool, 27> covered{};
+            if (cornersAgree(sib, [&](int m) { return decoded[std::size_t(m)].data(); }, grid, covered))
+                for (int m = 0; m < sib.count; ++m)
+                    if (leafForm[sib.leaf[std::size_t(m)]] != kGrouped) leafForm[sib.leaf[std::size_t(m)]] = kLeafWide;  // (a damaged tree can group it elsewhere)
+        }
+    }
+
+    /// Half grids (bricks, or leaf groups) written into tile `t`'s arrays: packed ones as centre and
+    /// steps (7-bit fields or bytes, the centre's 0 left out) at `basesAt`/`stepsAt`, wide ones as
+    /// they are at `wideAt`. `number`: each one's number in the tile; `narrow`, `packed`: the counts
+    /// of narrow and of packed ones. `copied`: per item, the bytes of its steps in the tile it was
+    /// copied from, or null (may be shorter than `forms`).
+    static void writeGrids(Tile* t, std::span<const int16_t> values, const std::vector<uint8_t>& forms,
+                           std::span<const int8_t> steps, const std::vector<uint32_t>& number, uint32_t narrow,
+                           uint32_t packed, uint32_t basesAt, uint32_t stepsAt, uint32_t wideAt,
+                           const std::vector<const unsigned char*>& copied) {
+        auto* bases = const_cast<int16_t*>(t->at<int16_t>(basesAt));
+        auto* packedSteps = const_cast<unsigned char*>(t->at<unsigned char>(stepsAt));
+        auto* wide = const_cast<int16_t*>(t->at<int16_t>(wideAt));
+        for (std::size_t k = 0; k < forms.size(); ++k) {
+            const int16_t* q = values.data() + 27 * k;
+            const int8_t* d = steps.data() + 27 * k;
+            const uint32_t i = number[k];
+            if (forms[k] == kWide) {
+                std::memcpy(wide + 27 * std::size_t(i - packed), q, 54);
+                continue;
+            }
+            bases[i] = q[13];
+            unsigned char* p = packedSteps + gridStepsOffset(narrow, i);  // zeroed by allocate
+            if (k < copied.size() && copied[k]) {
+                std::memcpy(p, copied[k], forms[k] == kNarrow ? kNarrowGridSteps : kCoarseGridSteps);
+                continue;
+            }
+            for (int j = 0; j < 26; ++j) {
+                const auto field = uint8_t(d[gridPointOf(j)]);
+                if (forms[k] != kNarrow) {
+                    p[j] = field;
+                    continue;
+                }
+                const unsigned bit = 7u * unsigned(j), bits = field & 0x7fu;  // 7-bit fields, little-endian
+                p[bit >> 3] = uint8_t(p[bit >> 3] | (bits << (bit & 7u)));
+                if ((bit & 7u) > 1u) p[(bit >> 3) + 1] = uint8_t(p[(bit >> 3) + 1] | (bits >> (8u - (bit & 7u))));
+            }
+        }
+    }
+};
 
 TilePtr Tile::create(int level, glm::uvec3 latticeOrigin, std::span<const uint32_t> nodes,
                      std::span<const float> leafCorners, std::span<const float> brickValues,
@@ -454,44 +549,7 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
     // Own lone leaves: corner 0 exact, the others in leaf steps from it.
     std::vector<int8_t> leafDeltas(std::size_t(leafCount) * 7);
     std::vector<uint8_t> leafForm(leafCount);
-    enum : uint8_t { kLeafNarrow, kLeafWide, kGrouped };  // own leaves numbered narrow, then wide
-    for (uint32_t l = 0; l < leafCount; ++l) {
-        const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
-        if (groups.of[l] != LeafGroups::kNone) {
-            leafForm[l] = kGrouped;
-            continue;
-        }
-        // A copied narrow own leaf keeps its packing (the values alone decide it); a wide one
-        // is packed again, since it may have been wide only for siblings it no longer has.
-        if (from && copies.leaves[l] != TileCopies::kNotCopied && copies.leaves[l] >= 8 * from->mGroupCount &&
-            copies.leaves[l] - 8 * from->mGroupCount < from->mNarrowLeafCount) {
-            const uint32_t i = copies.leaves[l] - 8 * from->mGroupCount;
-            std::memcpy(leafDeltas.data() + 7 * std::size_t(l), from->at<int8_t>(from->mLeafDeltasAt) + 7 * std::size_t(i), 7);
-            leafForm[l] = kLeafNarrow;
-            continue;
-        }
-        leafForm[l] = packs(q + 1, 7, q[0], leafStep, leafDeltas.data() + 7 * std::size_t(l)) ? kLeafNarrow : kLeafWide;
-    }
-    // Siblings left apart (their shared corners differ) must still differ once decoded, or
-    // building the tile again would group them: where their packed corners would agree (rare:
-    // each rounds from its own corner 0), they stay wide, whose values are exact.
-    for (const Siblings& sib : groups.apart) {
-        std::array<std::array<int16_t, 8>, 8> decoded;
-        for (int m = 0; m < sib.count; ++m) {
-            const uint32_t l = sib.leaf[std::size_t(m)];
-            const int16_t* q = leafCorners.data() + 8 * std::size_t(l);
-            auto& v = decoded[std::size_t(m)];
-            if (leafForm[l] == kLeafNarrow)
-                unpackLeaf(q[0], leafDeltas.data() + 7 * std::size_t(l), leafStep, v.data());
-            else
-                std::copy(q, q + 8, v.begin());
-        }
-        std::array<int16_t, 27> grid{};
-        std::array<bool, 27> covered{};
-        if (cornersAgree(sib, [&](int m) { return decoded[std::size_t(m)].data(); }, grid, covered))
-            for (int m = 0; m < sib.count; ++m)
-                if (leafForm[sib.leaf[std::size_t(m)]] != kGrouped) leafForm[sib.leaf[std::size_t(m)]] = kLeafWide;  // (a damaged tree can group it elsewhere)
-    }
+    Packing::ownLeaves(leafCorners, groups, from, copies.leaves, leafStep, leafForm, leafDeltas);
     std::array<uint32_t, 3> leafForms;
     const std::vector<uint32_t> renumberLeaf = numberByForm(leafForm, leafForms);
     const uint32_t narrowLeafCount = leafForms[kLeafNarrow], ownLeafCount = leafForms[kLeafNarrow] + leafForms[kLeafWide];
@@ -551,45 +609,11 @@ TilePtr Tile::build(int level, glm::uvec3 latticeOrigin, std::span<const uint32_
             std::memcpy(wideLeaves + 8 * std::size_t(i - narrowLeafCount), q, 16);
         }
     }
-    // Bricks and groups alike: packed ones as centre and steps (7-bit fields or bytes, the
-    // centre's 0 left out), wide ones as they are.
-    // `copied`: per item, the bytes of its steps in the tile it was copied from, or null.
-    auto writeGrids = [t](std::span<const int16_t> values, const std::vector<uint8_t>& forms, std::span<const int8_t> steps,
-                          const std::vector<uint32_t>& number, uint32_t narrow, uint32_t packed, uint32_t basesAt,
-                          uint32_t stepsAt, uint32_t wideAt, const std::vector<const unsigned char*>& copied) {
-        auto* bases = const_cast<int16_t*>(t->at<int16_t>(basesAt));
-        auto* packedSteps = const_cast<unsigned char*>(t->at<unsigned char>(stepsAt));
-        auto* wide = const_cast<int16_t*>(t->at<int16_t>(wideAt));
-        for (std::size_t k = 0; k < forms.size(); ++k) {
-            const int16_t* q = values.data() + 27 * k;
-            const int8_t* d = steps.data() + 27 * k;
-            const uint32_t i = number[k];
-            if (forms[k] == kWide) {
-                std::memcpy(wide + 27 * std::size_t(i - packed), q, 54);
-                continue;
-            }
-            bases[i] = q[13];
-            unsigned char* p = packedSteps + gridStepsOffset(narrow, i);  // zeroed by allocate
-            if (k < copied.size() && copied[k]) {
-                std::memcpy(p, copied[k], forms[k] == kNarrow ? kNarrowGridSteps : kCoarseGridSteps);
-                continue;
-            }
-            for (int j = 0; j < 26; ++j) {
-                const auto field = uint8_t(d[gridPointOf(j)]);
-                if (forms[k] != kNarrow) {
-                    p[j] = field;
-                    continue;
-                }
-                const unsigned bit = 7u * unsigned(j), bits = field & 0x7fu;  // 7-bit fields, little-endian
-                p[bit >> 3] = uint8_t(p[bit >> 3] | (bits << (bit & 7u)));
-                if ((bit & 7u) > 1u) p[(bit >> 3) + 1] = uint8_t(p[(bit >> 3) + 1] | (bits >> (8u - (bit & 7u))));
-            }
-        }
-    };
-    writeGrids(brickValues, form, deltas, renumber, narrowCount, packedCount, t->mBrickBasesAt, t->mBrickDeltasAt,
-               t->mWideBricksAt, copiedSteps);
-    writeGrids(groups.values, groups.form, groups.deltas, renumberGroup, groupForms[kNarrow], packedGroups,
-               t->mGroupBasesAt, t->mGroupDeltasAt, t->mWideGroupsAt, {});
+    // Bricks and groups alike (Packing::writeGrids).
+    Packing::writeGrids(t, brickValues, form, deltas, renumber, narrowCount, packedCount, t->mBrickBasesAt,
+                        t->mBrickDeltasAt, t->mWideBricksAt, copiedSteps);
+    Packing::writeGrids(t, groups.values, groups.form, groups.deltas, renumberGroup, groupForms[kNarrow], packedGroups,
+                        t->mGroupBasesAt, t->mGroupDeltasAt, t->mWideGroupsAt, {});
     return finish(t, level, latticeOrigin, scale, version);
 }
 

@@ -8,7 +8,8 @@
 /// A lone leaf owns its 8 corner distances; a cell whose 8 children are all leaves is stored as
 /// a *brick*: one node word and the 27 distances of its 3x3x3 half grid, which the 8 children
 /// share (27 values instead of 8 words and 64 values). Distances are quantised to 16 bits with
-/// one scale per tile (docs/ARCHITECTURE.md gives the measurements behind both choices).
+/// one scale per tile (docs/decisions/0003-bricks-and-packed-forms.md,
+/// docs/decisions/0002-16-bit-distances-per-tile-scale.md).
 /// A brick's values are stored *packed* where they fit: its centre as 16 bits and the other 26
 /// as signed steps from it, counting *leaf steps* (below: 127 of them span four finest cells).
 /// A brick whose values all lie within 63 leaf steps of its centre (every brick of finest
@@ -476,6 +477,7 @@ private:
     /// (tile.cpp's GridForm order).
     int brickForm(uint32_t brick) const { return bricks().form(brick); }
     static Tile* allocate(const Counts& n);
+    struct Packing;  ///< build's packing steps (tile.cpp)
     /// Shared tail of both create functions: quantised leaves and bricks in, narrow ones packed
     /// (`copies`, whose source must share the scale: take its packing; of a copied packed brick
     /// only the centre, value 13, is read: its steps are its source's bytes).

@@ -1,25 +1,35 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file flat_map.h
-/// @brief A hash map from 64-bit keys to 32-bit values in one flat array (open addressing).
+/// @brief A hash map from 64-bit keys (packed lattice points, adf/lattice.h) to small values in
+/// one flat array (open addressing): the project's one hash map for hot lookups.
 ///
 /// The mesher indexes every cell's first vertex, per tile, during a full build, so that an
 /// update can find the vertices (and through them the crossings) around changed cells without
-/// scanning the tile. std::unordered_map costs a node allocation per cell (about 3x the time of
-/// this map when a build fills it, and 40 bytes per entry instead of 16 at most 3/4 full).
+/// scanning the tile; generation caches the upper pass's samples and finds a tile's neighbours
+/// by slot. std::unordered_map costs a node allocation per entry and 40 bytes per entry
+/// (docs/decisions/0010-mesher-per-tile-state.md,
+/// docs/decisions/0014-generation-flat-map-and-scratch.md).
 /// Linear probing with multiplicative (Fibonacci) hashing; erase shifts the following run back,
 /// so there are no tombstones and lookups stay short after many updates.
 /// Complexity: O(1) expected per operation. Threading: none; one owner at a time.
-/// Memory: 16 bytes per slot, at most 3/4 of the slots used; grows by doubling, never shrinks
-/// before clear().
+/// Memory: 16 bytes per slot for values of up to 8 bytes, at most 3/4 of the slots used; grows
+/// by doubling, never shrinks before clear().
 #pragma once
 
 #include <cassert>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace kizamu::util {
 
-class FlatMap64 {
+/// The map from 64-bit keys to values of type V (trivially copyable, small: a number or an
+/// index). Owned by one user; not thread-safe.
+template <class V>
+class FlatMap {
+    static_assert(std::is_trivially_copyable_v<V>, "FlatMap holds small plain values");
+
 public:
     /// Reserved: no key may equal it.
     static constexpr uint64_t kEmpty = ~uint64_t(0);
@@ -28,18 +38,18 @@ public:
     bool empty() const { return mSize == 0; }
 
     /// The value of `key`, or null. The pointer is valid until the next insertion or erase.
-    uint32_t* find(uint64_t key) {
+    V* find(uint64_t key) {
         if (mSlots.empty()) return nullptr;
         for (std::size_t i = home(key);; i = (i + 1) & mMask) {
             if (mSlots[i].key == key) return &mSlots[i].value;
             if (mSlots[i].key == kEmpty) return nullptr;
         }
     }
-    const uint32_t* find(uint64_t key) const { return const_cast<FlatMap64*>(this)->find(key); }
+    const V* find(uint64_t key) const { return const_cast<FlatMap*>(this)->find(key); }
 
     /// Sets the value of `key` (inserting it if absent).
-    void assign(uint64_t key, uint32_t value) {
-        assert(key != kEmpty && "FlatMap64: the all-ones key is reserved");
+    void assign(uint64_t key, V value) {
+        assert(key != kEmpty && "FlatMap: the all-ones key is reserved");
         if (4 * (mSize + 1) > 3 * mSlots.size()) grow();
         for (std::size_t i = home(key);; i = (i + 1) & mMask) {
             if (mSlots[i].key == key) {
@@ -55,8 +65,8 @@ public:
     }
 
     /// The value of `key`, after inserting it with `value` if absent (one probe sequence).
-    uint32_t findOrAssign(uint64_t key, uint32_t value) {
-        assert(key != kEmpty && "FlatMap64: the all-ones key is reserved");
+    V findOrAssign(uint64_t key, V value) {
+        assert(key != kEmpty && "FlatMap: the all-ones key is reserved");
         if (4 * (mSize + 1) > 3 * mSlots.size()) grow();
         for (std::size_t i = home(key);; i = (i + 1) & mMask) {
             if (mSlots[i].key == key) return mSlots[i].value;
@@ -64,6 +74,22 @@ public:
                 mSlots[i] = {key, value};
                 ++mSize;
                 return value;
+            }
+        }
+    }
+
+    /// The value of `key` and false, or, when absent, `key` inserted with `value` and true (one
+    /// probe sequence). The pointer is valid until the next insertion or erase: a cache fills
+    /// in the value after a miss without probing again.
+    std::pair<V*, bool> tryInsert(uint64_t key, V value) {
+        assert(key != kEmpty && "FlatMap: the all-ones key is reserved");
+        if (4 * (mSize + 1) > 3 * mSlots.size()) grow();
+        for (std::size_t i = home(key);; i = (i + 1) & mMask) {
+            if (mSlots[i].key == key) return {&mSlots[i].value, false};
+            if (mSlots[i].key == kEmpty) {
+                mSlots[i] = {key, value};
+                ++mSize;
+                return {&mSlots[i].value, true};
             }
         }
     }
@@ -110,7 +136,7 @@ public:
 private:
     struct Slot {
         uint64_t key = kEmpty;
-        uint32_t value = 0;
+        V value{};
     };
     std::size_t home(uint64_t key) const { return std::size_t((key * 0x9E3779B97F4A7C15ull) >> mShift); }
     /// The smallest power of two from 16 holding `n` entries at most 3/4 full.
@@ -140,5 +166,8 @@ private:
     std::size_t mSize = 0, mMask = 0;
     int mShift = 64;
 };
+
+/// 64-bit keys to 32-bit values (indices, numbers).
+using FlatMap64 = FlatMap<uint32_t>;
 
 }  // namespace kizamu::util

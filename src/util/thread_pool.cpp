@@ -3,9 +3,10 @@
 /// @brief ThreadPool: items are handed out by an atomic ticket; workers poll before they
 /// sleep; the mutex only publishes a loop, wakes sleepers and keeps the first exception.
 ///
-/// Why a ticket and not the mutex: a loop over a few thousand small tiles (the mesher's
-/// assembly) took two lock round trips per item, and with two threads contending for them
-/// (a futex sleep and wake each time) such a loop gained little from the second thread.
+/// Why a ticket and not the mutex: handing items out under a lock costs two lock round trips
+/// per item, and with two threads contending for them (a futex sleep and wake each time) a loop
+/// over a few thousand small tiles (the mesher's assembly) would gain little from the second
+/// thread (docs/decisions/0006-own-thread-pool.md).
 #include "util/thread_pool.h"
 
 #include <algorithm>
@@ -39,10 +40,10 @@ bool pollFor(std::chrono::microseconds limit, Done done) {
 }
 
 /// How long a worker polls for the next loop, and the caller for a loop's last item, before
-/// sleeping. Waking a sleeping thread took 30-80 us on the 2-vCPU virtual machine, and a job
-/// runs its loops back to back with short serial steps between them (a LOD about 14, a dab
-/// about 20): polling 500 us made the 2k LOD 12 % and a dab 10-20 % faster (docs/PERFORMANCE.md,
-/// "Eleventh session"). The same trade as OpenMP's and TBB's workers, which also spin before
+/// sleeping. Waking a sleeping thread costs tens of microseconds, and a job runs its loops back
+/// to back with short serial steps between them (a LOD about 14, a dab about 20), so a worker
+/// that polls across those steps starts the next loop at once
+/// (docs/decisions/0006-own-thread-pool.md). The same trade as OpenMP's and TBB's workers, which also spin before
 /// they sleep; after its last loop an idle pool costs at most this much CPU per thread. With
 /// more threads than cores nobody polls: the pollers would take the cores from the threads
 /// still running items.

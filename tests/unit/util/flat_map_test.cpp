@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file flat_map_test.cpp
 /// @brief FlatMap64 against std::unordered_map under random inserts, overwrites, find-or-inserts
-/// and erases.
+/// and erases; FlatMap<float>'s tryInsert (a cache filled on a miss) the same way.
 #include "util/flat_map.h"
 
 #include <gtest/gtest.h>
@@ -61,6 +61,28 @@ TEST(FlatMap64, ReserveKeepsEntriesAndZeroIsAKey) {
     map.erase(0);
     EXPECT_EQ(map.find(0), nullptr);
     EXPECT_EQ(map.size(), 0u);
+}
+
+TEST(FlatMap, TryInsertFillsAMissOnceAndFindsItAfterGrowing) {
+    std::mt19937_64 rng(4);
+    std::uniform_int_distribution<uint64_t> key(0, 5000);
+    FlatMap<float> map;
+    std::unordered_map<uint64_t, float> ref;
+    for (int i = 0; i < 100000; ++i) {
+        const uint64_t k = key(rng) * 0x100000001ull;
+        const auto [value, inserted] = map.tryInsert(k, 0.0f);
+        ASSERT_EQ(inserted, ref.find(k) == ref.end()) << "step " << i;
+        if (inserted) {
+            *value = float(i);  // filled in after the miss, as a sample cache does
+            ref[k] = float(i);
+        }
+        ASSERT_EQ(*value, ref[k]) << "step " << i;
+    }
+    ASSERT_EQ(map.size(), ref.size());
+    for (const auto& [k, v] : ref) {
+        ASSERT_NE(map.find(k), nullptr);
+        EXPECT_EQ(*map.find(k), v);
+    }
 }
 
 }  // namespace
