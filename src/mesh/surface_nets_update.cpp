@@ -1,18 +1,22 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file surface_nets_update.cpp
-/// @brief SurfaceMesher::update: sub-tile re-meshing after an edit.
+/// @brief SurfaceMesher::update: sub-tile re-meshing after an edit; its phases 0 and 1 (where
+/// the snapshots differ, the crossings there, the cells to re-mesh).
 ///
 /// Takes the mesher's state for the previous snapshot and the new snapshot; leaves the state of
 /// the new one, whose mesh equals a build's bit for bit. update() calls its phases in order, one
-/// function each (an UpdateContext carries the snapshots, the pool and the tiles):
+/// function each (an UpdateContext carries the snapshots, the pool and the tiles; what the
+/// phases pass on is in surface_nets_update.h):
 ///   0. compareRebuiltTiles, markChangedCells, followRebuiltTiles, listTilesToScan: the tiles the
-///      snapshots do not share, the cells where they differ (ChangedCells), the tiles they touch.
+///      snapshots do not share, the cells where they differ (ChangedCells,
+///      surface_nets_changed_cells.h), the tiles they touch. Here.
 ///   1. rescanCrossings, queueCellsToRemesh: the crossings starting on a changed cell recomputed
-///      (removed, added or kept in place), and the cells whose vertices that changes queued.
+///      (removed, added or kept in place), and the cells whose vertices that changes queued. Here.
 ///   2. listTilesToRemesh, remeshCells: the queued cells' vertices, from scratch.
 ///   3. splitFacesNear, relaxNewVertices: split vertices near them; relaxation of the new
 ///      vertices and of the vertices that read them.
 ///   4. releaseRemovedCrossings, dropEmptiedTiles, addTotals.
+///   (2-4 in surface_nets_remesh.cpp.)
 /// Complexity: O(root entries + slots of the chunks the snapshots do not share) to find the
 /// rebuilt tiles, O(nodes of the rebuilt tiles) to compare them, and otherwise work
 /// proportional to the changed cells (see each phase).
@@ -34,14 +38,13 @@
 #include "mesh/surface_nets.h"
 
 #include "mesh/surface_nets_internal.h"
+#include "mesh/surface_nets_update.h"
 #include "adf/tile_diff.h"
 #include "util/thread_pool.h"
 
 #include <algorithm>
-#include <bit>
 #include <cassert>
 #include <chrono>
-#include <functional>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -50,281 +53,22 @@ using adf::Adf;
 using adf::Tile;
 using namespace detail;
 
-namespace {
+namespace detail {
 
-template <class T>
-void sortUnique(std::vector<T>& v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-}
-
-inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
-    return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
-}
-
-/// The finest unit cubes inside changed cells, per tile slot: a bitmap (x fastest, so a row
-/// of a 64-cell slot is one word), or the whole slot. Queries come in spatially coherent runs,
-/// so each task queries through its own Query, which caches the last slot looked up.
-class ChangedCells {
-    struct Slot {
-        bool whole = false;
-        std::vector<uint64_t> bits;
-    };
-
-public:
-    ChangedCells(const Adf& adf)
-        : mShift(uint32_t(adf.domain().maxLevel - adf.domain().tileLevel())), mTop(adf.domain().latticeSize()) {}
-
-    void mark(const LatticeBox& b) {
-        const uint32_t slotSize = 1u << mShift;
-        const glm::uvec3 s0 = b.lo >> mShift, s1 = (b.lo + (b.size - 1)) >> mShift;
-        for (uint32_t z = s0.z; z <= s1.z; ++z)
-            for (uint32_t y = s0.y; y <= s1.y; ++y)
-                for (uint32_t x = s0.x; x <= s1.x; ++x) {
-                    Slot& s = mSlots[slotKey({x, y, z})];
-                    if (s.whole) continue;
-                    if (b.size >= slotSize) {
-                        s.whole = true;
-                        s.bits = {};
-                        continue;
-                    }
-                    if (s.bits.empty()) s.bits.assign((std::size_t(1) << (3 * mShift)) / 64 + 1, 0);
-                    const glm::uvec3 o = b.lo - (glm::uvec3(x, y, z) << mShift);  // inside this slot
-                    const std::size_t at = bit(o), row = std::size_t(1) << mShift, layer = row << mShift;
-                    if (row % 64 == 0 && (at & 63) + b.size <= 64) {
-                        // Rows are whole words and the cell's run fits in one: one mask for all.
-                        const uint64_t mask = (b.size == 64 ? ~uint64_t(0) : (uint64_t(1) << b.size) - 1) << (at & 63);
-                        uint64_t* w = s.bits.data() + (at >> 6);
-                        for (uint32_t k = 0; k < b.size; ++k)
-                            for (uint32_t j = 0; j < b.size; ++j) w[(k * layer + j * row) >> 6] |= mask;
-                        continue;
-                    }
-                    for (uint32_t k = 0; k < b.size; ++k)
-                        for (uint32_t j = 0; j < b.size; ++j) setRun(s.bits, at + k * layer + j * row, b.size);
-                }
-    }
-
-    /// Reads the marks (after the last mark()); one per task: it caches the last slot.
-    class Query {
-    public:
-        explicit Query(const ChangedCells& c) : mCells(c) {}
-
-        /// The finest cube with minimum corner `u` lies in a changed cell.
-        bool unitChanged(glm::uvec3 u) const {
-            const Slot* s = slot(u >> mShift);
-            if (!s) return false;
-            if (s->whole) return true;
-            const std::size_t at = bit(u & glm::uvec3((1u << mShift) - 1));
-            return (s->bits[at >> 6] >> (at & 63)) & 1;
-        }
-
-        /// Lattice point `p` lies on the closed box of a changed cell.
-        bool pointChanged(glm::uvec3 p) const {
-            const uint32_t mask = (1u << mShift) - 1;
-            const glm::uvec3 local = p & mask;
-            if (local.x > 0 && local.y > 0 && local.z > 0 && p.x < mTop && p.y < mTop && p.z < mTop) {
-                // The 8 unit cubes around p lie in one slot: two bits in each of 4 rows.
-                const Slot* s = slot(p >> mShift);
-                if (!s) return false;
-                if (s->whole) return true;
-                if (mShift <= 6)  // rows within words: x - 1 and x in each of the 4 rows' words
-                    return ((row(s, local.y, local.z) | row(s, local.y - 1, local.z) | row(s, local.y, local.z - 1) |
-                             row(s, local.y - 1, local.z - 1)) >>
-                            (local.x - 1)) &
-                           3u;
-                for (uint32_t dz = 0; dz < 2; ++dz)
-                    for (uint32_t dy = 0; dy < 2; ++dy) {
-                        const std::size_t at = bit(local - glm::uvec3(1, dy, dz));
-                        const uint64_t pair = (s->bits[at >> 6] >> (at & 63)) | ((at & 63) == 63 ? s->bits[(at >> 6) + 1] << 1 : 0);
-                        if (pair & 3) return true;
-                    }
-                return false;
-            }
-            for (int c = 0; c < 8; ++c) {
-                const glm::uvec3 d(c & 1, (c >> 1) & 1, c >> 2);
-                if ((d.x > p.x) || (d.y > p.y) || (d.z > p.z)) continue;
-                const glm::uvec3 u = p - d;
-                if (u.x >= mTop || u.y >= mTop || u.z >= mTop) continue;
-                if (unitChanged(u)) return true;
-            }
-            return false;
-        }
-
-        /// A corner of the cell [lo, lo + size]^3 lies on the closed box of a changed cell
-        /// (pointChanged at any corner). The unit cubes around its corners are those at 4 x 4 x 4
-        /// coordinates: grouped by slot (nearly always one), each slot is looked up once and,
-        /// with rows of at most a word, read row by row with one mask, not 8 point queries.
-        bool cornerChanged(glm::uvec3 lo, uint32_t size) const {
-            if (mShift > 6) {
-                for (int c = 0; c < 8; ++c)
-                    if (pointChanged(lo + glm::uvec3(c & 1, (c >> 1) & 1, c >> 2) * size)) return true;
-                return false;
-            }
-            // Every cube around the corners in lo's slot (nearly always): the rows at the 2-4 y
-            // and z coordinates ORed, one mask.
-            const uint32_t span = 1u << mShift;
-            const glm::uvec3 in = lo & (span - 1);
-            if (in.x > 0 && in.y > 0 && in.z > 0 && in.x + size < span && in.y + size < span && in.z + size < span) {
-                const Slot* s = slot(lo >> mShift);
-                if (!s) return false;
-                if (s->whole) return true;
-                const uint32_t y[4] = {in.y - 1, in.y, in.y + size - 1, in.y + size};
-                const uint32_t z[4] = {in.z - 1, in.z, in.z + size - 1, in.z + size};
-                uint64_t rows = 0;
-                for (uint32_t zi : z)
-                    for (uint32_t yi : y) rows |= row(s, yi, zi);
-                return ((rows >> (in.x - 1)) & ((uint64_t(3) << size) | 3u)) != 0;
-            }
-            // Per axis, the cube coordinates in the domain by slot: its index and the bits within it.
-            struct Axis {
-                uint32_t slot[4];
-                uint64_t bits[4];
-                int n = 0;
-            } axis[3];
-            const uint32_t mask = span - 1;
-            for (int k = 0; k < 3; ++k) {
-                Axis& a = axis[k];
-                const uint32_t local = lo[k] & mask;
-                if (local > 0 && local + size < span) {  // nearly always: all four in lo's slot
-                    a.n = 1;
-                    a.slot[0] = lo[k] >> mShift;
-                    a.bits[0] = (uint64_t(3) << (local - 1)) | (uint64_t(3) << (local + size - 1));
-                    continue;
-                }
-                for (uint32_t c : {lo[k] - 1, lo[k], lo[k] + size - 1, lo[k] + size}) {  // increasing
-                    if (c >= mTop) continue;  // outside (lo - 1 wraps)
-                    if (a.n == 0 || a.slot[a.n - 1] != (c >> mShift)) {
-                        a.slot[a.n] = c >> mShift;
-                        a.bits[a.n++] = 0;
-                    }
-                    a.bits[a.n - 1] |= uint64_t(1) << (c & mask);
-                }
-            }
-            for (int gz = 0; gz < axis[2].n; ++gz)
-                for (int gy = 0; gy < axis[1].n; ++gy)
-                    for (int gx = 0; gx < axis[0].n; ++gx) {
-                        const Slot* s = slot({axis[0].slot[gx], axis[1].slot[gy], axis[2].slot[gz]});
-                        if (!s) continue;
-                        if (s->whole) return true;
-                        for (uint64_t zs = axis[2].bits[gz]; zs; zs &= zs - 1)
-                            for (uint64_t ys = axis[1].bits[gy]; ys; ys &= ys - 1) {
-                                const std::size_t row = bit({0, uint32_t(std::countr_zero(ys)), uint32_t(std::countr_zero(zs))});
-                                if ((s->bits[row >> 6] >> (row & 63)) & axis[0].bits[gx]) return true;  // a row lies in one word
-                            }
-                    }
-            return false;
-        }
-
-    private:
-        /// Row (y, z) of slot `s`'s bitmap, x at bit 0 (a row is at most a word: mShift <= 6).
-        uint64_t row(const Slot* s, uint32_t y, uint32_t z) const {
-            const std::size_t at = bit({0, y, z});
-            return s->bits[at >> 6] >> (at & 63);
-        }
-        const Slot* slot(glm::uvec3 s) const {
-            const uint64_t key = slotKey(s);
-            if (key != mLastKey) {
-                auto it = mCells.mSlots.find(key);
-                mLastKey = key;
-                mLast = it == mCells.mSlots.end() ? nullptr : &it->second;
-            }
-            return mLast;
-        }
-        std::size_t bit(glm::uvec3 local) const { return mCells.bit(local); }
-        const ChangedCells& mCells;
-        const uint32_t mShift = mCells.mShift, mTop = mCells.mTop;
-        mutable uint64_t mLastKey = UINT64_MAX;
-        mutable const Slot* mLast = nullptr;
-    };
-
-private:
-    static uint64_t slotKey(glm::uvec3 s) { return packLattice(s); }
-    std::size_t bit(glm::uvec3 local) const {
-        return std::size_t(local.x) | (std::size_t(local.y) << mShift) | (std::size_t(local.z) << (2 * mShift));
-    }
-    /// Sets bits [at, at + n).
-    static void setRun(std::vector<uint64_t>& bits, std::size_t at, uint32_t n) {
-        if ((at & 63) + n < 64) {  // most cells are small: one word
-            bits[at >> 6] |= ((uint64_t(1) << n) - 1) << (at & 63);
-            return;
-        }
-        while (n > 0) {
-            const uint32_t off = uint32_t(at & 63), take = std::min(n, 64u - off);
-            bits[at >> 6] |= (take == 64 ? ~uint64_t(0) : ((uint64_t(1) << take) - 1)) << off;
-            at += take;
-            n -= take;
-        }
-    }
-    uint32_t mShift, mTop;
-    std::unordered_map<uint64_t, Slot> mSlots;
-};
-
-/// A crossing's key and where its record is (a slot of its tile's pool, or an index).
-using KeyedIndex = std::pair<uint64_t, uint32_t>;
-
-/// An update's per-task buffers, kept per pool thread across updates: the snapshots an editing
-/// session keeps for undo take the heap's top, where buffers made afresh would come from, so
-/// each update would fault their pages in again. Not reentrant: a task must not start another
-/// update (none does).
-struct UpdateScratch {
-    std::vector<BoundaryCell> oldLeaves;  ///< the old tile's leaves near the changed cells
-    std::vector<uint64_t> oldCells;       ///< the old tile's cells that may have emitted there
-    std::vector<KeyedIndex> oldCrossings;  ///< (key, slot) of those crossings
-    std::vector<Crossing> fresh;           ///< the crossings recomputed there
-    std::vector<KeyedIndex> freshByKey;    ///< (key, index in `fresh`), sorted
-    std::vector<Incidence> incidences;  ///< a re-meshed cell's, sorted by crossing key
-    CellScratch cell;
-};
 UpdateScratch& updateScratch() {
     thread_local UpdateScratch s;
     return s;
 }
 
-using TileMap = std::unordered_map<uint64_t, std::unique_ptr<TileMesh>>;
+}  // namespace detail
 
-/// What every phase of an update reads: the two snapshots and their lattice geometry, the pool,
-/// and the mesher's tiles (`ensureTile` makes the state of a tile of the new snapshot that has
-/// none yet; null if the key is no tile's). Lives in update()'s frame; phases take it by reference.
-struct UpdateContext {
-    UpdateContext(const Adf& before, const Adf& after, util::ThreadPool* threads, TileMap& tileMap,
-                  std::function<TileMesh*(uint64_t)> ensure)
-        : oldAdf(before), newAdf(after), pool(threads), tiles(tileMap), ensureTile(std::move(ensure)),
-          maxLevel(after.domain().maxLevel), slotShift(uint32_t(maxLevel - after.domain().tileLevel())),
-          slots(after.domain().slotsPerAxis()) {}
+namespace {
 
-    /// The tile of snapshot `s` whose packed origin is `key`; null if no tile of `s` starts there.
-    const Tile* tileOfKey(const Adf& s, uint64_t key) const {
-        const Tile* t = s.tileAtSlot(unpackLattice(key) >> slotShift);
-        return packLattice(t->latticeOrigin()) == key ? t : nullptr;
-    }
-    /// The side of tile `t`, in lattice units.
-    uint32_t extentOf(const Tile& t) const { return 1u << uint32_t(maxLevel - t.level()); }
-
-    const Adf& oldAdf;
-    const Adf& newAdf;
-    util::ThreadPool* pool;
-    TileMap& tiles;
-    std::function<TileMesh*(uint64_t)> ensureTile;
-    int maxLevel;
-    uint32_t slotShift;  ///< slot coordinates = lattice coordinates >> slotShift
-    uint32_t slots;      ///< slots per axis
-};
-
-/// How the whole mesh's totals move (the tiles an update does not visit hold what they held).
-struct TotalDeltas {
-    int64_t crossings = 0, vertices = 0, splitEdges = 0, crossingSlots = 0;
-};
+inline bool inBox(glm::uvec3 p, glm::uvec3 lo, glm::uvec3 hi) {
+    return p.x >= lo.x && p.y >= lo.y && p.z >= lo.z && p.x <= hi.x && p.y <= hi.y && p.z <= hi.z;
+}
 
 // --- Phase 0: where the snapshots differ --------------------------------------------------------
-
-/// The keys of the tiles the new snapshot does not share with the old one (of both snapshots,
-/// sorted), and per key the cells where the old and the new tile differ.
-struct RebuiltTiles {
-    std::vector<uint64_t> keys;
-    std::vector<std::vector<LatticeBox>> changedBoxes;
-    /// Per key, where both tiles exist at one level: the old tile's node word at each box.
-    std::vector<std::vector<uint32_t>> oldWords;
-};
 
 /// Phase 0a: finds the slots whose tiles differ, then compares each such tile cell by cell (a
 /// tile that is new, gone or at another level differs as a whole).
@@ -365,11 +109,7 @@ RebuiltTiles compareRebuiltTiles(const UpdateContext& ctx) {
     return rebuilt;
 }
 
-/// A tile whose closed box touches a changed cell: the bounding box of those cells.
-struct Touched {
-    glm::uvec3 lo{UINT32_MAX}, hi{0};
-    uint32_t cells = 0;  ///< changed cells touching it: how much it has to scan
-};
+/// The touched tiles, by key.
 using TouchedTiles = std::unordered_map<uint64_t, Touched>;
 
 /// Phase 0b: marks every changed cell in `changed` and finds, by key, the tiles of the new
@@ -417,11 +157,6 @@ void followRebuiltTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, T
     }
 }
 
-/// The tiles whose crossings at changed cells are recomputed, by key, with what touches each.
-struct ScanList {
-    std::vector<TileMesh*> tiles;
-    std::vector<Touched> boxes;
-};
 
 /// Phase 0d: the touched tiles that hold crossings or may emit some, by key (a touched tile of
 /// the new snapshot gets its state here). Complexity: O(t log t), t touched tiles. Serial.
@@ -446,19 +181,6 @@ ScanList listTilesToScan(const UpdateContext& ctx, const TouchedTiles& touched) 
 
 // --- Phase 1: the crossings at changed cells, and the cells to re-mesh --------------------------
 
-/// A scanned tile's leaf set, kept by the mesher across updates (SurfaceMesher::ScannedLeaves):
-/// the boundary leaves its scan found near the changed cells, and their index by cell key.
-struct ScannedLeavesRef {
-    std::vector<BoundaryCell>& leaves;
-    FlatMap64& byCell;
-};
-
-/// What rescanning one tile did to its crossings at changed cells.
-struct TileRescan {
-    std::vector<Crossing*> removed, added, kept;
-    std::vector<uint32_t> released;  ///< the removed records' slots: read until the update ends
-    SurfaceNetsStats st;
-};
 
 /// Where one tile's scan looks: the bounding box of the changed cells touching it, as a box and
 /// as the one-box region the boundary-leaf walks take, and the changed cells themselves.
@@ -676,20 +398,6 @@ int64_t crossingSlotsOf(const std::vector<TileMesh*>& tiles) {
     return slots;
 }
 
-/// A cell to re-mesh (each once), numbered as it was queued; re-meshed by tile, then cell.
-struct CellTask {
-    uint64_t owner, cell;
-    uint32_t number;
-    bool operator<(const CellTask& o) const { return owner != o.owner ? owner < o.owner : cell < o.cell; }
-};
-
-/// The cells to re-mesh, each once, sorted by tile then cell, and the crossings each gains.
-struct RemeshQueue {
-    std::vector<CellTask> cells;
-    /// Cell i's added crossings are added[addedBegin[i]..addedBegin[i + 1]) (in scan order).
-    std::vector<uint32_t> addedBegin;
-    std::vector<Crossing*> added;
-};
 
 /// Phase 1b: adds the scans' counters to `st`, and their crossings added and removed to `deltas`.
 /// Complexity: O(tiles scanned). Serial.
@@ -756,298 +464,6 @@ RemeshQueue queueCellsToRemesh(const UpdateContext& ctx, const ChangedCells& cha
     groupByRank(addedAt.size(), rank, queue.addedBegin, [&](std::size_t j) { return addedAt[j].first; },
                 [&](std::size_t j, uint32_t at) { queue.added[at] = addedAt[j].second; });
     return queue;
-}
-
-// --- Phase 2: the queued cells re-meshed --------------------------------------------------------
-
-/// The tiles holding cells to re-mesh, in queue order (by key), and each one's run of the queue.
-struct RemeshTiles {
-    std::vector<TileMesh*> tiles;
-    /// Tile i's cells are queue.cells[cellBegin[i]..cellBegin[i + 1]).
-    std::vector<std::size_t> cellBegin;
-};
-
-/// Phase 2a: the tiles owning the queued cells (a tile of the new snapshot gets its state here).
-/// Complexity: O(queued cells). Serial.
-RemeshTiles listTilesToRemesh(const UpdateContext& ctx, const RemeshQueue& queue) {
-    const std::vector<CellTask>& cells = queue.cells;
-    RemeshTiles toRemesh;
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-        if (i > 0 && cells[i].owner == cells[i - 1].owner) continue;
-        auto it = ctx.tiles.find(cells[i].owner);
-        TileMesh* tm = it != ctx.tiles.end() ? it->second.get() : ctx.ensureTile(cells[i].owner);
-        if (!tm) throw std::logic_error("surface nets: a crossing's cell has no tile");
-        toRemesh.tiles.push_back(tm);
-        toRemesh.cellBegin.push_back(i);
-    }
-    toRemesh.cellBegin.push_back(cells.size());
-    return toRemesh;
-}
-
-/// Phase 2b: this update's mark, from the mesher's counter `stamp`: set on the vertices it makes,
-/// then on those it relaxes because they read one, so each is relaxed once. When the counter
-/// wraps, every tile's marks are cleared (O(vertices), once in 2^32 updates). Serial.
-uint32_t nextRelaxMark(TileMap& tiles, uint32_t& stamp) {
-    if (++stamp == 0) {  // wrapped: clear every mark
-        for (const auto& [key, tm] : tiles)
-            for (Projected& p : tm->projected) p.relaxStamp = 0;
-        stamp = 1;
-    }
-    return stamp;
-}
-
-/// Phase 2c, one cell: releases its old vertices, appending the incidences of their crossings
-/// that are still alive (the kept ones) to `incidences`. An unchanged cell (its origin is on no
-/// changed cell: changed cells are whole octree cells) keeps its corners: copied to `corners`,
-/// and then it returns true.
-bool takeOldVertices(TileMesh& tm, uint64_t cell, const ChangedCells::Query& cellChanged,
-                     std::vector<Incidence>& incidences, float corners[8]) {
-    const uint32_t* firstVertex = tm.cellVertex.find(cell);
-    if (!firstVertex) return false;
-    bool haveCorners = false;
-    if (!cellChanged.unitChanged(unpackLattice(cell))) {
-        std::copy(tm.vertices[*firstVertex].corners, tm.vertices[*firstVertex].corners + 8, corners);
-        haveCorners = true;
-    }
-    for (uint32_t vi = *firstVertex; vi != UINT32_MAX;) {
-        const Vertex& v = tm.vertices[vi];
-        for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
-            const VertexIncidence& in = tm.incidences[j];
-            if (in.x->alive) incidences.push_back({cell, in.x->key(), in.x, in.first, in.last});
-        }
-        tm.liveIncidences -= v.incEnd - v.incBegin;
-        const uint32_t nextVi = v.nextInCell;
-        tm.releaseVertex(vi);
-        vi = nextVi;
-    }
-    tm.cellVertex.erase(cell);
-    return haveCorners;
-}
-
-/// Phase 2c, one cell: appends the incidences of queued cell `t` (at key `cell`) with the
-/// crossings it gains.
-void appendAddedIncidences(const RemeshQueue& queue, std::size_t t, uint64_t cell,
-                           std::vector<Incidence>& incidences) {
-    for (uint32_t k = queue.addedBegin[t]; k < queue.addedBegin[t + 1]; ++k) {
-        Crossing* x = queue.added[k];
-        const int q = int(std::find(x->ringCell, x->ringCell + 4, cell) - x->ringCell);
-        uint8_t first, last;
-        incidenceRun(*x, q, first, last);
-        incidences.push_back({cell, x->key(), x, first, last});
-    }
-}
-
-/// Phase 2c, one cell: its corners in the new snapshot. A re-meshed cell near a changed one is
-/// nearly always a leaf its tile's scan found (`scanned`, null if the tile was not scanned);
-/// else the leaf is looked up.
-void newCorners(const Adf& newAdf, const ScannedLeavesRef* scanned, uint64_t cell, float corners[8]) {
-    if (const uint32_t* j = scanned ? scanned->byCell.find(cell) : nullptr) {
-        std::copy(scanned->leaves[*j].corners, scanned->leaves[*j].corners + 8, corners);
-    } else {  // a cell without a sign change, or in a tile not scanned
-        const adf::LeafRef leaf = newAdf.findLeaf(unpackLattice(cell));
-        std::copy(leaf.corners, leaf.corners + 8, corners);
-    }
-}
-
-/// Rebuilds `tm`'s incidence list when most of it belongs to re-meshed vertices.
-void compactIncidences(TileMesh& tm) {
-    if (tm.incidences.size() < 2 * tm.liveIncidences + 1024) return;
-    std::vector<VertexIncidence> kept;
-    kept.reserve(tm.liveIncidences);
-    for (Vertex& v : tm.vertices) {
-        if (!v.alive) continue;
-        const uint32_t begin = uint32_t(kept.size());
-        kept.insert(kept.end(), tm.incidences.begin() + v.incBegin, tm.incidences.begin() + v.incEnd);
-        v.incBegin = begin;
-        v.incEnd = uint32_t(kept.size());
-    }
-    tm.incidences.swap(kept);
-}
-
-/// Phase 2c, one tile: re-meshes its queued cells queue.cells[begin..end) in order, each from
-/// all its crossings (the kept ones from its old vertices, which go, and the added ones); the
-/// cells' multi-crossing faces are found again. The vertices made carry `relaxMark` and are
-/// appended to `made`, the tile's counters to `stats`. Complexity: O(incidences of the cells).
-/// Writes only `tm` (and its crossings' slots of these cells); uses this thread's UpdateScratch.
-void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const RemeshQueue& queue, std::size_t begin,
-                std::size_t end, TileMesh& tm, const ScannedLeavesRef* scanned, uint32_t relaxMark,
-                SurfaceNetsStats& stats, std::vector<VertexRef>& made) {
-    const std::vector<CellTask>& cells = queue.cells;
-    indexCells(tm);  // (a safeguard: a tile with cells to re-mesh touches a changed cell, so its scan indexed it)
-    // The re-meshed cells' multi-crossing faces are found again by meshCell.
-    const auto cellFirst = cells.begin() + std::ptrdiff_t(begin), cellEnd = cells.begin() + std::ptrdiff_t(end);
-    std::erase_if(tm.multiFaces, [&](const MultiFace& mf) {
-        const auto at = std::lower_bound(cellFirst, cellEnd, mf.cellA,
-                                         [](const CellTask& t, uint64_t c) { return t.cell < c; });
-        return at != cellEnd && at->cell == mf.cellA;
-    });
-    UpdateScratch& buffers = updateScratch();
-    CellScratch& cellScratch = buffers.cell;
-    cellScratch.freshCrossings = false;
-    std::vector<Incidence>& incidences = buffers.incidences;
-    const ChangedCells::Query cellChanged(changed);
-    for (std::size_t t = begin; t < end; ++t) {
-        const uint64_t cell = cells[t].cell;
-        ++stats.cellsMeshed;
-        incidences.clear();
-        float corners[8];
-        const bool haveCorners = takeOldVertices(tm, cell, cellChanged, incidences, corners);
-        appendAddedIncidences(queue, t, cell, incidences);
-        std::sort(incidences.begin(), incidences.end(),
-                  [](const Incidence& l, const Incidence& r) { return l.crossingKey < r.crossingKey; });
-        if (incidences.empty()) continue;
-        if (!haveCorners) newCorners(ctx.newAdf, scanned, cell, corners);
-        bool anyIn = false, anyOut = false;
-        for (float v : corners) (v < 0.0f ? anyIn : anyOut) = true;
-        if (!(anyIn && anyOut)) ++stats.signlessCells;
-        const std::size_t incBefore = tm.incidences.size();
-        const uint32_t first =
-            meshCell(ctx.newAdf, tm, incidences.data(), uint32_t(incidences.size()), corners, cellScratch, stats);
-        tm.liveIncidences += tm.incidences.size() - incBefore;
-        tm.cellVertex.assign(cell, first);
-        for (uint32_t vi = first; vi != UINT32_MAX; vi = tm.vertices[vi].nextInCell) {
-            tm.projected[vi].relaxStamp = relaxMark;
-            made.push_back({&tm, vi});
-        }
-    }
-    compactIncidences(tm);
-}
-
-/// Phase 2c: re-meshes the queued cells: all their vertices, from scratch (cycles and first
-/// projection, computed as a build does: incidences sorted by crossing key).
-/// In: the queue, the tiles owning its cells, the scans' leaves (`scanned`, one per tile of
-/// `toScan`). Out: per tile, the vertices made (marked with `relaxMark`); counters in `st`, the
-/// vertex total's move in `deltas`. Complexity: O(incidences of the queued cells).
-/// Threading: parallel over tiles, most cells first, as the scan.
-std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const ChangedCells& changed,
-                                                const RemeshQueue& queue, const RemeshTiles& toRemesh,
-                                                const ScanList& toScan, const std::vector<ScannedLeavesRef>& scanned,
-                                                uint32_t relaxMark, SurfaceNetsStats& st, TotalDeltas& deltas) {
-    const std::vector<TileMesh*>& tiles = toRemesh.tiles;
-    const std::vector<std::size_t>& cellBegin = toRemesh.cellBegin;
-    for (const TileMesh* tm : tiles) deltas.vertices -= tm->liveVertices;
-    std::vector<SurfaceNetsStats> tileStats(tiles.size());
-    std::vector<std::vector<VertexRef>> made(tiles.size());
-    FlatMap64 scanOf;  // tile key -> its index in toScan
-    for (uint32_t i = 0; i < toScan.tiles.size(); ++i) scanOf.assign(toScan.tiles[i]->key, i);
-    auto cellsToMesh = [&](std::size_t ti) { return cellBegin[ti + 1] - cellBegin[ti]; };
-    util::parallelForHeaviestFirst(ctx.pool, tiles.size(), cellsToMesh, [&](std::size_t ti) {
-        TileMesh& tm = *tiles[ti];
-        const uint32_t* scanIndex = scanOf.find(tm.key);
-        const ScannedLeavesRef* leaves = scanIndex ? &scanned[*scanIndex] : nullptr;
-        remeshTile(ctx, changed, queue, cellBegin[ti], cellBegin[ti + 1], tm, leaves, relaxMark, tileStats[ti],
-                   made[ti]);
-    });
-    for (const TileMesh* tm : tiles) deltas.vertices += tm->liveVertices;
-    st.tilesMeshed = tiles.size();
-    for (const SurfaceNetsStats& s : tileStats) {
-        st.cellsMeshed += s.cellsMeshed;
-        addVertexCounters(st, s);
-    }
-    return made;
-}
-
-// --- Phase 3: split vertices and relaxation -----------------------------------------------------
-
-/// Phase 3a: recomputes the split vertices (rare) of the re-meshed tiles and their neighbours:
-/// a multi-crossing face lies between two adjacent cells, so its owner is the tile of a
-/// re-meshed cell or a neighbour of it. Complexity: O(multi-crossing faces of those tiles).
-/// Serial.
-void splitFacesNear(const UpdateContext& ctx, const RemeshTiles& toRemesh, TotalDeltas& deltas) {
-    std::vector<uint64_t> nearKeys;
-    for (const TileMesh* tm : toRemesh.tiles) neighbourKeys(ctx.newAdf, tm->slotMin, tm->slotEnd, nearKeys);
-    sortUnique(nearKeys);
-    for (uint64_t k : nearKeys) {
-        auto it = ctx.tiles.find(k);
-        if (it == ctx.tiles.end() || (it->second->multiFaces.empty() && it->second->splits.empty())) continue;
-        deltas.splitEdges -= int64_t(it->second->splits.size());
-        splitFaces(*it->second);
-        deltas.splitEdges += int64_t(it->second->splits.size());
-    }
-}
-
-/// Relaxes `list` in blocks of vertices (each vertex is independent: it reads its neighbours'
-/// `projected` and writes its own position, so blocks, not one pool hand-off each). With
-/// `unmarked`, block b reports in (*unmarked)[b] the neighbours it read that do not carry
-/// `relaxMark`. Threading: parallel over blocks.
-void relaxBlocks(util::ThreadPool* pool, const std::vector<VertexRef>& list, uint32_t relaxMark,
-                 std::vector<std::vector<VertexRef>>* unmarked) {
-    constexpr std::size_t kRelaxBlock = 512;
-    const std::size_t blocks = (list.size() + kRelaxBlock - 1) / kRelaxBlock;
-    if (unmarked) unmarked->resize(blocks);
-    util::parallelFor(pool, blocks, [&](std::size_t b) {
-        const std::size_t first = b * kRelaxBlock, end = std::min(list.size(), first + kRelaxBlock);
-        relaxInOrder(end - first, [&](std::size_t k) { return list[first + k]; },
-                     unmarked ? UnmarkedNeighbours{&(*unmarked)[b], relaxMark} : UnmarkedNeighbours{});
-    });
-}
-
-/// Phase 3b: relaxes the new vertices (`made`, per re-meshed tile), then every vertex that reads
-/// one of them (a position after relaxation depends on the neighbours' projected vertices),
-/// each once. Relaxing the new vertices reports the unmarked vertices that read them (found on
-/// the way, not listed beforehand on one thread from every ring cell of every new vertex's
-/// crossings); those are marked in report order and relaxed after.
-/// Returns how many were relaxed. Complexity: O(relaxed vertices x their incidences).
-/// Threading: parallel over blocks of vertices; the marking between the two passes is serial.
-std::size_t relaxNewVertices(const UpdateContext& ctx, const std::vector<std::vector<VertexRef>>& made,
-                             uint32_t relaxMark) {
-    std::vector<VertexRef> newVertices;
-    for (const std::vector<VertexRef>& list : made) newVertices.insert(newVertices.end(), list.begin(), list.end());
-    std::vector<std::vector<VertexRef>> readers;
-    relaxBlocks(ctx.pool, newVertices, relaxMark, &readers);
-    std::vector<VertexRef> readersToRelax;
-    for (const std::vector<VertexRef>& list : readers)
-        for (const VertexRef& r : list) {
-            Projected& reader = r.tile->projected[r.index];
-            if (reader.relaxStamp == relaxMark) continue;
-            reader.relaxStamp = relaxMark;
-            readersToRelax.push_back(r);
-        }
-    relaxBlocks(ctx.pool, readersToRelax, relaxMark, nullptr);
-    return newVertices.size() + readersToRelax.size();
-}
-
-// --- Phase 4: released records, dropped tiles, totals -------------------------------------------
-
-/// Phase 4a: releases the removed crossing records, which the next update may reuse (not this
-/// one: they were read until now). Complexity: O(removed crossings). Serial.
-void releaseRemovedCrossings(const ScanList& toScan, const std::vector<TileRescan>& scans, TotalDeltas& deltas) {
-    for (std::size_t i = 0; i < toScan.tiles.size(); ++i) {
-        for (uint32_t j : scans[i].released) toScan.tiles[i]->crossings.release(j);
-        deltas.crossingSlots += int64_t(toScan.tiles[i]->crossings.size());
-    }
-}
-
-/// Phase 4b: drops the state of the tiles that are gone (which must be empty by now) and of the
-/// tiles left empty (only a visited tile can become empty). Complexity: O(visited tiles). Serial.
-void dropEmptiedTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const ScanList& toScan,
-                      const RemeshTiles& toRemesh, TotalDeltas& deltas) {
-    std::vector<uint64_t> emptied;
-    for (uint64_t k : rebuilt.keys) {
-        auto it = ctx.tiles.find(k);
-        if (it == ctx.tiles.end() || ctx.tileOfKey(ctx.newAdf, k)) continue;
-        if (it->second->liveCrossings || it->second->liveVertices)
-            throw std::logic_error("surface nets: a tile that is gone still holds mesh");
-        emptied.push_back(k);
-    }
-    for (const std::vector<TileMesh*>* list : {&toScan.tiles, &toRemesh.tiles})
-        for (const TileMesh* tm : *list)
-            if (tm->liveCrossings == 0 && tm->liveVertices == 0) emptied.push_back(tm->key);
-    sortUnique(emptied);
-    for (uint64_t k : emptied) {
-        auto it = ctx.tiles.find(k);
-        deltas.splitEdges -= int64_t(it->second->splits.size());
-        deltas.crossingSlots -= int64_t(it->second->crossings.size());
-        ctx.tiles.erase(it);
-    }
-}
-
-/// Phase 4c: the whole mesh's totals in `st`: those `before` the update moved by `deltas`.
-void addTotals(const SurfaceNetsStats& before, const TotalDeltas& deltas, SurfaceNetsStats& st) {
-    st.crossings = std::size_t(int64_t(before.crossings) + deltas.crossings);
-    st.vertices = std::size_t(int64_t(before.vertices) + deltas.vertices);
-    st.splitEdges = std::size_t(int64_t(before.splitEdges) + deltas.splitEdges);
-    st.crossingSlots = std::size_t(int64_t(before.crossingSlots) + deltas.crossingSlots);
 }
 
 }  // namespace
