@@ -172,16 +172,22 @@ void Assembly::writeTriangles(std::size_t t, const adf::Adf& adf, MeshBuffers& m
     const TileMesh& tm = *order[t];
     const TileShare& own = shares[t];
     // The share of a vertex's tile: nearly always this tile's, else mostly the last other one.
-    const TileMesh* lastTile = nullptr;
-    const TileShare* lastShare = nullptr;
+    // Their offsets in locals, so they stay in registers (a store to the indices could change
+    // a share's fields, as far as the compiler knows).
+    const uint32_t ownOffset = own.offset, ownDenseEnd = own.denseEnd;
+    const TileMesh* otherTile = &tm;  // (never asked for: a ref to this tile is answered first)
+    const TileShare* other = &own;
+    uint32_t otherOffset = 0, otherDenseEnd = 0;
     auto index = [&](const VertexRef& r) {
-        if (!r.tile) throw std::logic_error("surface nets: a crossing has no vertex");
-        if (r.tile == &tm) return vertexNumber(r, own);
-        if (r.tile != lastTile) {
-            lastTile = r.tile;
-            lastShare = &shares[indexOf(r.tile->key)];
+        if (r.tile == &tm) return r.index < ownDenseEnd ? ownOffset + r.index : vertexNumber(r, own);
+        if (r.tile != otherTile) {
+            if (!r.tile) throw std::logic_error("surface nets: a crossing has no vertex");
+            otherTile = r.tile;
+            other = &shares[indexOf(r.tile->key)];
+            otherOffset = other->offset;
+            otherDenseEnd = other->denseEnd;
         }
-        return vertexNumber(r, *lastShare);
+        return r.index < otherDenseEnd ? otherOffset + r.index : vertexNumber(r, *other);
     };
     uint32_t* tri = m.indices.data() + 3 * own.triangleOffset;
     uint32_t* const triEnd = tri + 3 * std::size_t(own.triangles);
