@@ -99,8 +99,8 @@ private:
     /// table wraps every 32 x 32 x 16 finest cells): a lookup that misses the hint tries one
     /// entry and otherwise descends into it, cheaper than searching a few recent leaves, and it
     /// keeps more of the leaves a tile's traversal returns to
-    /// (docs/decisions/0015-old-field-cache-and-blocks.md). A leaf answers for the points of its half-open box exactly as a
-    /// fresh descent would, so the cache changes no result. It is tagged with the serial number
+    /// (docs/decisions/0015-old-field-cache-and-blocks.md). A leaf answers for the points of its
+    /// half-open box exactly as a fresh descent would, so the cache changes no result. It is tagged with the serial number
     /// of the source that filled it and emptied when another source uses the thread, so no entry
     /// outlives the snapshot it points into. The filled blocks (fill()) are kept beside them,
     /// under the same tag.

@@ -88,8 +88,8 @@ void appendIf(const adf::Tile& t, int maxLevel, std::vector<BoundaryCell>& out, 
             const uint32_t inside = negatives27(q);  // a child's test is then two masks
             if (inside == 0 || inside == kAll27) continue;
             for (int child = 0; child < 8; ++child) {
-                const uint32_t mine = inside & kChildPointMasks[child];
-                if (mine == 0 || mine == kChildPointMasks[child]) continue;
+                const uint32_t childInside = inside & kChildPointMasks[child];
+                if (childInside == 0 || childInside == kChildPointMasks[child]) continue;
                 int16_t raw[8];
                 for (int c = 0; c < 8; ++c) raw[c] = q[kBrickPoints[child][c]];
                 const glm::uvec3 o = it.origin + glm::uvec3(child & 1, (child >> 1) & 1, child >> 2) * half;

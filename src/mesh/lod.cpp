@@ -20,8 +20,8 @@ namespace {
 /// between its cells).
 /// The coarse lattice is a sub-lattice of the fine one, so every point the generator asks for
 /// is a fine lattice point, nearly always a stored corner, read without gradient (a
-/// world-space sample costs twice the instructions, and its float coordinates can land a
-/// rounding error off the corner).
+/// world-space sample would add a conversion and a gradient per point, and its float
+/// coordinates can land a rounding error off the corner).
 class AdfSampler final : public adf::DistanceSource {
 public:
     explicit AdfSampler(adf::AdfPtr adf) : mAdf(std::move(adf)), mRounding(mAdf->domain()) {}

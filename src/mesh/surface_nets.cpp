@@ -6,7 +6,7 @@
 /// A build runs three phases over the tiles, each a parallel loop with a barrier after it:
 /// crossings (surface_nets_crossings.cpp), vertices (surface_nets_vertices.cpp, cycles in
 /// surface_nets_cycles.cpp), relaxation. Takes in: a snapshot. Produces: one TileMesh per tile
-/// holding a crossing or a vertex. The update (surface_nets_update.cpp) and the assembly
+/// holding a crossing or a vertex. The update (surface_nets_update.cpp, surface_nets_remesh.cpp) and the assembly
 /// (surface_nets_assembly.cpp) reuse these tiles.
 /// Complexity: O(boundary leaves) for a build. Threading: every phase runs a tile on its home
 /// thread (util::parallelForHomes); the homes are runs of tiles in key order of about equal
@@ -52,12 +52,6 @@ void setTile(const Adf& adf, const Tile& t, TileMesh& tm) {
 }  // namespace detail
 
 namespace {
-
-template <class T>
-void sortUnique(std::vector<T>& v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-}
 
 /// A build's tiles by slot where the domain has at most 2^18 slots (level 12 with 6-level
 /// tiles), else by key through a flat map: what the vertex phase finds each tile's neighbours

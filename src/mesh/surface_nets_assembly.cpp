@@ -15,11 +15,13 @@
 
 #include "mesh/mesh_colours.h"
 #include "mesh/surface_nets_internal.h"
+#include "util/default_init_allocator.h"
 #include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <span>
 #include <stdexcept>
 
 namespace kizamu::mesh {
@@ -27,12 +29,6 @@ namespace kizamu::mesh {
 using namespace detail;
 
 namespace {
-
-template <class T>
-void sortUnique(std::vector<T>& v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-}
 
 /// Triangles a crossing's dual polygon becomes, and whether it is fanned around a new centre
 /// vertex (a split vertex on one of its sides).
@@ -62,9 +58,9 @@ struct TileShare {
     std::size_t triangleOffset = 0;
     /// Slots below this are numbered by slot (`number` empty): the fast path.
     uint32_t denseEnd = 0;
-    /// Vertex slot (then split) -> number within the share; empty where no slot is released
-    /// (the number is the slot).
-    std::vector<uint32_t> number;
+    /// Vertex slot (then split) -> number within the share, a range of Assembly::numbers;
+    /// empty where no slot is released (the number is the slot).
+    std::span<uint32_t> number;
 };
 
 /// The state of one mesh() call: the tiles in key order, their shares, and the way from a
@@ -73,11 +69,31 @@ struct Assembly {
     std::vector<const TileMesh*> order;  ///< the tiles, by key
     std::vector<TileShare> shares;       ///< per entry of `order`
     FlatMap64 position;                  ///< tile key -> its index in `order`
+    /// Every share's `number`, one block owned (and freed) by the mesh() call's thread: after
+    /// updates many tiles have released slots, and a vector each, allocated on the home threads,
+    /// would be freed across threads.
+    std::vector<uint32_t, util::DefaultInitAllocator<uint32_t>> numbers;
 
     std::size_t indexOf(uint64_t tileKey) const {
         const uint32_t* at = position.find(tileKey);
         if (!at) throw std::logic_error("surface nets: a crossing's cell has no tile");
         return *at;
+    }
+    /// Gives each tile with a released slot its range of `numbers` (serial, before
+    /// numberVertices).
+    void reserveNumbers() {
+        std::size_t total = 0;
+        for (const TileMesh* tm : order)
+            if (!tm->freeVertices.empty()) total += tm->vertices.size() + tm->splits.size();
+        numbers.resize(total);
+        std::size_t at = 0;
+        for (std::size_t t = 0; t < order.size(); ++t) {
+            const TileMesh& tm = *order[t];
+            if (tm.freeVertices.empty()) continue;
+            const std::size_t n = tm.vertices.size() + tm.splits.size();
+            shares[t].number = std::span<uint32_t>(numbers.data() + at, n);
+            at += n;
+        }
     }
     /// Numbers tile t's vertices and counts its share of them and of the plain triangles.
     void numberVertices(std::size_t t) {
@@ -89,7 +105,7 @@ struct Assembly {
             sh.vertices = uint32_t(tm.vertices.size() + tm.splits.size());
             return;
         }
-        sh.number.assign(tm.vertices.size() + tm.splits.size(), UINT32_MAX);
+        std::fill(sh.number.begin(), sh.number.end(), UINT32_MAX);
         uint32_t next = 0;
         for (uint32_t i = 0; i < tm.vertices.size(); ++i)
             if (tm.vertices[i].alive) sh.number[i] = next++;
@@ -141,7 +157,9 @@ struct Assembly {
         const TileShare& sh = shares[t];
         const std::size_t slot = owner.vertices.size() + x.split[q];
         if (sh.number.empty() && x.split[q] < owner.splits.size()) return sh.offset + uint32_t(slot);
-        return sh.offset + sh.number.at(slot);
+        if (slot >= sh.number.size())
+            throw std::logic_error("surface nets: a split vertex out of its tile's range");
+        return sh.offset + sh.number[slot];
     }
     void writeVertices(std::size_t t, const adf::Domain& domain, MeshBuffers& m) const;
     void writeTriangles(std::size_t t, const adf::Adf& adf, MeshBuffers& m) const;
@@ -267,6 +285,7 @@ MeshBuffers SurfaceMesher::mesh() const {
     // Each tile's share on the thread that built it (build()), in three passes: number and
     // count, (serially) place the shares, then write vertices and triangles.
     auto homeOf = [&](std::size_t t) { return as.order[t]->home; };
+    as.reserveNumbers();
     util::parallelForHomes(mPool, as.order.size(), homeOf, [&](std::size_t t) { as.numberVertices(t); });
     const auto [vertices, triangles] = as.placeShares(*mAdf);
     m.positions.resize(vertices);

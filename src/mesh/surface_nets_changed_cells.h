@@ -7,7 +7,8 @@
 /// comparison found the snapshots differ), per tile slot that holds any: a bitmap of the slot's
 /// 2^(3 x shift) unit cubes, or a mark that the whole slot changed. The update's phases ask it
 /// whether a unit cube, a lattice point (a crossing's start) or a cell's corners lie on a
-/// changed cell: the test behind every "on a changed cell" in surface_nets_update.cpp.
+/// changed cell: the test behind every "on a changed cell" in surface_nets_update.cpp and
+/// surface_nets_remesh.cpp.
 /// Complexity: mark() O(slots the cell touches + its rows); every query O(1) (a hash lookup
 /// only when it moves to another slot than the last one, then a few words).
 /// Threading: marked on one thread (phase 0b), then read by any number of tasks, each through

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file surface_nets_internal.h
 /// @brief The mesher's phase steps, as a full build (surface_nets.cpp) and the sub-tile update
-/// (surface_nets_update.cpp) call them (internal to src/mesh/surface_nets*).
+/// (surface_nets_update.cpp, surface_nets_remesh.cpp) call them (internal to src/mesh/surface_nets*).
 ///
 /// The phases and their files: boundary leaves -> crossings (surface_nets_crossings.cpp), a
 /// cell's crossings -> cycles -> vertices (surface_nets_cycles.cpp), incidence gathering,
@@ -39,6 +39,14 @@ using adf::LeafFilter;
 using util::FlatMap64;
 
 namespace detail {
+
+/// Sorts `v` and drops repeated elements. Always inlined: GCC keeps a header's template out of
+/// line where a file's own would be inlined into its few callers.
+template <class T>
+[[gnu::always_inline]] inline void sortUnique(std::vector<T>& v) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+}
 
 // ---- Crossings (surface_nets_crossings.cpp) ----
 

@@ -106,7 +106,7 @@ void appendAddedIncidences(const RemeshQueue& queue, std::size_t t, uint64_t cel
 /// Phase 2c, one cell: its corners in the new snapshot. A re-meshed cell near a changed one is
 /// nearly always a leaf its tile's scan found (`scanned`, null if the tile was not scanned);
 /// else the leaf is looked up.
-void newCorners(const Adf& newAdf, const ScannedLeavesRef* scanned, uint64_t cell, float corners[8]) {
+void newCorners(const Adf& newAdf, const ScannedLeaves* scanned, uint64_t cell, float corners[8]) {
     if (const uint32_t* j = scanned ? scanned->byCell.find(cell) : nullptr) {
         std::copy(scanned->leaves[*j].corners, scanned->leaves[*j].corners + 8, corners);
     } else {  // a cell without a sign change, or in a tile not scanned
@@ -136,7 +136,7 @@ void compactIncidences(TileMesh& tm) {
 /// appended to `made`, the tile's counters to `stats`. Complexity: O(incidences of the cells).
 /// Writes only `tm` (and its crossings' slots of these cells); uses this thread's UpdateScratch.
 void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const RemeshQueue& queue, std::size_t begin,
-                std::size_t end, TileMesh& tm, const ScannedLeavesRef* scanned, uint32_t relaxMark,
+                std::size_t end, TileMesh& tm, const ScannedLeaves* scanned, uint32_t relaxMark,
                 SurfaceNetsStats& stats, std::vector<VertexRef>& made) {
     const std::vector<CellTask>& cells = queue.cells;
     indexCells(tm);  // (a safeguard: a tile with cells to re-mesh touches a changed cell, so its scan indexed it)
@@ -189,7 +189,7 @@ void remeshTile(const UpdateContext& ctx, const ChangedCells& changed, const Rem
 /// Threading: parallel over tiles, most cells first, as the scan.
 std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const ChangedCells& changed,
                                                 const RemeshQueue& queue, const RemeshTiles& toRemesh,
-                                                const ScanList& toScan, const std::vector<ScannedLeavesRef>& scanned,
+                                                const ScanList& toScan, const std::vector<ScannedLeaves*>& scanned,
                                                 uint32_t relaxMark, SurfaceNetsStats& st, TotalDeltas& deltas) {
     const std::vector<TileMesh*>& tiles = toRemesh.tiles;
     const std::vector<std::size_t>& cellBegin = toRemesh.cellBegin;
@@ -202,7 +202,7 @@ std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const 
     util::parallelForHeaviestFirst(ctx.pool, tiles.size(), cellsToMesh, [&](std::size_t ti) {
         TileMesh& tm = *tiles[ti];
         const uint32_t* scanIndex = scanOf.find(tm.key);
-        const ScannedLeavesRef* leaves = scanIndex ? &scanned[*scanIndex] : nullptr;
+        const ScannedLeaves* leaves = scanIndex ? scanned[*scanIndex] : nullptr;
         remeshTile(ctx, changed, queue, cellBegin[ti], cellBegin[ti + 1], tm, leaves, relaxMark, tileStats[ti],
                    made[ti]);
     });

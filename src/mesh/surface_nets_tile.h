@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file surface_nets_tile.h
-/// @brief A stored tile's share of the mesh (TileMesh) and the tile geometry the mesher's phases
-/// share (internal to src/mesh/surface_nets*).
+/// @brief A stored tile's share of the mesh (TileMesh), the tile geometry the mesher's phases
+/// share, an update's scanned leaves (ScannedLeaves), the lazy cell index (indexCells) and the
+/// per-thread table of a tile's cells by place (PlaceTable); internal to src/mesh/surface_nets*.
 ///
 /// One TileMesh per tile of the snapshot that holds a crossing or a vertex, owned by
 /// SurfaceMesher::mTiles. A tile's TileMesh holds its crossings (emitted by its leaves), the

@@ -157,7 +157,6 @@ void followRebuiltTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, T
     }
 }
 
-
 /// Phase 0d: the touched tiles that hold crossings or may emit some, by key (a touched tile of
 /// the new snapshot gets its state here). Complexity: O(t log t), t touched tiles. Serial.
 ScanList listTilesToScan(const UpdateContext& ctx, const TouchedTiles& touched) {
@@ -180,7 +179,6 @@ ScanList listTilesToScan(const UpdateContext& ctx, const TouchedTiles& touched) 
 }
 
 // --- Phase 1: the crossings at changed cells, and the cells to re-mesh --------------------------
-
 
 /// Where one tile's scan looks: the bounding box of the changed cells touching it, as a box and
 /// as the one-box region the boundary-leaf walks take, and the changed cells themselves.
@@ -325,7 +323,7 @@ void mergeCrossings(const UpdateContext& ctx, TileMesh& tm, const std::vector<Ke
 /// A tile that is gone only loses its old crossings. Complexity: O(leaves in the box + their
 /// crossings). Writes only `tm`, `scanned` and `out`; uses this thread's UpdateScratch.
 void rescanTile(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const ChangedCells& changed, TileMesh& tm,
-                const Touched& box, const ScannedLeavesRef& scanned, TileRescan& out) {
+                const Touched& box, ScannedLeaves& scanned, TileRescan& out) {
     indexCells(tm);
     const ChangedCells::Query changedAt(changed);
     const glm::uvec3 hi = glm::min(box.hi, glm::uvec3(ctx.newAdf.domain().latticeSize()));
@@ -380,11 +378,11 @@ void rescanTile(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const Cha
 /// the other threads take the small ones and all finish together); results do not depend on it.
 std::vector<TileRescan> rescanCrossings(const UpdateContext& ctx, const RebuiltTiles& rebuilt,
                                         const ChangedCells& changed, const ScanList& toScan,
-                                        const std::vector<ScannedLeavesRef>& scanned) {
+                                        const std::vector<ScannedLeaves*>& scanned) {
     std::vector<TileRescan> scans(toScan.tiles.size());
     auto changedCells = [&](std::size_t i) { return toScan.boxes[i].cells; };
     util::parallelForHeaviestFirst(ctx.pool, toScan.tiles.size(), changedCells, [&](std::size_t i) {
-        rescanTile(ctx, rebuilt, changed, *toScan.tiles[i], toScan.boxes[i], scanned[i], scans[i]);
+        rescanTile(ctx, rebuilt, changed, *toScan.tiles[i], toScan.boxes[i], *scanned[i], scans[i]);
     });
     return scans;
 }
@@ -397,7 +395,6 @@ int64_t crossingSlotsOf(const std::vector<TileMesh*>& tiles) {
     for (const TileMesh* tm : tiles) slots += int64_t(tm->crossings.size());
     return slots;
 }
-
 
 /// Phase 1b: adds the scans' counters to `st`, and their crossings added and removed to `deltas`.
 /// Complexity: O(tiles scanned). Serial.
@@ -491,10 +488,10 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     // 1. The crossings starting on a changed cell, recomputed; the cells around those that
     // changed, and the changed cells, queued.
     while (mScanned.size() < toScan.tiles.size()) mScanned.push_back(std::make_unique<ScannedLeaves>());
-    std::vector<ScannedLeavesRef> scanned;
+    std::vector<ScannedLeaves*> scanned;
     scanned.reserve(toScan.tiles.size());
     for (std::size_t i = 0; i < toScan.tiles.size(); ++i)
-        scanned.push_back({mScanned[i]->leaves, mScanned[i]->byCell});
+        scanned.push_back(mScanned[i].get());
     deltas.crossingSlots -= crossingSlotsOf(toScan.tiles);
     const std::vector<TileRescan> scans = rescanCrossings(ctx, rebuilt, changed, toScan, scanned);
     st.tilesScanned = toScan.tiles.size();

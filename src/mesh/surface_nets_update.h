@@ -31,14 +31,6 @@ namespace kizamu::mesh::detail {
 using adf::Adf;
 using adf::Tile;
 
-/// Sorts `v` and drops repeated elements. Always inlined: GCC keeps a header's template out of
-/// line where a file's own would be inlined into its few callers.
-template <class T>
-[[gnu::always_inline]] inline void sortUnique(std::vector<T>& v) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-}
-
 /// A crossing's key and where its record is (a slot of its tile's pool, or an index).
 using KeyedIndex = std::pair<uint64_t, uint32_t>;
 
@@ -118,13 +110,6 @@ struct ScanList {
 
 // --- Phase 1: the crossings at changed cells, and the cells to re-mesh --------------------------
 
-/// A scanned tile's leaf set, kept by the mesher across updates (SurfaceMesher::ScannedLeaves):
-/// the boundary leaves its scan found near the changed cells, and their index by cell key.
-struct ScannedLeavesRef {
-    std::vector<BoundaryCell>& leaves;
-    FlatMap64& byCell;
-};
-
 /// What rescanning one tile did to its crossings at changed cells.
 struct TileRescan {
     std::vector<Crossing*> removed, added, kept;
@@ -165,7 +150,7 @@ uint32_t nextRelaxMark(TileMap& tiles, uint32_t& stamp);
 /// Phase 2c: re-meshes the queued cells; returns per re-meshed tile the vertices made.
 std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const ChangedCells& changed,
                                                 const RemeshQueue& queue, const RemeshTiles& toRemesh,
-                                                const ScanList& toScan, const std::vector<ScannedLeavesRef>& scanned,
+                                                const ScanList& toScan, const std::vector<ScannedLeaves*>& scanned,
                                                 uint32_t relaxMark, SurfaceNetsStats& st, TotalDeltas& deltas);
 
 /// Phase 3a: recomputes the split vertices of the re-meshed tiles and their neighbours.

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file stroke.h
 /// @brief The stroke types of the sculpting engine: a stroke (tool, path, constraints,
-/// symmetry), the simple solids strokes and sessions start from or protect, and the steps a
+/// symmetry), the simple solids a stroke or a session starts from or protects, and the steps a
 /// session replays (a stroke, undo, redo, a remote-field correction).
 ///
 /// The Sculptor applies these; the stroke script format (stroke_script.h) reads and writes

@@ -40,8 +40,7 @@ public:
     double distanceBelow(const glm::dvec3& p, double limit) const;
     /// distanceBelow of every point of `p`, each with its own limit, into `limitInOut` (the
     /// same values). For a sphere's dab or one-segment stroke (what most dabs are) the loop
-    /// runs the capsule distance directly: no search and no call per point, a fifth of the
-    /// per-point instructions.
+    /// runs the capsule distance directly: no search and no call per point.
     void distancesBelow(std::span<const glm::dvec3> p, std::span<double> limitInOut) const;
     /// A lower bound of the true distance to the swept volume where below `limit` (otherwise
     /// `limit`), without searching: exact for a sphere (a capsule per segment), a box bound per

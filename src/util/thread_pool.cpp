@@ -43,8 +43,8 @@ bool pollFor(std::chrono::microseconds limit, Done done) {
 /// sleeping. Waking a sleeping thread costs tens of microseconds, and a job runs its loops back
 /// to back with short serial steps between them (a LOD about 14, a dab about 20), so a worker
 /// that polls across those steps starts the next loop at once
-/// (docs/decisions/0006-own-thread-pool.md). The same trade as OpenMP's and TBB's workers, which also spin before
-/// they sleep; after its last loop an idle pool costs at most this much CPU per thread. With
+/// (docs/decisions/0006-own-thread-pool.md). The same trade as OpenMP's and TBB's workers,
+/// which also spin before they sleep; after its last loop an idle pool costs at most this much CPU per thread. With
 /// more threads than cores nobody polls: the pollers would take the cores from the threads
 /// still running items.
 constexpr std::chrono::microseconds kPoll{500};

@@ -94,8 +94,8 @@ inline void parallelFor(ThreadPool* pool, std::size_t n, const std::function<voi
 /// pool's worker k): each thread runs its own items first, in the order given, then helps with
 /// the others' that are left. For loops over the same things (a mesh's tiles, phase after
 /// phase) whose items read what the same item wrote in an earlier loop: a cache line written by
-/// another core is slow to reach (docs/decisions/0012-mesher-homes-and-place-table.md). As with parallelFor, no result may depend on which thread runs an
-/// item. An exception ends the share of the thread it was thrown on (items it had not taken
+/// another core is slow to reach (docs/decisions/0012-mesher-homes-and-place-table.md). As
+/// with parallelFor, no result may depend on which thread runs an item. An exception ends the share of the thread it was thrown on (items it had not taken
 /// may then not run) and reaches the caller after the loop. Serially: index order.
 /// Complexity: O(n) plus one parallelFor of threadCount() items.
 template <class Home>

@@ -16,8 +16,6 @@
 namespace kizamu::adf {
 namespace {
 
-
-
 /// Every leaf of `t` whose decoded corners change sign, depth first.
 void referenceCells(const Tile& t, int maxLevel, uint32_t nodeIndex, glm::uvec3 origin, uint32_t size,
                     std::vector<BoundaryCell>& out) {

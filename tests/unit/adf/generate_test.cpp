@@ -4,8 +4,8 @@
 #include "adf/adf_source.h"
 #include "adf/generate.h"
 
-#include "tests/support/surface_points.h"
 #include "adf/test_part.h"
+#include "tests/support/surface_points.h"
 #include "tests/util/adf_compare.h"
 #include "util/thread_pool.h"
 

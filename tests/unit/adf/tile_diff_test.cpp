@@ -18,8 +18,6 @@
 namespace kizamu::adf {
 namespace {
 
-
-
 using CellKey = std::tuple<uint32_t, uint32_t, uint32_t, uint32_t>;  // origin, size
 
 /// Every leaf of `t` (lone leaves and brick children) with its decoded corners.
