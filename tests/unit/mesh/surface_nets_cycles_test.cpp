@@ -7,6 +7,7 @@
 
 #include "adf/adf_source.h"
 #include "adf/generate.h"
+#include "tests/util/random_shape.h"
 
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
@@ -22,33 +23,6 @@ namespace {
 
 using namespace adf;
 using namespace mesh::detail;
-
-/// A random CSG tree of 1 to 6 primitives, with seams and thin parts that give cells several
-/// sheets and faces with four crossings.
-SourcePtr randomShape(std::mt19937_64& rng) {
-    std::uniform_real_distribution<double> u(0.0, 1.0);
-    auto primitive = [&]() -> SourcePtr {
-        const double s = 0.03 + 0.17 * u(rng);
-        SourcePtr p;
-        switch (int(u(rng) * 5)) {
-        case 0: p = makeSphere(s); break;
-        case 1: p = makeBox({s, s * (0.1 + u(rng)), s * (0.05 + u(rng))}); break;
-        case 2: p = makeCapsule({-s, 0, 0}, {s, 0, 0}, s * (0.02 + 0.3 * u(rng))); break;
-        case 3: p = makeTorus(s, s * (0.05 + 0.3 * u(rng))); break;
-        default: p = makeCylinder(s * 0.4, s); break;
-        }
-        const glm::dquat q = glm::normalize(glm::dquat(u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5));
-        return makeTransformed(p, {0.3 + 0.4 * u(rng), 0.3 + 0.4 * u(rng), 0.3 + 0.4 * u(rng)}, q);
-    };
-    SourcePtr shape = primitive();
-    const int n = 1 + int(u(rng) * 6);
-    for (int i = 1; i < n; ++i) {
-        const double r = u(rng);
-        const CsgOp op = r < 0.5 ? CsgOp::Union : (r < 0.85 ? CsgOp::Difference : CsgOp::Intersection);
-        shape = makeCsg(op, shape, primitive(), u(rng) < 0.3 ? 0.02 * u(rng) : 0.0);
-    }
-    return shape;
-}
 
 /// Every cell of `a` with crossings: its incidences sorted by crossing key, as a build gathers
 /// them (the crossings are kept in `store`, which must outlive the result).
@@ -96,7 +70,7 @@ const Agreement& agreement() {
             Domain d;
             d.maxLevel = 5 + i % 3;
             d.tileSpanLevels = 2 + i % 2;
-            const AdfPtr a = generate(*randomShape(rng), d, GenerationSettings{});
+            const AdfPtr a = generate(*test::randomShape(rng), d, GenerationSettings{});
             std::deque<std::vector<Crossing>> store;
             for (auto& [cell, inc] : cellIncidences(*a, store)) {
                 ++r.cells;
