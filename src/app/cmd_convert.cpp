@@ -75,7 +75,9 @@ void runConvert(const ConvertOptions& o) {
         std::printf("wrote %s\n", o.out.c_str());
         return;
     }
-    const mesh::MeshBuffers m = mesh::importMesh(o.in);
+    std::vector<std::string> warnings;
+    const mesh::MeshBuffers m = mesh::importMesh(o.in, &warnings);
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::printf("read %s: %zu vertices, %zu triangles\n", o.in.c_str(), m.vertexCount(), m.triangleCount());
     if (!isAdfPath(o.out) && !o.levelGiven && o.lod == 0.0) {
         mesh::exportMesh(m, o.out);

@@ -7,22 +7,50 @@
 /// and vertex colours are kept where the file has them (OBJ `v x y z r g b`, PLY red/green/blue).
 /// Normals are not read: the ADF recomputes them. Counts are checked against the bytes left
 /// before anything is allocated, and indices must be whole and in range, so a damaged, empty,
-/// enormous or hostile file gives a one-line FileError (with the line or element that is
-/// wrong); the fuzz harness holds the readers to that. Cold path; any thread.
+/// enormous or hostile file gives a one-line FileError (with the line, or for binary data the
+/// entry and byte, that is wrong); the fuzz harness holds the readers to that.
+///
+/// The readers are as lenient as the widely used ones (assimp, MeshLab, tinyobjloader): what
+/// they do not understand but can step over (a PLY header line that is neither `comment` nor a
+/// keyword, an unknown OBJ statement, a face of fewer than 3 corners, trailing bytes after a
+/// binary STL's facets) is skipped with a warning; numbers may carry a leading `+`; text may be
+/// UTF-8 with a byte-order mark or UTF-16 (either byte order) with one, and its lines may end in
+/// LF, CRLF or CR. Only what cannot be read is refused. Warnings are one line each, name the
+/// file and the line, and repeat a kind only as a count ("and 41 more like it"). Cold path;
+/// any thread.
 #pragma once
 
 #include "mesh/mesh_buffers.h"
 #include "mesh/mesh_export.h"
 
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 namespace kizamu::mesh {
 
-/// Parses `bytes` as `format`; `name` prefixes error messages. @throw kizamu::FileError
-MeshBuffers decodeMesh(std::string_view bytes, MeshFormat format, const std::string& name);
+/// Parses `bytes` as `format`; `name` prefixes error messages and warnings.
+/// @param warnings  where the problems that were stepped over are appended (one line each,
+///                  starting with `name`); may be null, then they are dropped.
+/// @throw kizamu::FileError (one line, naming the line or entry) for what cannot be read.
+/// Complexity: O(bytes). Memory: the mesh, plus a UTF-8 copy of UTF-16 text.
+MeshBuffers decodeMesh(std::string_view bytes, MeshFormat format, const std::string& name,
+                       std::vector<std::string>* warnings = nullptr);
 
-/// Reads `path` in the format its extension names. @throw kizamu::FileError
-MeshBuffers importMesh(const std::string& path);
+/// The format `bytes` hold, by their content: PLY's `ply` magic, an OFF header keyword, a
+/// binary STL whose size is 84 + 50 x its facet count, an ASCII STL (`solid` then `facet`),
+/// glTF binary (`glTF` magic; not read, but named), or OBJ (`v` lines, most lines OBJ
+/// statements). Text may carry a byte-order mark. Empty when none of these fits.
+/// Complexity: O(1): looks at the first 64 KiB at most.
+std::optional<MeshFormat> meshFormatOfContent(std::string_view bytes);
+
+/// Reads `path`. Its content decides the format where meshFormatOfContent recognises it (with a
+/// warning when that disagrees with the extension, or the extension is not a mesh format's);
+/// otherwise its extension does.
+/// @param warnings  as for decodeMesh; may be null.
+/// @throw kizamu::FileError when the file cannot be read, neither its content nor its extension
+/// names a format, or decodeMesh fails.
+MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace kizamu::mesh

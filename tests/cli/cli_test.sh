@@ -79,6 +79,11 @@ lod=$(assimp info "$tmp/lod.ply" --raw | sed -n 's/^Faces: *\([0-9]*\).*/\1/p')
 [ -n "$full" ] && [ -n "$lod" ] && [ "$lod" -gt 0 ] && [ "$lod" -lt "$full" ] || fail "LOD mesh ($lod faces) not smaller than full ($full)"
 "$kizamu" convert "$tmp/tet.obj" "$tmp/remesh.stl" --level 6 >/dev/null || fail "remesh obj -> stl --level"
 admesh "$tmp/remesh.stl" | grep -q "Edges fixed *: *0" || fail "remesh is not closed"
+# a mesh with no extension, an old Blender header line and '+' signs: read by its content, with warnings
+printf 'ply\nformat ascii 1.0\nCreated by Blender 2.49b\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n+0 0 0\n+1 0 0\n0 +1 0\n3 0 1 2\n' >"$tmp/blender_mesh"
+"$kizamu" convert "$tmp/blender_mesh" "$tmp/blender.stl" >/dev/null 2>"$tmp/err" || fail "convert a PLY without an extension"
+grep -q "^warning: .*content is PLY" "$tmp/err" || fail "no warning that the content decided the format"
+grep -q "^warning: .*line 3: header line 'Created by Blender" "$tmp/err" || fail "no warning for the Created by line"
 "$kizamu" convert "$tmp/tet.kza" "$tmp/again.kza" >/dev/null 2>"$tmp/err" && fail "kza -> kza should be refused"
 [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "kza -> kza error is not one line"
 "$kizamu" convert "$tmp/half.kza" "$tmp/x.obj" >/dev/null 2>"$tmp/err" && fail "a damaged kza should not convert"
