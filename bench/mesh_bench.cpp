@@ -12,6 +12,7 @@
 #include "mesh/lod.h"
 #include "mesh/mesh_import.h"
 #include "mesh/mesh_source.h"
+#include "mesh/mesh_untangle.h"
 #include "mesh/point_cloud.h"
 #include "mesh/surface_nets.h"
 #include "util/thread_pool.h"
@@ -63,6 +64,22 @@ std::string stem(const std::string& file) {
     return s;
 }
 
+/// The export's contact pass (mesh_untangle.h) over a copy of `m`: its time and what it found.
+void benchUntangle(FigureSink& out, const mesh::MeshBuffers& m, int repeats, const std::string& suffix) {
+    mesh::UntangleReport r;
+    mesh::MeshBuffers work;
+    std::vector<double> ms;
+    for (int i = 0; i < std::max(1, repeats); ++i) {
+        work = m;
+        const double t0 = nowSeconds();
+        r = mesh::untangle(work);
+        ms.push_back((nowSeconds() - t0) * 1e3);
+    }
+    out.add("mesh.untangle_ms" + suffix, median(ms), "ms", "exports: contacts and coincident vertices found and removed");
+    out.add("mesh.untangle_contacts" + suffix, double(r.contacts + r.coincidentVertices), "contacts",
+            std::to_string(r.verticesMoved) + " vertices moved in " + std::to_string(r.rounds) + " rounds");
+}
+
 /// The full mesh of the test part, with its phases from the same runs; returns the mesh (the
 /// re-mesh figure dabs at its vertices).
 mesh::MeshBuffers benchFullMesh(FigureSink& out, util::ThreadPool& pool, const AdfPtr& part, int repeats,
@@ -93,6 +110,7 @@ mesh::MeshBuffers benchFullMesh(FigureSink& out, util::ThreadPool& pool, const A
     out.add("mesh.full_triangles" + levelSuffix, double(full.triangleCount()), "triangles");
     out.add("mesh.full_vertices" + levelSuffix, double(full.vertexCount()), "vertices");
     out.add("mesh.triangles_per_s", double(full.triangleCount()) / (fullMs * 1e-3), "triangles/s", "test part" + levelSuffix);
+    benchUntangle(out, full, std::min(repeats, 5), levelSuffix);
     return full;
 }
 
@@ -216,6 +234,7 @@ void benchModel(FigureSink& out, util::ThreadPool& pool, const std::filesystem::
     const double ms = medianMs(opt.repeats, [&] { m = mesh::meshAdf(a, &pool); });
     out.add("mesh.full_ms." + name + levelSuffix, ms, "ms");
     out.add("mesh.full_triangles." + name + levelSuffix, double(m.triangleCount()), "triangles");
+    benchUntangle(out, m, std::min(opt.repeats, 5), "." + name + levelSuffix);
 #ifdef KIZAMU_HAVE_OPENVDB
     if (opt.vsOpenVdb) {
         out.progress(name + ": OpenVDB meshToLevelSet");

@@ -357,7 +357,8 @@ UntangleReport untangle(MeshBuffers& mesh, int maxRounds) {
         for (std::size_t t = 0; t < nt; ++t)
             for (int i = 0; i < 3; ++i) vertexTris[fill[mesh.indices[3 * t + i]]++] = uint32_t(t);
     }
-    std::vector<uint8_t> dirty(nt, 1), moved(nv, 0), inRegion(nv, 0);
+    std::vector<uint8_t> dirty(nt, 1), moved(nv, 0);
+    std::vector<std::pair<uint32_t, glm::vec3>> original;  // moved vertices' first positions
     const Geometry g{mesh};
     for (int round = 0; round <= maxRounds; ++round) {
         Found found;
@@ -402,12 +403,15 @@ UntangleReport untangle(MeshBuffers& mesh, int maxRounds) {
         std::fill(dirty.begin(), dirty.end(), 0);
         for (std::size_t i = 0; i < region.size(); ++i) {
             const uint32_t v = region[i];
-            mesh.positions[v] = next[i];
-            report.verticesMoved += !moved[v];
+            if (!moved[v]) original.emplace_back(v, mesh.positions[v]);
             moved[v] = 1;
+            mesh.positions[v] = next[i];
             for (uint32_t k = vertexTriBegin[v]; k < vertexTriBegin[v + 1]; ++k) dirty[vertexTris[k]] = 1;
         }
     }
+    report.verticesMoved = original.size();
+    for (const auto& [v, p] : original)
+        report.largestMove = std::max(report.largestMove, double(glm::distance(mesh.positions[v], p)));
     return report;
 }
 

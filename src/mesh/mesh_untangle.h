@@ -28,6 +28,7 @@ struct UntangleReport {
     std::size_t coincidentVertices = 0;  ///< vertices that shared a position with another, at first
     std::size_t contacts = 0;            ///< triangle pairs in contact (and degenerate triangles), at first
     std::size_t verticesMoved = 0;       ///< distinct vertices moved, over all rounds
+    double largestMove = 0.0;            ///< the farthest any vertex ended from where it was (mesh units)
     std::size_t rounds = 0;              ///< detection passes that found something
     std::size_t remaining = 0;           ///< coincident vertices plus contacts left (0 unless the rounds ran out)
 };

@@ -260,6 +260,7 @@ uint32_t meshCell(const adf::Adf& adf, TileMesh& tm, const Incidence* inc, uint3
         madeAt = madeMore.data();
     }
     for (uint32_t c = 0; c < cycles; ++c) madeAt[c] = tm.allocateVertex();
+    const bool signless = !isBoundary(corners);
     st.verticesComputed += cycles;
     for (uint32_t c = 0; c < cycles; ++c) {
         const uint32_t vi = madeAt[c];
@@ -282,7 +283,10 @@ uint32_t meshCell(const adf::Adf& adf, TileMesh& tm, const Incidence* inc, uint3
         }
         v.incEnd = uint32_t(tm.incidences.size());
         mass /= float(v.incEnd - v.incBegin);
-        tm.projected[vi].point = projectOnce(v, projectOnce(v, mass));
+        // A cell whose corners share one sign (figure 9B: its crossings are its smaller
+        // neighbours') has no zero set to project onto: projecting would run to a corner, where
+        // every sheet of every such cell there would meet. Its vertex stays at its crossings' mean.
+        tm.projected[vi].point = signless ? mass : projectOnce(v, projectOnce(v, mass));
     }
     return madeAt[0];
 }

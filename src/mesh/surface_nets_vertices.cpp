@@ -288,7 +288,7 @@ void relaxVertex(TileMesh& tm, uint32_t vi, UnmarkedNeighbours unmarked) {
     glm::vec3 moved = p;
     glm::vec3 gradient = s.gradient;  // the normal: gradient where the last projection started
     const float g = glm::length(s.gradient);
-    if (count > 0 && g > 1e-12f) {
+    if (count > 0 && g > 1e-12f && isBoundary(v.corners)) {  // (a signless cell's vertex stays: see meshCell)
         const glm::vec3 n = s.gradient / g;
         const glm::vec3 d = sum / float(count) - p;
         moved = projectOnce<true>(v, clampToCell(p + 0.5f * (d - glm::dot(n, d) * n), v), &gradient);
