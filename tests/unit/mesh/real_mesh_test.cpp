@@ -1,17 +1,24 @@
 // SPDX-License-Identifier: Apache-2.0
 // Real meshes from Debian's libcgal-demo (extracted from the installed package, never
 // downloaded): they import, and become ADFs whose inside agrees with the exact winding number,
-// holes included. A missing package fails the test.
+// holes included, and whose meshes are closed and embedded. A missing package fails the test.
 #include "adf/generate.h"
 #include "mesh/mesh_import.h"
 #include "mesh/mesh_source.h"
+#include "mesh/mesh_untangle.h"
+#include "mesh/surface_nets.h"
 #include "mesh/triangle_bvh.h"
+#include "tests/support/mesh_intersections.h"
+#include "tests/util/mesh_check.h"
 #include "util/thread_pool.h"
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <random>
 #include <string>
@@ -97,6 +104,37 @@ TEST_P(RealMesh, BatchSignsEqualPointSigns) {
     }
     EXPECT_GT(negative, 100);
     EXPECT_GT(positive, 100);
+}
+
+TEST_P(RealMesh, MeshesAtLevelEightClosedManifoldAndEmbedded) {
+    ASSERT_TRUE(std::filesystem::exists(kCgalData)) << "libcgal-demo is required (scripts/install-deps)";
+    const std::string path = extract(GetParam());
+    ASSERT_FALSE(path.empty());
+    const MeshBuffers mesh = importMesh(path);
+    const adf::Domain d = domainAround(mesh, 8, 10.0);
+    util::ThreadPool pool(2);
+    MeshBuffers m = meshAdf(adf::generate(*makeMeshSource(mesh), d, adf::GenerationSettings{}, &pool), &pool);
+    ASSERT_GT(m.triangleCount(), 10000u);
+    EXPECT_TRUE(test::closedOrientedManifold(m));
+    // What an export writes: the mesh untangled (mesh/mesh_untangle.h).
+    const UntangleReport untangled = untangle(m);
+    std::printf("untangling: %zu contacts, %zu coincident vertices, %zu vertices moved, the largest %.2f cells\n",
+                untangled.contacts, untangled.coincidentVertices, untangled.verticesMoved,
+                untangled.largestMove / d.finestCellSize());
+    EXPECT_EQ(untangled.remaining, 0u);
+    EXPECT_LT(untangled.largestMove, 2.0 * d.finestCellSize());
+    const auto start = std::chrono::steady_clock::now();
+    const std::clock_t startCpu = std::clock();  // the pool's threads are idle meanwhile
+    const test::MeshIntersections r = test::findMeshIntersections(m);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double cpuMs = 1000.0 * double(std::clock() - startCpu) / CLOCKS_PER_SEC;
+    std::printf("%zu triangles, %zu candidate pairs, checked in %.0f ms (%.0f ms CPU): %zu coincident vertex groups, "
+                "%zu degenerate triangles, %zu duplicate pairs, %zu folded edges, %zu meeting beside a shared vertex, "
+                "%zu intersecting\n",
+                m.triangleCount(), r.candidatePairs, ms, cpuMs, r.coincidentVertexGroups, r.degenerateTriangles,
+                r.duplicateTriangles, r.foldedEdges, r.meetingAtSharedVertex, r.intersecting);
+    EXPECT_TRUE(r.clean()) << r.describe(m);
+    EXPECT_TRUE(test::weldsToClosedManifold(m));
 }
 
 INSTANTIATE_TEST_SUITE_P(Cgal, RealMesh, ::testing::Values("bunny00.off", "elephant-with-holes.off"),

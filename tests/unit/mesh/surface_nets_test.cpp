@@ -4,6 +4,8 @@
 #include "adf/adf_source.h"
 #include "adf/generate.h"
 #include "adf/test_part.h"
+#include "mesh/mesh_untangle.h"
+#include "tests/support/mesh_intersections.h"
 #include "tests/util/dabbed.h"
 #include "tests/util/mesh_check.h"
 #include "tests/util/random_shape.h"
@@ -13,6 +15,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <map>
 #include <mutex>
 #include <random>
@@ -99,7 +103,13 @@ TEST(SurfaceNets, ThousandRandomShapesAndCarvingsAreClosedOrientedManifold) {
     util::ThreadPool pool;
     std::mutex mutex;
     std::vector<std::string> failures;
+    std::vector<std::pair<std::size_t, std::string>> embeddingFailures;  // (case, message)
     SurfaceNetsStats total;
+    // Embedding (tests/support/mesh_intersections.h): per defect, the sum over meshes and the
+    // number of meshes that have it; meshes whose welded form is not closed manifold.
+    std::array<std::size_t, test::kMeshDefectKinds> defects{}, meshesWith{};
+    std::size_t notWeldable = 0, tangled = 0;
+    double largestMoveCells = 0.0;
     std::size_t meshes = 0, triangles = 0;
     const std::size_t kShapes = 700, kCarvings = 300;
     pool.parallelFor(kShapes + kCarvings, [&](std::size_t i) {
@@ -125,6 +135,12 @@ TEST(SurfaceNets, ThousandRandomShapesAndCarvingsAreClosedOrientedManifold) {
         SurfaceNetsStats st;
         const MeshBuffers m = mesh::meshAdf(a, nullptr, &st);
         const ::testing::AssertionResult ok = test::closedOrientedManifold(m);
+        // What an export writes: the mesh untangled (mesh/mesh_untangle.h).
+        MeshBuffers written = m;
+        const mesh::UntangleReport untangled = mesh::untangle(written);
+        const test::MeshIntersections embedding = test::findMeshIntersections(written);
+        const ::testing::AssertionResult welded = test::weldsToClosedManifold(written);
+        const double moveCells = untangled.largestMove / d.finestCellSize();
         std::lock_guard lock(mutex);
         ++meshes;
         triangles += m.triangleCount();
@@ -135,11 +151,35 @@ TEST(SurfaceNets, ThousandRandomShapesAndCarvingsAreClosedOrientedManifold) {
         total.splitEdges += st.splitEdges;
         total.openCrossings += st.openCrossings;
         if (!ok) failures.push_back("case " + std::to_string(i) + ": " + ok.message());
+        for (std::size_t k = 0; k < defects.size(); ++k) {
+            defects[k] += embedding.count(test::MeshDefect(k));
+            meshesWith[k] += embedding.count(test::MeshDefect(k)) > 0;
+        }
+        notWeldable += !welded;
+        tangled += untangled.contacts + untangled.coincidentVertices > 0;
+        largestMoveCells = std::max(largestMoveCells, moveCells);
+        if (!embedding.clean() || !welded || moveCells > 8.0)
+            embeddingFailures.emplace_back(i, "case " + std::to_string(i) + " (level " + std::to_string(d.maxLevel) +
+                                                  "): " + (embedding.clean() ? "" : embedding.describe(written) + "\n") +
+                                                  (welded ? "" : welded.message()) + " untangling moved a vertex " +
+                                                  std::to_string(moveCells) + " cells");
     });
     EXPECT_EQ(meshes, kShapes + kCarvings);
     EXPECT_GT(triangles, 1000000u);
     for (std::size_t i = 0; i < std::min<std::size_t>(failures.size(), 10); ++i) ADD_FAILURE() << failures[i];
     EXPECT_TRUE(failures.empty()) << failures.size() << " of " << meshes << " meshes failed";
+    // Embedded once untangled: no coincident vertices, no triangles meeting but along what they
+    // share, and closed manifold once welded by position; the repair stays local.
+    std::sort(embeddingFailures.begin(), embeddingFailures.end());
+    for (std::size_t i = 0; i < std::min<std::size_t>(embeddingFailures.size(), 5); ++i)
+        ADD_FAILURE() << embeddingFailures[i].second;
+    EXPECT_TRUE(embeddingFailures.empty())
+        << embeddingFailures.size() << " of " << meshes << " meshes are not embedded: " << defects[0]
+        << " coincident vertex groups (" << meshesWith[0] << " meshes), " << defects[1] << " degenerate triangles ("
+        << meshesWith[1] << "), " << defects[2] << " duplicate triangle pairs (" << meshesWith[2] << "), " << defects[3]
+        << " folded edges (" << meshesWith[3] << "), " << defects[4] << " pairs meeting beside a shared vertex ("
+        << meshesWith[4] << "), " << defects[5] << " intersecting pairs (" << meshesWith[5] << "); " << notWeldable
+        << " not closed manifold once welded";
     EXPECT_EQ(total.oddFaces, 0u);
     EXPECT_EQ(total.openCrossings, 0u);
     // The corpus exercises the hard cases, or the guarantee above would be untested.
@@ -150,6 +190,14 @@ TEST(SurfaceNets, ThousandRandomShapesAndCarvingsAreClosedOrientedManifold) {
     std::printf("%zu meshes, %zu triangles, %zu multi-sheet cells, %zu faces with 4+ crossings, %zu figure-9B cells, %zu split edges\n",
                 meshes, triangles, total.multiSheetCells, total.multiCrossingFaces, total.signlessCells,
                 total.splitEdges);
+    std::printf("untangling: %zu meshes had contacts or coincident vertices; the largest move %.2f finest cells\n",
+                tangled, largestMoveCells);
+    std::printf("embedding: %zu meshes fail; coincident vertex groups %zu (%zu meshes), degenerate triangles %zu (%zu), "
+                "duplicate pairs %zu (%zu), folded edges %zu (%zu), meeting beside a shared vertex %zu (%zu), "
+                "intersecting pairs %zu (%zu); %zu not closed manifold once welded\n",
+                embeddingFailures.size(), defects[0], meshesWith[0], defects[1], meshesWith[1], defects[2],
+                meshesWith[2], defects[3], meshesWith[3], defects[4], meshesWith[4], defects[5], meshesWith[5],
+                notWeldable);
 }
 
 TEST(SurfaceNets, SerialAndParallelMeshesAreIdentical) {
