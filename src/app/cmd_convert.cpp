@@ -88,7 +88,10 @@ void runConvert(const ConvertOptions& o) {
     settings.epsilonCells = o.error;
     const adf::Domain d = mesh::domainAround(m, o.level, settings.bandCells + 2.0);
     const auto t0 = std::chrono::steady_clock::now();
-    const adf::AdfPtr a = adf::generate(*mesh::makeMeshSource(m), d, settings, &pool);
+    warnings.clear();
+    const adf::SourcePtr source = mesh::makeMeshSource(m, &warnings);  // closed parts oriented by nesting
+    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s: %s\n", o.in.c_str(), w.c_str());
+    const adf::AdfPtr a = adf::generate(*source, d, settings, &pool);
     const adf::Adf::Stats st = a->computeStats();
     std::printf("generated a level-%d ADF in %.1f ms: %zu cells, %.2f MB\n", o.level, msSince(t0), st.cells,
                 double(st.bytes()) / 1e6);

@@ -3,8 +3,9 @@
 /// @brief MeshSource and domain fitting.
 #include "mesh/mesh_source.h"
 
-#include <glm/common.hpp>
+#include "mesh/mesh_orientation.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -18,26 +19,10 @@ namespace kizamu::mesh {
 
 namespace {
 
-/// Every directed edge is matched by its reverse, once: closed and consistently oriented.
-bool closedAndOriented(const MeshBuffers& mesh) {
-    std::vector<uint64_t> edges;
-    edges.reserve(mesh.indices.size());
-    for (std::size_t t = 0; t + 2 < mesh.indices.size(); t += 3)
-        for (int i = 0; i < 3; ++i)
-            edges.push_back((uint64_t(mesh.indices[t + i]) << 32) | mesh.indices[t + (i + 1) % 3]);
-    std::sort(edges.begin(), edges.end());
-    for (std::size_t i = 0; i < edges.size(); ++i) {
-        if (i + 1 < edges.size() && edges[i] == edges[i + 1]) return false;
-        const uint64_t rev = (edges[i] << 32) | (edges[i] >> 32);
-        if ((edges[i] >> 32) == (edges[i] & 0xffffffffu) || !std::binary_search(edges.begin(), edges.end(), rev))
-            return false;
-    }
-    return true;
-}
-
 class MeshSource final : public adf::DistanceSource {
 public:
-    explicit MeshSource(const MeshBuffers& mesh) : mBvh(mesh), mClosed(closedAndOriented(mesh)) {}
+    /// `closed`: every part of `mesh` is closed and consistently oriented.
+    MeshSource(const MeshBuffers& mesh, bool closed) : mBvh(mesh), mClosed(closed) {}
     double distance(const glm::dvec3& p) const override {
         const TriangleBvh::Closest c = mBvh.closest(p, TriangleBvh::kNoHint);
         const double d = std::sqrt(c.distanceSquared);
@@ -72,9 +57,14 @@ private:
 
 }  // namespace
 
-adf::SourcePtr makeMeshSource(const MeshBuffers& mesh) {
+adf::SourcePtr makeMeshSource(const MeshBuffers& mesh, std::vector<std::string>* warnings) {
     if (mesh.triangleCount() == 0 || !mesh.valid()) throw std::invalid_argument("mesh source needs a valid mesh with triangles");
-    return std::make_shared<MeshSource>(mesh);
+    MeshBuffers oriented;  // what the BVH reads
+    oriented.positions = mesh.positions;
+    oriented.indices = mesh.indices;
+    const OrientationReport report = orientClosedComponents(oriented);
+    if (warnings && report.flipped > 0) warnings->push_back(describeOrientation(report));
+    return std::make_shared<MeshSource>(oriented, report.allClosed());
 }
 
 adf::Domain domainAround(const MeshBuffers& mesh, int maxLevel, double marginCells) {

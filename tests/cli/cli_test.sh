@@ -79,6 +79,11 @@ lod=$(assimp info "$tmp/lod.ply" --raw | sed -n 's/^Faces: *\([0-9]*\).*/\1/p')
 [ -n "$full" ] && [ -n "$lod" ] && [ "$lod" -gt 0 ] && [ "$lod" -lt "$full" ] || fail "LOD mesh ($lod faces) not smaller than full ($full)"
 "$kizamu" convert "$tmp/tet.obj" "$tmp/remesh.stl" --level 6 >/dev/null || fail "remesh obj -> stl --level"
 admesh "$tmp/remesh.stl" | grep -q "Edges fixed *: *0" || fail "remesh is not closed"
+# an inward-facing closed mesh: the same solid as its outward twin (closed parts oriented by nesting), with a warning
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 4 2\nf 1 3 4\nf 2 4 3\n' >"$tmp/tet_in.obj"
+"$kizamu" convert "$tmp/tet_in.obj" "$tmp/remesh_in.stl" --level 6 >/dev/null 2>"$tmp/err" || fail "remesh an inward obj"
+grep -q "^warning: .*tet_in.obj: reversed 1 of 1 closed part" "$tmp/err" || fail "no warning that an inward part was reversed"
+cmp -s "$tmp/remesh.stl" "$tmp/remesh_in.stl" || fail "an inward tetrahedron remeshes unlike its outward twin"
 # a mesh with no extension, an old Blender header line and '+' signs: read by its content, with warnings
 printf 'ply\nformat ascii 1.0\nCreated by Blender 2.49b\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n+0 0 0\n+1 0 0\n0 +1 0\n3 0 1 2\n' >"$tmp/blender_mesh"
 "$kizamu" convert "$tmp/blender_mesh" "$tmp/blender.stl" >/dev/null 2>"$tmp/err" || fail "convert a PLY without an extension"
@@ -188,7 +193,8 @@ for line in open(sys.argv[1]):
     names[obj["figure"]] = obj["value"]
 need = ["mesh.full_ms.level6", "mesh.full_triangles.level6", "mesh.triangles_per_s", "mesh.lod2k_ms",
         "mesh.lod20k_ms", "mesh.points800k_ms", "mesh.tile_remesh_ms", "mesh.import_ms.bunny.level6",
-        "mesh.full_ms.bunny.level6", "mesh.full_triangles.bunny.level6", "mesh.lod2k_phase_ms.coarsen",
+        "mesh.full_ms.bunny.level6", "mesh.full_triangles.bunny.level6", "mesh.orient_ms.bunny.level6",
+        "mesh.lod2k_phase_ms.coarsen",
         "mesh.lod2k_phase_ms.mesh"]
 missing = [n for n in need if n not in names]
 assert not missing, f"missing figures: {missing}"
