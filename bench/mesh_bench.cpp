@@ -66,14 +66,15 @@ std::string stem(const std::string& file) {
 }
 
 /// The export's contact pass (mesh_untangle.h) over a copy of `m`: its time and what it found.
-void benchUntangle(FigureSink& out, const mesh::MeshBuffers& m, int repeats, const std::string& suffix) {
+void benchUntangle(FigureSink& out, util::ThreadPool& pool, const mesh::MeshBuffers& m, int repeats,
+                   const std::string& suffix) {
     mesh::UntangleReport r;
     mesh::MeshBuffers work;
     std::vector<double> ms;
     for (int i = 0; i < std::max(1, repeats); ++i) {
         work = m;
         const double t0 = nowSeconds();
-        r = mesh::untangle(work);
+        r = mesh::untangle(work, &pool);
         ms.push_back((nowSeconds() - t0) * 1e3);
     }
     out.add("mesh.untangle_ms" + suffix, median(ms), "ms", "exports: contacts and coincident vertices found and removed");
@@ -111,7 +112,7 @@ mesh::MeshBuffers benchFullMesh(FigureSink& out, util::ThreadPool& pool, const A
     out.add("mesh.full_triangles" + levelSuffix, double(full.triangleCount()), "triangles");
     out.add("mesh.full_vertices" + levelSuffix, double(full.vertexCount()), "vertices");
     out.add("mesh.triangles_per_s", double(full.triangleCount()) / (fullMs * 1e-3), "triangles/s", "test part" + levelSuffix);
-    benchUntangle(out, full, std::min(repeats, 5), levelSuffix);
+    benchUntangle(out, pool, full, std::min(repeats, 5), levelSuffix);
     return full;
 }
 
@@ -239,7 +240,7 @@ void benchModel(FigureSink& out, util::ThreadPool& pool, const std::filesystem::
     const double ms = medianMs(opt.repeats, [&] { m = mesh::meshAdf(a, &pool); });
     out.add("mesh.full_ms." + name + levelSuffix, ms, "ms");
     out.add("mesh.full_triangles." + name + levelSuffix, double(m.triangleCount()), "triangles");
-    benchUntangle(out, m, std::min(opt.repeats, 5), "." + name + levelSuffix);
+    benchUntangle(out, pool, m, std::min(opt.repeats, 5), "." + name + levelSuffix);
 #ifdef KIZAMU_HAVE_OPENVDB
     if (opt.vsOpenVdb) {
         out.progress(name + ": OpenVDB meshToLevelSet");

@@ -5,6 +5,7 @@
 #include "mesh/mesh_untangle.h"
 
 #include "mesh/exact_predicates.h"
+#include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
 
@@ -99,8 +100,8 @@ bool segmentMeetsTriangle(const glm::dvec2& p, const glm::dvec2& q, const glm::d
 }
 
 /// Two triangles whose shadows along one axis meet only where the triangles share vertices
-/// meet only there in space (the shadow of a contact is a contact of the shadows): the cheap,
-/// exact first test, decisive for nearly every neighbouring pair, even in flat regions.
+/// meet only there in space (the shadow of a contact is a contact of the shadows): exact, and
+/// decisive for nearly every neighbouring pair that lies in one plane (where the side tests fail).
 /// `shared` is 0 or 1; for 1, s[0] == t[0] is the shared vertex.
 bool shadowsApart(const std::array<Point, 3>& s, const std::array<Point, 3>& t, int shared) {
     const int k = widestAxis(s[0], s[1], s[2]);
@@ -161,13 +162,13 @@ struct Geometry {
             const Point a = at(s[(si + 1) % 3]), b = at(s[(si + 2) % 3]), c = at(t[(ti + 1) % 3]),
                         d = at(t[(ti + 2) % 3]);
             const Point v = at(s[si]);
-            if (shadowsApart({v, a, b}, {v, c, d}, 1)) return false;
             if (strictlyOneSide(v, a, b, c, d) || strictlyOneSide(v, c, d, a, b)) return false;
+            if (shadowsApart({v, a, b}, {v, c, d}, 1)) return false;
             return segmentMeetsTriangle(a, b, v, c, d) || segmentMeetsTriangle(c, d, v, a, b);
         }
         const Point s0 = at(s[0]), s1 = at(s[1]), s2 = at(s[2]), t0 = at(t[0]), t1 = at(t[1]), t2 = at(t[2]);
-        if (shadowsApart({s0, s1, s2}, {t0, t1, t2}, 0)) return false;
         if (strictlyOneSide(s0, s1, s2, t0, t1, t2) || strictlyOneSide(t0, t1, t2, s0, s1, s2)) return false;
+        if (shadowsApart({s0, s1, s2}, {t0, t1, t2}, 0)) return false;
         return segmentMeetsTriangle(s0, s1, t0, t1, t2) || segmentMeetsTriangle(s1, s2, t0, t1, t2) ||
                segmentMeetsTriangle(s2, s0, t0, t1, t2) || segmentMeetsTriangle(t0, t1, s0, s1, s2) ||
                segmentMeetsTriangle(t1, t2, s0, s1, s2) || segmentMeetsTriangle(t2, t0, s0, s1, s2);
@@ -284,7 +285,7 @@ private:
 /// Triangle pairs in contact where at least one is `dirty`, and degenerate dirty triangles:
 /// each dirty triangle's box is looked up in a tree of all boxes; a pair of dirty triangles is
 /// examined once, from the smaller number.
-void findContacts(const Geometry& g, const std::vector<uint8_t>& dirty, Found& out) {
+void findContacts(const Geometry& g, const std::vector<uint8_t>& dirty, util::ThreadPool* pool, Found& out) {
     const std::size_t nt = g.mesh.triangleCount();
     std::vector<Box> boxes(nt);
     for (std::size_t t = 0; t < nt; ++t) {
@@ -305,17 +306,29 @@ void findContacts(const Geometry& g, const std::vector<uint8_t>& dirty, Found& o
             out.vertices.insert(out.vertices.end(), tri.begin(), tri.end());
         }
     const BoxTree tree(boxes);
-    for (uint32_t s = 0; s < nt; ++s) {
-        if (!dirty[s] || degenerate[s]) continue;
-        const Triangle a = g.triangle(s);
-        tree.query(boxes[s], [&](uint32_t t) {
-            if (t == s || degenerate[t] || (dirty[t] && t < s)) return;
-            const Triangle b = g.triangle(t);
-            if (!g.inContact(a, b)) return;
-            ++out.contacts;
-            out.vertices.insert(out.vertices.end(), a.begin(), a.end());
-            out.vertices.insert(out.vertices.end(), b.begin(), b.end());
-        });
+    // Blocks of triangles in parallel, each into its own list; the lists join in block order.
+    constexpr std::size_t kBlock = 4096;
+    const std::size_t blocks = (nt + kBlock - 1) / kBlock;
+    std::vector<Found> perBlock(blocks);
+    util::parallelFor(pool, blocks, [&](std::size_t blk) {
+        Found& f = perBlock[blk];
+        const uint32_t end = uint32_t(std::min(nt, (blk + 1) * kBlock));
+        for (uint32_t s = uint32_t(blk * kBlock); s < end; ++s) {
+            if (!dirty[s] || degenerate[s]) continue;
+            const Triangle a = g.triangle(s);
+            tree.query(boxes[s], [&](uint32_t t) {
+                if (t == s || degenerate[t] || (dirty[t] && t < s)) return;
+                const Triangle b = g.triangle(t);
+                if (!g.inContact(a, b)) return;
+                ++f.contacts;
+                f.vertices.insert(f.vertices.end(), a.begin(), a.end());
+                f.vertices.insert(f.vertices.end(), b.begin(), b.end());
+            });
+        }
+    });
+    for (const Found& f : perBlock) {
+        out.contacts += f.contacts;
+        out.vertices.insert(out.vertices.end(), f.vertices.begin(), f.vertices.end());
     }
 }
 
@@ -344,7 +357,7 @@ struct Rings {
 
 }  // namespace
 
-UntangleReport untangle(MeshBuffers& mesh, int maxRounds) {
+UntangleReport untangle(MeshBuffers& mesh, util::ThreadPool* pool, int maxRounds) {
     UntangleReport report;
     const std::size_t nt = mesh.triangleCount(), nv = mesh.positions.size();
     if (nt == 0) return report;
@@ -363,7 +376,7 @@ UntangleReport untangle(MeshBuffers& mesh, int maxRounds) {
     for (int round = 0; round <= maxRounds; ++round) {
         Found found;
         findCoincident(mesh, found);
-        findContacts(g, dirty, found);
+        findContacts(g, dirty, pool, found);
         if (round == 0) {
             report.coincidentVertices = found.coincident;
             report.contacts = found.contacts;

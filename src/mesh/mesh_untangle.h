@@ -15,12 +15,17 @@
 /// numbering (neighbours are summed in the order of their positions), so two numberings of one
 /// mesh untangle to the same positions.
 /// Complexity: O(T log T) per round (a sparse grid over triangle boxes), a few rounds.
-/// Threading: single-threaded; the mesh is the caller's.
+/// Threading: the pair tests in parallel on a pool, the rest on the caller's thread; the mesh is
+/// the caller's.
 #pragma once
 
 #include "mesh/mesh_buffers.h"
 
 #include <cstddef>
+
+namespace kizamu::util {
+class ThreadPool;
+}
 
 namespace kizamu::mesh {
 
@@ -34,7 +39,8 @@ struct UntangleReport {
 };
 
 /// Separates coincident vertices and removes contacts from `mesh` (positions only).
+/// @param pool the pair tests run on it (nullptr: on the caller's thread); the result is the same
 /// @param maxRounds detection-and-smoothing rounds before it gives up (`remaining` says what is left)
-UntangleReport untangle(MeshBuffers& mesh, int maxRounds = 64);
+UntangleReport untangle(MeshBuffers& mesh, util::ThreadPool* pool = nullptr, int maxRounds = 64);
 
 }  // namespace kizamu::mesh

@@ -8,6 +8,7 @@
 #include "mesh/exact_predicates.h"
 #include "mesh/surface_nets.h"
 #include "tests/util/mesh_check.h"
+#include "util/thread_pool.h"
 
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
@@ -128,7 +129,7 @@ TEST(Untangle, SeparatesVerticesAtOnePosition) {
     EXPECT_TRUE(test::closedOrientedManifold(m));
 }
 
-TEST(Untangle, TheResultDoesNotDependOnTheNumbering) {
+TEST(Untangle, TheResultDependsNeitherOnTheNumberingNorOnThreads) {
     MeshBuffers m = sphereMesh();
     const std::vector<uint32_t> ring = neighbours(m, 40);
     m.positions[40] = m.positions[ring[0]] + 0.5f * (m.positions[ring[0]] - m.positions[40]);
@@ -145,12 +146,16 @@ TEST(Untangle, TheResultDoesNotDependOnTheNumbering) {
     MeshBuffers q = p;
     for (std::size_t t = 0; t < tris.size(); ++t)
         for (int i = 0; i < 3; ++i) q.indices[3 * t + i] = p.indices[3 * tris[t] + (i + 1) % 3];
-    const UntangleReport rm = untangle(m), rq = untangle(q);
+    MeshBuffers onPool = m;
+    util::ThreadPool pool(2);
+    const UntangleReport rm = untangle(m), rq = untangle(q), rp = untangle(onPool, &pool);
     EXPECT_GT(rm.contacts, 0u);
     EXPECT_EQ(rm.remaining, 0u);
     EXPECT_EQ(rm.contacts, rq.contacts);
     EXPECT_EQ(rm.verticesMoved, rq.verticesMoved);
     for (uint32_t i = 0; i < perm.size(); ++i) ASSERT_EQ(m.positions[i], q.positions[perm[i]]) << i;
+    EXPECT_EQ(rp.contacts, rm.contacts);
+    EXPECT_TRUE(std::equal(m.positions.begin(), m.positions.end(), onPool.positions.begin())) << "the same on a pool";
 }
 
 }  // namespace

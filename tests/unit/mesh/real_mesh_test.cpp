@@ -117,7 +117,7 @@ TEST_P(RealMesh, MeshesAtLevelEightClosedManifoldAndEmbedded) {
     ASSERT_GT(m.triangleCount(), 10000u);
     EXPECT_TRUE(test::closedOrientedManifold(m));
     // What an export writes: the mesh untangled (mesh/mesh_untangle.h).
-    const UntangleReport untangled = untangle(m);
+    const UntangleReport untangled = untangle(m, &pool);
     std::printf("untangling: %zu contacts, %zu coincident vertices, %zu vertices moved, the largest %.2f cells\n",
                 untangled.contacts, untangled.coincidentVertices, untangled.verticesMoved,
                 untangled.largestMove / d.finestCellSize());
