@@ -115,7 +115,8 @@ bool isAdfPath(const std::string& path) {
 void addConvertCommand(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "convert",
-        "Convert between mesh formats (.obj .stl .ply .off -> .obj .stl .ply .glb) and ADFs (.kza), either way. "
+        "Convert between mesh formats (.obj .stl .ply .off, and through assimp .gltf .glb .fbx .dae .3ds and more "
+        "-> .obj .stl .ply .glb) and ADFs (.kza), either way. "
         "A mesh -> mesh conversion with --level or --lod goes through an ADF: a closed, manifold remesh.");
     auto o = std::make_shared<ConvertOptions>();
     cmd->add_option("in", o->in, "Input file")->required();

@@ -8,6 +8,7 @@
 /// be read is an error naming its line (or, in binary data, its entry and byte).
 #include "mesh/mesh_import.h"
 
+#include "mesh/mesh_import_assimp.h"
 #include "mesh/mesh_import_text.h"
 #include "util/atomic_file.h"
 #include "util/file_error.h"
@@ -18,6 +19,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <iterator>
 #include <unordered_map>
 #include <vector>
@@ -391,7 +393,7 @@ MeshBuffers decodeMesh(std::string_view bytes, MeshFormat format, const std::str
             m = readOff(textOf(bytes, storage, transcoded, &log), name, log);
             break;
         case MeshFormat::Glb:
-            throw FileError(name, "reading .glb is not supported (use .obj, .stl, .ply or .off)");
+            throw FileError(name, "glTF binary is read through assimp (importMesh), not here");
     }
     if (m.triangleCount() == 0) throw FileError(name, "the file holds no triangles");
     log.appendTo(warnings, name);
@@ -400,25 +402,43 @@ MeshBuffers decodeMesh(std::string_view bytes, MeshFormat format, const std::str
 
 MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnings) {
     const std::string bytes = util::readWholeFile(path);
-    std::optional<MeshFormat> byName;
+    // Content first, then the extension; our readers (faster, and fuzzed) before assimp, which
+    // runs in a child process (mesh_import_assimp.h). Glb: we only write it, assimp reads it.
+    const MeshFormat none = MeshFormat::Glb;  // "not one of ours"
+    MeshFormat byName = none;
     try {
         byName = meshFormatOf(path);
     } catch (const FileError&) {
-        // Not a mesh extension: the content decides.
+        // Not one of our extensions: the content, or assimp's extensions, decide.
     }
-    const std::optional<MeshFormat> byContent = meshFormatOfContent(bytes);
-    if (!byName && !byContent)
-        throw FileError(
-            path,
-            "unknown mesh format: neither the extension nor the content is OBJ, STL, PLY or OFF");
-    if (byContent && byContent != byName && warnings != nullptr) {
-        const std::string content = formatName(*byContent);
-        warnings->push_back(path + ": " +
-                            (byName ? "the extension names " + std::string(formatName(*byName))
-                                    : "no mesh extension") +
-                            ", but the content is " + content + ": read as " + content);
+    const MeshFormat byContent = meshFormatOfContent(bytes).value_or(none);
+    std::optional<AssimpFormat> foreign;  // a format only assimp reads, by the content
+    if (byContent == none) foreign = assimpFormatOfContent(bytes);
+    const std::string extension = std::filesystem::path(path).extension().string();
+    const bool foreignName = byName == none && assimpReadsExtension(path);
+    if (byContent == none && !foreign && byName == none) {
+        if (foreignName) return importWithAssimp(path, {}, warnings);
+        throw FileError(path,
+                        "unknown mesh format: neither the extension nor the content is one Kizamu "
+                        "reads (OBJ, STL, PLY, OFF; through assimp glTF, FBX, COLLADA, 3DS, ...)");
     }
-    return decodeMesh(bytes, byContent.value_or(byName.value_or(MeshFormat::Obj)), path, warnings);
+    AssimpImportSettings settings;
+    if (foreign && !equalsNoCase(extension, "." + std::string(foreign->extension)))
+        settings.asExtension = foreign->extension;  // assimp would go by the name
+    if ((byContent != none && byContent != byName) || !settings.asExtension.empty()) {
+        const std::string content =
+            byContent != none ? formatName(byContent) : std::string(foreign->name);
+        std::string named = "no mesh extension";
+        if (byName != none)
+            named = "the extension names " + std::string(formatName(byName));
+        else if (foreignName)
+            named = "the extension is " + extension;
+        if (warnings != nullptr)
+            warnings->push_back(path + ": " + named + ", but the content is " + content +
+                                ": read as " + content);
+    }
+    if (foreign) return importWithAssimp(path, settings, warnings);
+    return decodeMesh(bytes, byContent != none ? byContent : byName, path, warnings);
 }
 
 }  // namespace kizamu::mesh

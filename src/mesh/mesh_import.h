@@ -18,6 +18,9 @@
 /// LF, CRLF or CR. Only what cannot be read is refused. Warnings are one line each, name the
 /// file and the line, and repeat a kind only as a count ("and 41 more like it"). Cold path;
 /// any thread.
+///
+/// importMesh sends every other format it recognises (glTF/GLB, FBX, COLLADA, 3DS and the rest
+/// of assimp's) to assimp in a child process (mesh_import_assimp.h).
 #pragma once
 
 #include "mesh/mesh_buffers.h"
@@ -40,17 +43,19 @@ MeshBuffers decodeMesh(std::string_view bytes, MeshFormat format, const std::str
 
 /// The format `bytes` hold, by their content: PLY's `ply` magic, an OFF header keyword, a
 /// binary STL whose size is 84 + 50 x its facet count, an ASCII STL (`solid` then `facet`),
-/// glTF binary (`glTF` magic; not read, but named), or OBJ (`v` lines, most lines OBJ
+/// glTF binary (`glTF` magic; named, and read by importMesh through assimp), or OBJ (`v` lines, most lines OBJ
 /// statements). Text may carry a byte-order mark. Empty when none of these fits.
 /// Complexity: O(1): looks at the first 64 KiB at most.
 std::optional<MeshFormat> meshFormatOfContent(std::string_view bytes);
 
-/// Reads `path`. Its content decides the format where meshFormatOfContent recognises it (with a
-/// warning when that disagrees with the extension, or the extension is not a mesh format's);
-/// otherwise its extension does.
+/// Reads `path`. Its content decides the format where meshFormatOfContent or
+/// assimpFormatOfContent recognises it (with a warning when that disagrees with the extension,
+/// or the extension is not a mesh format's); otherwise its extension does. OBJ, STL, PLY and
+/// OFF are read by our readers (decodeMesh); every other format by assimp in a child process
+/// (importWithAssimp, default settings).
 /// @param warnings  as for decodeMesh; may be null.
 /// @throw kizamu::FileError when the file cannot be read, neither its content nor its extension
-/// names a format, or decodeMesh fails.
+/// names a format, or decodeMesh or importWithAssimp fails.
 MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnings = nullptr);
 
 }  // namespace kizamu::mesh

@@ -89,6 +89,14 @@ printf 'ply\nformat ascii 1.0\nCreated by Blender 2.49b\nelement vertex 3\nprope
 "$kizamu" convert "$tmp/blender_mesh" "$tmp/blender.stl" >/dev/null 2>"$tmp/err" || fail "convert a PLY without an extension"
 grep -q "^warning: .*content is PLY" "$tmp/err" || fail "no warning that the content decided the format"
 grep -q "^warning: .*line 3: header line 'Created by Blender" "$tmp/err" || fail "no warning for the Created by line"
+# formats only assimp reads (in the kizamu-import helper beside the executable): COLLADA and glTF
+# in, to an ADF; a file assimp cannot read is one line
+assimp export "$tmp/tet.obj" "$tmp/tet.dae" >/dev/null 2>&1 || fail "assimp export tet.dae"
+"$kizamu" convert "$tmp/tet.dae" "$tmp/dae.kza" --level 5 >/dev/null || fail "convert dae -> kza"
+"$kizamu" convert "$tmp/p.glb" "$tmp/p_back.ply" | grep -q "^read .*p.glb: .* $full triangles" || fail "convert glb -> ply"
+printf 'not an FBX file\n' >"$tmp/bad.fbx"
+"$kizamu" convert "$tmp/bad.fbx" "$tmp/x.obj" >/dev/null 2>"$tmp/err" && fail "a bad FBX should not convert"
+[ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "bad.fbx: assimp cannot read it" "$tmp/err" || fail "bad FBX: not one line naming assimp"
 "$kizamu" convert "$tmp/tet.kza" "$tmp/again.kza" >/dev/null 2>"$tmp/err" && fail "kza -> kza should be refused"
 [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "kza -> kza error is not one line"
 "$kizamu" convert "$tmp/half.kza" "$tmp/x.obj" >/dev/null 2>"$tmp/err" && fail "a damaged kza should not convert"

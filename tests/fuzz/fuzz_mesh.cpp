@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file fuzz_mesh.cpp
 /// @brief libFuzzer harness for the mesh readers: the first byte picks the format (or, for 4,
-/// recognition by content), the rest is the file. Any input is either a one-line FileError or a
-/// valid mesh with one-line warnings.
+/// recognition by content, ours and assimp's), the rest is the file. Any input is either a one-line
+/// FileError or a valid mesh with one-line warnings.
 #include "mesh/mesh_import.h"
+#include "mesh/mesh_import_assimp.h"
 #include "util/file_error.h"
 
 #include <cstddef>
@@ -23,7 +24,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     std::optional<MeshFormat> format;
     if (data[0] % 5 == 4) {
         format = kizamu::mesh::meshFormatOfContent(bytes);
-        if (!format) return 0;
+        if (!format) {
+            const auto other = kizamu::mesh::assimpFormatOfContent(bytes);
+            if (other && (other->name.empty() || other->extension.empty())) std::abort();
+            return 0;
+        }
     } else {
         format = kFormats[data[0] % 5];
     }
