@@ -51,14 +51,17 @@ TilePtr makeSingleCellTile(int level, glm::uvec3 origin, const float* corners, u
 class Run {
 public:
     Run(const Domain& d, const GenerationSettings& s, const DistanceSource& src, const Adf* base,
-        glm::uvec3 regionMin, glm::uvec3 regionMax, util::ThreadPool* pool)
+        glm::uvec3 regionMin, glm::uvec3 regionMax, util::ThreadPool* pool,
+        GenerationProgress* progress)
         : mDomain(d), mSettings(s), mRule(d, s, src), mSource(src),
           mBase(base), mRegionMin(regionMin), mRegionMax(regionMax), mPool(pool),
+          mProgress(progress),
           mVersion(base ? base->version() + 1 : 1),
           mBuilder(base ? AdfBuilder(*base) : AdfBuilder(d, s)) {}
 
     AdfPtr execute(GenerationStats* stats) {
         visitUpper(glm::uvec3(0), 0);
+        if (mProgress) mProgress->tilesTotal.store(mJobs.size(), std::memory_order_relaxed);
         generateTiles();
         coalesceUpper();
         if (stats) {
@@ -92,6 +95,11 @@ private:
     bool baseIsCoarser(glm::uvec3 o, int level) const {
         if (!mBase) return true;
         return mBase->tileAtSlot(o >> uint32_t(mDomain.tileSpan()))->level() < level;
+    }
+
+    /// One more tile built (any thread).
+    void countTile() {
+        if (mProgress) mProgress->tilesDone.fetch_add(1, std::memory_order_relaxed);
     }
 
     void addTile(TilePtr t) {
@@ -183,6 +191,7 @@ private:
                 TileGenerator g = generator();
                 tiles[j] = g.build(mJobs[j], neighbours, borders[j], mVersion);
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
+                countTile();
             } catch (...) {
                 failed.store(true, std::memory_order_relaxed);
                 throw;
@@ -212,6 +221,7 @@ private:
             TileGenerator g = generator();
             tiles[j] = g.planRoot(mJobs[j], splits[j], mVersion);
             evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
+            if (tiles[j]) countTile();
         });
         // What a child still to generate costs, about: the part of the region it covers, plus one
         // so that a child just outside the region (inside its margin) still weighs something. A
@@ -261,6 +271,7 @@ private:
                 TileGenerator g = generator();
                 tiles[j] = g.buildChildren(mJobs[j], splits[j], mVersion);
                 evaluations.fetch_add(g.evaluations(), std::memory_order_relaxed);
+                countTile();
                 return;
             }
             const std::size_t k = item / 8, j = split[k];
@@ -272,6 +283,7 @@ private:
             if (partsLeft[k].fetch_sub(1, std::memory_order_acq_rel) == 1) {
                 TileGenerator g = generator();
                 tiles[j] = g.join(mJobs[j], splits[j], &parts[8 * k], mVersion);
+                countTile();
             }
         });
         mEvaluations += evaluations.load();
@@ -312,6 +324,7 @@ private:
     const Adf* mBase;
     glm::uvec3 mRegionMin, mRegionMax;
     util::ThreadPool* mPool;
+    GenerationProgress* mProgress;  ///< null: not reported
     uint64_t mVersion;
     AdfBuilder mBuilder;
     util::FlatMap<float> mUpperSamples;  ///< the upper pass's samples by packed lattice point
@@ -322,12 +335,13 @@ private:
 
 }  // namespace
 
-AdfPtr generate(const DistanceSource& source, const Domain& domain, const GenerationSettings& settings,
-                util::ThreadPool* pool, GenerationStats* stats) {
+AdfPtr generate(const DistanceSource& source, const Domain& domain,
+                const GenerationSettings& settings, util::ThreadPool* pool, GenerationStats* stats,
+                GenerationProgress* progress) {
     if (!domain.valid()) throw std::invalid_argument("invalid ADF domain");
     if (!settings.valid()) throw std::invalid_argument("invalid generation settings");
     const uint32_t n = domain.latticeSize();
-    Run run(domain, settings, source, nullptr, glm::uvec3(0), glm::uvec3(n), pool);
+    Run run(domain, settings, source, nullptr, glm::uvec3(0), glm::uvec3(n), pool, progress);
     return run.execute(stats);
 }
 
@@ -343,7 +357,7 @@ AdfPtr regenerate(const Adf& base, const DistanceSource& source, const BoxWorld&
     if (glm::any(glm::greaterThan(regionWorld.min, regionWorld.max)))
         throw std::invalid_argument("regeneration region is empty");
     Run run(d, base.settings(), source, &base, toLattice(regionWorld.min, false),
-            toLattice(regionWorld.max, true), pool);
+            toLattice(regionWorld.max, true), pool, nullptr);
     return run.execute(stats);
 }
 

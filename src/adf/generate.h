@@ -20,6 +20,7 @@
 
 #include <glm/vec3.hpp>
 
+#include <atomic>
 #include <cstdint>
 
 namespace kizamu::util {
@@ -36,9 +37,19 @@ struct GenerationStats {
     uint64_t cells = 0;           ///< leaf cells in the tiles built by this run
 };
 
+/// How far a generation has come, for a reporter on another thread (a progress line). The run
+/// only adds to the counters (relaxed atomics: a worker never waits for the reader); read them
+/// at any time. Tiles are the unit because they are what the pool runs; the upper pass before
+/// them is short.
+struct GenerationProgress {
+    std::atomic<uint64_t> tilesTotal{0};  ///< tiles the run will build: 0 until the upper pass ends
+    std::atomic<uint64_t> tilesDone{0};   ///< tiles built so far (tilesTotal at the end)
+};
+
 /// Generates the ADF of `source` over `domain`.
-/// @param pool   worker threads, or null for a serial run (same bytes either way)
-/// @param stats  optional counters
+/// @param pool      worker threads, or null for a serial run (same bytes either way)
+/// @param stats     optional counters
+/// @param progress  optional: counts tiles as they finish (see GenerationProgress)
 /// Complexity: O(cells near the surface and band) evaluations, each distance evaluated once
 /// (shared border points once per tile or part in a run of fewer than 8 tiles per thread).
 /// Threading: parallel over tiles on `pool`; `source` must be thread-safe. Memory: the ADF plus
@@ -47,7 +58,7 @@ struct GenerationStats {
 ///        source returns a NaN or infinite distance (nothing is published then).
 AdfPtr generate(const DistanceSource& source, const Domain& domain,
                 const GenerationSettings& settings, util::ThreadPool* pool = nullptr,
-                GenerationStats* stats = nullptr);
+                GenerationStats* stats = nullptr, GenerationProgress* progress = nullptr);
 
 /// Regenerates every tile of `base` that overlaps `regionWorld` from `source`, and the cells
 /// above them, sharing everything else with `base`. Inside a rebuilt tile, cells wholly outside

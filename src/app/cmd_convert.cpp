@@ -4,6 +4,7 @@
 #include "adf/adf_file.h"
 #include "adf/generate.h"
 #include "app/commands.h"
+#include "app/progress.h"
 #include "mesh/mesh_export.h"
 #include "mesh/mesh_import.h"
 #include "mesh/lod.h"
@@ -14,6 +15,7 @@
 #include "util/thread_pool.h"
 
 #include <CLI/CLI.hpp>
+#include <glm/vec3.hpp>
 
 #include <cctype>
 #include <chrono>
@@ -33,19 +35,50 @@ struct ConvertOptions {
     double lod = 0.0;        ///< LOD error, finest cells (0: full resolution)
     bool levelGiven = false;  ///< mesh -> mesh goes through an ADF only when asked
     unsigned threads = 0;
+    std::string units;           ///< the output mesh's unit symbol; empty: its format's default
+    std::string inUnits = "mm";  ///< the input mesh's unit symbol
+    bool quiet = false;
 };
+
+/// How the output mesh is written: its unit, and the mesh's own unit (the clay is in metres).
+mesh::ExportOptions exportOptions(const ConvertOptions& o,
+                                  mesh::LengthUnit meshUnit = mesh::LengthUnit::Metre) {
+    mesh::ExportOptions e;
+    e.unit = mesh::lengthUnitOf(o.units);
+    e.meshUnit = meshUnit;
+    return e;
+}
+
+/// `m`'s positions from `unit` to metres, as the ADF and the clay hold them.
+void scaleToMetres(mesh::MeshBuffers& m, mesh::LengthUnit unit) {
+    const double factor = mesh::metresPer(unit);
+    if (factor == 1.0) return;
+    for (glm::vec3& p : m.positions) p = glm::vec3(glm::dvec3(p) * factor);
+}
 
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
 
-/// The SurfaceNets mesh of `a`, or its LOD mesh when o.lod > 0.
-mesh::MeshBuffers meshOf(const adf::AdfPtr& a, const ConvertOptions& o, util::ThreadPool& pool) {
+/// Writes the SurfaceNets mesh of `a`, or its LOD mesh when o.lod > 0, to o.out.
+void writeMeshOf(const adf::AdfPtr& a, const ConvertOptions& o, util::ThreadPool& pool) {
     const auto t0 = std::chrono::steady_clock::now();
-    mesh::MeshBuffers m = o.lod > 0.0 ? mesh::meshLod(a, o.lod * a->domain().finestCellSize(), &pool)
-                                      : mesh::meshAdf(a, &pool);
-    std::printf("meshed in %.1f ms: %zu vertices, %zu triangles\n", msSince(t0), m.vertexCount(), m.triangleCount());
-    return m;
+    mesh::MeshBuffers m;
+    mesh::UntangleReport untangled;
+    double meshMs = 0.0;
+    {
+        const ProgressReporter reporter("mesh and write", progressWanted(o.quiet));
+        m = o.lod > 0.0 ? mesh::meshLod(a, o.lod * a->domain().finestCellSize(), &pool)
+                        : mesh::meshAdf(a, &pool);
+        meshMs = msSince(t0);
+        mesh::ExportOptions e = exportOptions(o);
+        e.untangle = true;
+        e.pool = &pool;
+        e.untangled = &untangled;
+        mesh::exportMesh(m, o.out, e);
+    }
+    std::printf("meshed in %.1f ms: %zu vertices, %zu triangles\n", meshMs, m.vertexCount(), m.triangleCount());
+    printUntangled(untangled);
 }
 
 
@@ -62,7 +95,7 @@ void runConvert(const ConvertOptions& o) {
         if (isAdfPath(o.out)) {
             adf::saveAdf(*clay, o.out);
         } else {
-            mesh::exportMesh(meshOf(clay, o, pool), o.out);
+            writeMeshOf(clay, o, pool);
         }
         std::printf("wrote %s\n", o.out.c_str());
         return;
@@ -71,39 +104,58 @@ void runConvert(const ConvertOptions& o) {
         if (isAdfPath(o.out)) throw FileError(o.out, "the input is already an ADF; pick a mesh format for the output");
         const adf::AdfPtr a = adf::loadAdf(o.in);
         std::printf("read %s: level %d\n", o.in.c_str(), a->domain().maxLevel);
-        mesh::exportMesh(meshOf(a, o, pool), o.out);
+        writeMeshOf(a, o, pool);
         std::printf("wrote %s\n", o.out.c_str());
         return;
     }
     std::vector<std::string> warnings;
-    const mesh::MeshBuffers m = mesh::importMesh(o.in, &warnings);
+    bool inMetres = false;  // a format that declares its unit (read through assimp)
+    mesh::MeshBuffers m = mesh::importMesh(o.in, &warnings, &inMetres);
+    const mesh::LengthUnit inUnit = inMetres ? mesh::LengthUnit::Metre : *mesh::lengthUnitOf(o.inUnits);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
     std::printf("read %s: %zu vertices, %zu triangles\n", o.in.c_str(), m.vertexCount(), m.triangleCount());
     if (!isAdfPath(o.out) && !o.levelGiven && o.lod == 0.0) {
-        mesh::exportMesh(m, o.out);
+        // In the input's unit: with the same unit out, the coordinates are copied exactly.
+        mesh::exportMesh(m, o.out, exportOptions(o, inUnit));
         std::printf("wrote %s\n", o.out.c_str());
         return;
     }
+    scaleToMetres(m, inUnit);
     adf::GenerationSettings settings;
     settings.epsilonCells = o.error;
     const adf::Domain d = mesh::domainAround(m, o.level, settings.bandCells + 2.0);
     const auto t0 = std::chrono::steady_clock::now();
     warnings.clear();
-    const adf::SourcePtr source = mesh::makeMeshSource(m, &warnings);  // closed parts oriented by nesting
-    for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s: %s\n", o.in.c_str(), w.c_str());
-    const adf::AdfPtr a = adf::generate(*source, d, settings, &pool);
+    adf::AdfPtr a;
+    {
+        const adf::SourcePtr source = mesh::makeMeshSource(m, &warnings);  // closed parts oriented by nesting
+        for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s: %s\n", o.in.c_str(), w.c_str());
+        adf::GenerationProgress progress;
+        const ProgressReporter reporter("generate", "tiles", progress.tilesDone,
+                                        progress.tilesTotal, progressWanted(o.quiet));
+        a = adf::generate(*source, d, settings, &pool, nullptr, &progress);
+    }
     const adf::Adf::Stats st = a->computeStats();
     std::printf("generated a level-%d ADF in %.1f ms: %zu cells, %.2f MB\n", o.level, msSince(t0), st.cells,
                 double(st.bytes()) / 1e6);
     if (isAdfPath(o.out)) {
         adf::saveAdf(*a, o.out);
     } else {
-        mesh::exportMesh(meshOf(a, o, pool), o.out);  // a watertight remesh of the input
+        writeMeshOf(a, o, pool);  // a watertight remesh of the input
     }
     std::printf("wrote %s\n", o.out.c_str());
 }
 
 }  // namespace
+
+void printUntangled(const mesh::UntangleReport& r) {
+    if (r.contacts + r.coincidentVertices > 0)
+        std::printf("untangled: %zu contacts and %zu coincident vertices removed (%zu vertices moved, at most %.3g m)\n",
+                    r.contacts, r.coincidentVertices, r.verticesMoved, r.largestMove);
+    if (r.remaining > 0)
+        std::fprintf(stderr, "warning: %zu contacts are left after untangling: a slicer that welds by position may "
+                             "find the mesh non-manifold there\n", r.remaining);
+}
 
 bool isAdfPath(const std::string& path) {
     if (path.size() < 4) return false;
@@ -116,8 +168,9 @@ void addConvertCommand(CLI::App& app) {
     auto* cmd = app.add_subcommand(
         "convert",
         "Convert between mesh formats (.obj .stl .ply .off, and through assimp .gltf .glb .fbx .dae .3ds and more "
-        "-> .obj .stl .ply .glb) and ADFs (.kza), either way. "
-        "A mesh -> mesh conversion with --level or --lod goes through an ADF: a closed, manifold remesh.");
+        "-> .obj .stl .ply .glb .3mf) and ADFs (.kza), either way. A mesh -> mesh conversion with --level or --lod "
+        "goes through an ADF: a closed, manifold remesh. ADFs are in metres; mesh files in millimetres unless "
+        "--units/--in-units say otherwise (.glb: metres; files read through assimp keep the unit they declare).");
     auto o = std::make_shared<ConvertOptions>();
     cmd->add_option("in", o->in, "Input file")->required();
     cmd->add_option("out", o->out, "Output file; its extension picks the format")->required();
@@ -131,9 +184,22 @@ void addConvertCommand(CLI::App& app) {
     cmd->add_option("--error", o->error, "Error bound at the surface, finest cells (from a mesh)")
         ->check(CLI::Range(0.01, 10.0))
         ->capture_default_str();
+    cmd->add_option("--units", o->units,
+                    "Unit of the output mesh's coordinates (default: mm; .3mf records it; .glb is "
+                    "always m)")
+        ->check(CLI::IsMember({"mm", "cm", "m"}));
+    cmd->add_option("--in-units", o->inUnits, "Unit of a unitless mesh input's coordinates (OBJ, STL, PLY, OFF; formats read through assimp declare theirs)")
+        ->check(CLI::IsMember({"mm", "cm", "m"}))
+        ->capture_default_str();
+    cmd->add_flag("--quiet", o->quiet, "No progress line on stderr (drawn only on a terminal)");
     cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
     cmd->callback([o, cmd] {
         o->levelGiven = cmd->count("--level") > 0;
+        // A unit the output cannot take fails here, before the work.
+        if (!isAdfPath(o->out))
+            mesh::exportUnit(o->out, exportOptions(*o));
+        else if (!o->units.empty())
+            throw FileError(o->out, "an ADF is in metres: --units applies to mesh output");
         runConvert(*o);
     });
 }

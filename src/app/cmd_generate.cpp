@@ -5,6 +5,7 @@
 #include "adf/generate.h"
 #include "adf/test_part.h"
 #include "app/commands.h"
+#include "app/progress.h"
 #include "util/thread_pool.h"
 
 #include <CLI/CLI.hpp>
@@ -22,6 +23,7 @@ struct GenerateOptions {
     int level = 10;
     int tileSpan = adf::Domain{}.tileSpanLevels;
     unsigned threads = 0;
+    bool quiet = false;
     std::string out = "test_part.kza";
 };
 
@@ -32,7 +34,14 @@ void runGenerate(const GenerateOptions& o) {
     util::ThreadPool pool(o.threads);
     adf::GenerationStats gen;
     const auto t0 = std::chrono::steady_clock::now();
-    const adf::AdfPtr a = adf::generate(*adf::makeTestPart(d), d, adf::testPartSettings(), &pool, &gen);
+    adf::AdfPtr a;
+    {
+        adf::GenerationProgress progress;
+        const ProgressReporter reporter("generate", "tiles", progress.tilesDone,
+                                        progress.tilesTotal, progressWanted(o.quiet));
+        a = adf::generate(*adf::makeTestPart(d), d, adf::testPartSettings(), &pool, &gen,
+                          &progress);
+    }
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     const adf::Adf::Stats st = a->computeStats();
     std::printf("generated the test part at level %d in %.1f ms on %u threads: %zu cells, %llu distance samples, "
@@ -56,6 +65,7 @@ void addGenerateCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
     cmd->add_option("-o,--out", o->out, "Output file")->capture_default_str();
+    cmd->add_flag("--quiet", o->quiet, "No progress line on stderr (drawn only on a terminal)");
     cmd->callback([o] { runGenerate(*o); });
 }
 

@@ -9,10 +9,18 @@ namespace CLI {
 class App;
 }
 
+namespace kizamu::mesh {
+struct UntangleReport;
+}
+
 namespace kizamu::app {
 
 /// True when `path` names an ADF file (.kza, any case).
 bool isAdfPath(const std::string& path);
+
+/// Prints what an export's untangling removed (nothing when it found nothing), and warns on
+/// stderr when contacts remain.
+void printUntangled(const mesh::UntangleReport& r);
 
 /// Registers `info`: summary of a .kza file.
 void addInfoCommand(CLI::App& app);

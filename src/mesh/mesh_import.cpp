@@ -400,8 +400,9 @@ MeshBuffers decodeMesh(std::string_view bytes, MeshFormat format, const std::str
     return m;
 }
 
-MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnings) {
+MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnings, bool* inMetres) {
     const std::string bytes = util::readWholeFile(path);
+    if (inMetres != nullptr) *inMetres = false;
     // Content first, then the extension; our readers (faster, and fuzzed) before assimp, which
     // runs in a child process (mesh_import_assimp.h). Glb: we only write it, assimp reads it.
     const MeshFormat none = MeshFormat::Glb;  // "not one of ours"
@@ -417,7 +418,10 @@ MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnin
     const std::string extension = std::filesystem::path(path).extension().string();
     const bool foreignName = byName == none && assimpReadsExtension(path);
     if (byContent == none && !foreign && byName == none) {
-        if (foreignName) return importWithAssimp(path, {}, warnings);
+        if (foreignName) {
+            if (inMetres != nullptr) *inMetres = true;
+            return importWithAssimp(path, {}, warnings);
+        }
         throw FileError(path,
                         "unknown mesh format: neither the extension nor the content is one Kizamu "
                         "reads (OBJ, STL, PLY, OFF; through assimp glTF, FBX, COLLADA, 3DS, ...)");
@@ -437,7 +441,10 @@ MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnin
             warnings->push_back(path + ": " + named + ", but the content is " + content +
                                 ": read as " + content);
     }
-    if (foreign) return importWithAssimp(path, settings, warnings);
+    if (foreign) {
+        if (inMetres != nullptr) *inMetres = true;
+        return importWithAssimp(path, settings, warnings);
+    }
     return decodeMesh(bytes, byContent != none ? byContent : byName, path, warnings);
 }
 

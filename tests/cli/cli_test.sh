@@ -102,6 +102,31 @@ printf 'not an FBX file\n' >"$tmp/bad.fbx"
 "$kizamu" convert "$tmp/half.kza" "$tmp/x.obj" >/dev/null 2>"$tmp/err" && fail "a damaged kza should not convert"
 grep -q "truncated" "$tmp/err" || fail "damaged kza -> obj error lacks 'truncated'"
 
+# units: mesh files are millimetres unless --units says otherwise (glTF: metres only, refused
+# before any work); 3MF records its unit; --in-units scales a mesh read
+maxx() { assimp info "$1" --raw | sed -n 's/^Maximum point *(\([-0-9.e+]*\).*/\1/p'; }
+"$kizamu" convert "$tmp/p.kza" "$tmp/p_m.stl" --units m >/dev/null || fail "convert --units m"
+python3 -c 'import sys; mm, m = map(float, sys.argv[1:]); assert 0.1 < m < 10 and abs(mm - 1000 * m) < 1e-3 * mm, (mm, m)' \
+    "$(maxx "$tmp/p.stl")" "$(maxx "$tmp/p_m.stl")" || fail "the default STL (mm) does not measure 1000 x its --units m export"
+"$kizamu" convert "$tmp/p.kza" "$tmp/p_mm.glb" --units mm >"$tmp/out" 2>"$tmp/err" && fail "a glTF in mm should be refused"
+grep -q "metres by its specification" "$tmp/err" && [ "$(wc -l <"$tmp/err")" -eq 1 ] && [ ! -s "$tmp/out" ] ||
+    fail "glTF --units mm: $(cat "$tmp/err") (stdout: $(cat "$tmp/out"))"
+"$kizamu" convert "$tmp/p.kza" "$tmp/p_m.glb" --units m >/dev/null || fail "glTF --units m"
+"$kizamu" convert "$tmp/p.kza" "$tmp/p.3mf" >/dev/null || fail "convert kza -> 3mf"
+"$kizamu" convert "$tmp/p.kza" "$tmp/p_cm.3mf" --units cm >/dev/null || fail "convert kza -> 3mf --units cm"
+vertices=$(assimp info "$tmp/p.glb" --raw | sed -n 's/^Vertices: *\([0-9]*\).*/\1/p')
+python3 - "$tmp/p.3mf" "$tmp/p_cm.3mf" "$vertices" <<'PY' || fail "3MF unit or vertex count"
+import re, sys, zipfile
+for path, unit in ((sys.argv[1], "millimeter"), (sys.argv[2], "centimeter")):
+    model = zipfile.ZipFile(path).read("3D/3dmodel.model").decode()
+    assert re.search(r'<model [^>]*unit="%s"' % unit, model), path + ": no unit " + unit
+    assert model.count("<vertex ") == int(sys.argv[3]), (path, model.count("<vertex "), sys.argv[3])
+PY
+"$kizamu" convert "$tmp/tet.obj" "$tmp/tet_from_m.stl" --in-units m >/dev/null || fail "convert --in-units m"
+[ "$(maxx "$tmp/tet_from_m.stl")" = "1000.000000" ] || fail "a mesh in metres written in mm: max x $(maxx "$tmp/tet_from_m.stl")"
+[ "$(maxx "$tmp/tet.stl")" = "1.000000" ] || fail "mm -> mm changed the coordinates: max x $(maxx "$tmp/tet.stl")"
+"$kizamu" convert "$tmp/p.kza" "$tmp/x.off" >/dev/null 2>"$tmp/err" && fail "writing .off should be refused"
+
 # run: replay a stroke script; identical bytes twice; a session holds the same clay; bad scripts
 repo="$(cd "$(dirname "$0")/../.." && pwd)"
 "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --out "$tmp/c1.kza" >/dev/null || fail "run carve_basics"
@@ -125,6 +150,29 @@ printf '%s\n{"op": "carve", "shape": "blob", "radius": 0.1, "path": [[0,0,0]]}\n
 [ "$rc" -eq 2 ] || fail "a bad script exited $rc, expected 2"
 grep -q "bad.jsonl: line 2: unknown tool shape" "$tmp/err" || fail "bad script error: $(cat "$tmp/err")"
 [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "bad script error is not one line"
+# progress: a line rewritten with \r on a terminal (script(1) gives the command one), nothing
+# when stderr is no terminal or with --quiet; 300 slab strokes at level 7 on one thread take
+# about a second, several times the 0.25 s before the first line
+head -301 "$repo/examples/slab2000.jsonl" >"$tmp/slab300.jsonl"
+slow=("$kizamu" run "$tmp/slab300.jsonl" --level 7 --threads 1 --out "$tmp/slab.3mf" --units cm)
+"${slow[@]}" >/dev/null 2>"$tmp/err" || fail "run slab300 --out .3mf"
+[ -s "$tmp/err" ] && fail "a run off a terminal wrote to stderr: $(od -c "$tmp/err" | head -3)"
+"$kizamu" generate --level 9 --out "$tmp/g.kza" >/dev/null 2>"$tmp/err" || fail "generate level 9"
+[ -s "$tmp/err" ] && fail "generate off a terminal wrote to stderr"
+if script -qec true /dev/null </dev/null >/dev/null 2>&1; then
+    ontty() { script -qec "$(printf '%q ' "$@")" /dev/null </dev/null; }
+    ontty "${slow[@]}" >"$tmp/tty" 2>&1 || fail "run on a terminal"
+    grep -aq $'\rreplay: [0-9]*/300 strokes' "$tmp/tty" || fail "no progress line on a terminal: $(head -c 300 "$tmp/tty")"
+    ontty "${slow[@]}" --quiet >"$tmp/tty" 2>&1 || fail "run --quiet on a terminal"
+    grep -aq "replay:" "$tmp/tty" && fail "run --quiet drew progress"
+    grep -aq "replayed 300 steps" "$tmp/tty" || fail "run --quiet lost its summary"
+    ontty "$kizamu" generate --level 10 --threads 1 --out "$tmp/g.kza" --quiet >"$tmp/tty" 2>&1 || fail "generate --quiet"
+    grep -aq "generate:" "$tmp/tty" && fail "generate --quiet drew progress"
+    ontty "$kizamu" convert "$tmp/p.stl" "$tmp/p_again.kza" --level 9 --threads 1 --quiet >"$tmp/tty" 2>&1 || fail "convert --quiet"
+    grep -aq "generate:" "$tmp/tty" && fail "convert --quiet drew progress"
+else
+    echo "note: no pseudo-terminal for script(1): progress on a terminal not checked"
+fi
 # paint: a painted example exported to PLY, GLB and OBJ (run) and via a .kza and a session
 # (convert) carries vertex colours that assimp (independent reader) finds: red where the
 # example paints red, clay grey elsewhere

@@ -184,6 +184,27 @@ TEST(Generate, IsDeterministicSerialOrParallel) {
     EXPECT_TRUE(test::sameAdf(*serial, *parallel));
 }
 
+TEST(Generate, ProgressCountsEveryTileOnceAndChangesNothing) {
+    util::ThreadPool pool(3);
+    // Level 8 spans many tiles (coloured runs); a tile span of level - 1 gives 2^3 tiles, a
+    // small run (roots, parts and joins).
+    for (const int span : {4, 7}) {
+        Domain d = testPartDomain(8);
+        d.tileSpanLevels = span;
+        const SourcePtr part = makeTestPart(d);
+        const AdfPtr plain = generate(*part, d, testPartSettings(), &pool);
+        for (util::ThreadPool* p : {static_cast<util::ThreadPool*>(nullptr), &pool}) {
+            GenerationProgress progress;
+            GenerationStats stats;
+            const AdfPtr a = generate(*part, d, testPartSettings(), p, &stats, &progress);
+            EXPECT_TRUE(test::sameAdf(*plain, *a)) << span;
+            EXPECT_GT(stats.tilesGenerated, 0u) << span;
+            EXPECT_EQ(progress.tilesTotal.load(), stats.tilesGenerated) << span;
+            EXPECT_EQ(progress.tilesDone.load(), stats.tilesGenerated) << span;
+        }
+    }
+}
+
 TEST(Generate, SmallGenerationsAreTheSameOnAnyNumberOfThreads) {
     // Fewer tiles than 8 per thread (a LOD's 2^3) run at once, each from its root, whole or in
     // parts: the same bits as a serial generation.

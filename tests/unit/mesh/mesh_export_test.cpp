@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// Every export is re-read by tools that share no code with ours (assimp for all four formats,
-// admesh for STL) and compared by counts and bounds. A missing reader fails the test.
+// Every export is re-read by tools that share no code with ours (assimp for OBJ, STL, PLY and
+// glTF, admesh for STL, lib3mf for 3MF) and compared by counts and bounds. A missing reader fails
+// the test. Units: an export in millimetres measures a thousand times its export in metres, read
+// back from the files (STL bytes, lib3mf).
 #include "mesh/mesh_export.h"
 
 #include "adf/generate.h"
@@ -10,6 +12,8 @@
 #include "tests/util/painted.h"
 #include "util/file_error.h"
 
+#include <Model/COM/NMR_DLLInterfaces.h>
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
@@ -17,8 +21,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
 #include <string>
+#include <vector>
 
 using namespace kizamu;
 using namespace kizamu::mesh;
@@ -87,13 +96,17 @@ protected:
     std::filesystem::path mDir;
 };
 
-/// Exports `mesh` as `path` and checks what assimp reads back: the face count, the vertex count
-/// where the format keeps indexing (STL repeats vertices per facet and assimp de-indexes OBJ
-/// faces: only PLY and glTF keep them), and the x extent.
+/// Exports `mesh` as `path` in its format's default unit and checks what assimp reads back: the
+/// face count, the vertex count where the format keeps indexing (STL repeats vertices per facet
+/// and assimp de-indexes OBJ faces: only PLY and glTF keep them), and the x extent, `minX` and
+/// `maxX` in metres: millimetres in the file but for glTF.
 void expectAssimpReadsBack(const MeshBuffers& mesh, const std::string& path, const std::string& format, double minX,
                            double maxX) {
     ASSERT_EQ(std::system("command -v assimp >/dev/null 2>&1"), 0) << "assimp (assimp-utils) is required";
     exportMesh(mesh, path);
+    const double scale = format == "glb" ? 1.0 : 1000.0;
+    minX *= scale;
+    maxX *= scale;
     // -ptv etc. off: plain import, so counts are the file's own.
     const std::string info = run("assimp info '" + path + "' --raw");
     ASSERT_NE(info.find("Importing file ...                   OK"), std::string::npos) << info;
@@ -101,8 +114,8 @@ void expectAssimpReadsBack(const MeshBuffers& mesh, const std::string& path, con
     if (format == "ply" || format == "glb") {
         EXPECT_EQ(field(info, "Vertices:"), double(mesh.vertexCount())) << info;
     }
-    EXPECT_NEAR(field(info, "Minimum point"), minX, 1e-5) << info;
-    EXPECT_NEAR(field(info, "Maximum point"), maxX, 1e-5) << info;
+    EXPECT_NEAR(field(info, "Minimum point"), minX, 1e-5 * scale) << info;
+    EXPECT_NEAR(field(info, "Maximum point"), maxX, 1e-5 * scale) << info;
 }
 
 /// Exports `mesh` as STL and checks that admesh finds it closed and consistently oriented.
@@ -161,7 +174,7 @@ TEST_F(MeshExport, AssimpReadsBackPaintedVertexColours) {
     for (const std::string format : {"ply", "glb", "obj"}) {  // binary STL has no vertex colours
         SCOPED_TRACE(format);
         const std::string path = (mDir / ("painted." + format)).string();
-        exportMesh(mesh, path);
+        exportMesh(mesh, path, {.unit = LengthUnit::Metre});  // compared with the positions
         const test::AssimpColours read = test::assimpColours(path);
         ASSERT_EQ(read.colours.size(), read.positions.size());
         ASSERT_GE(read.positions.size(), mesh.vertexCount());
@@ -204,7 +217,7 @@ TEST_F(MeshExport, AssimpReadsBackAPlyWhoseFirstVertexStartsWithALineEnd) {
     const uint32_t bits = std::bit_cast<uint32_t>(mesh.positions[0].x);
     mesh.positions[0].x = std::bit_cast<float>((bits & ~0xffu) | uint8_t('\n'));  // a few ulps off
     const std::string path = (mDir / "first.ply").string();
-    exportMesh(mesh, path);
+    exportMesh(mesh, path, {.unit = LengthUnit::Metre});  // unscaled: the crafted first byte stays
     const test::AssimpColours read = test::assimpColours(path);
     ASSERT_EQ(read.positions.size(), mesh.vertexCount());
     for (std::size_t i = 0; i < read.positions.size(); ++i) {  // the dump prints 6 digits
@@ -221,12 +234,184 @@ INSTANTIATE_TEST_SUITE_P(Formats, MeshExport, ::testing::Values("obj", "stl", "p
 TEST_F(MeshExport, RejectsUnknownFormatsAndInvalidMeshes) {
     MeshBuffers mesh = uvSphere(0.2f, 6, 8);
     EXPECT_THROW(exportMesh(mesh, (mDir / "sphere.fbx").string()), FileError);
+    EXPECT_THROW(exportMesh(mesh, (mDir / "sphere.off").string()), FileError);  // read only
     EXPECT_THROW(exportMesh(MeshBuffers{}, (mDir / "empty.glb").string()), FileError);
     mesh.indices.push_back(99999);
     mesh.indices.push_back(0);
     mesh.indices.push_back(1);
     EXPECT_THROW(exportMesh(mesh, (mDir / "sphere.obj").string()), FileError);
     EXPECT_FALSE(std::filesystem::exists(mDir / "sphere.obj"));
+}
+
+// ---- units ----
+
+/// The x, y, z of every vertex of every facet of a binary STL file, as written.
+std::vector<float> stlCoordinates(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<float> xyz;
+    if (bytes.size() < 84) return xyz;
+    uint32_t facets = 0;
+    std::memcpy(&facets, bytes.data() + 80, 4);
+    if (bytes.size() != 84 + 50 * std::size_t(facets)) return xyz;
+    xyz.resize(9 * std::size_t(facets));
+    for (std::size_t f = 0; f < facets; ++f)  // after the facet's normal
+        std::memcpy(&xyz[9 * f], bytes.data() + 84 + 50 * f + 12, 36);
+    return xyz;
+}
+
+struct Box {
+    glm::dvec3 lo{1e30}, hi{-1e30};
+    void add(glm::dvec3 p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+};
+
+/// What lib3mf (the 3MF Consortium's reader) finds in a 3MF file: the model's unit, and the
+/// first mesh object's counts and bounding box.
+struct ThreeMfContent {
+    DWORD unit = 99;
+    DWORD vertices = 0, triangles = 0;
+    Box box;
+};
+
+ThreeMfContent readThreeMf(const std::string& path) {
+    struct Release {
+        void operator()(NMR::PLib3MFBase* p) const { NMR::lib3mf_release(p); }
+    };
+    using Handle = std::unique_ptr<NMR::PLib3MFBase, Release>;
+    ThreeMfContent c;
+    NMR::PLib3MFModel* rawModel = nullptr;
+    EXPECT_EQ(NMR::lib3mf_createmodel(&rawModel), LIB3MF_OK);
+    const Handle model(rawModel);
+    NMR::PLib3MFModelReader* rawReader = nullptr;
+    EXPECT_EQ(NMR::lib3mf_model_queryreader(model.get(), "3mf", &rawReader), LIB3MF_OK);
+    const Handle reader(rawReader);
+    NMR::lib3mf_reader_setstrictmodeactive(reader.get(), true);
+    if (NMR::lib3mf_reader_readfromfileutf8(reader.get(), path.c_str()) != LIB3MF_OK) {
+        ADD_FAILURE() << "lib3mf cannot read " << path;
+        return c;
+    }
+    NMR::lib3mf_model_getunit(model.get(), &c.unit);
+    NMR::PLib3MFModelResourceIterator* rawIt = nullptr;
+    EXPECT_EQ(NMR::lib3mf_model_getmeshobjects(model.get(), &rawIt), LIB3MF_OK);
+    const Handle it(rawIt);
+    BOOL has = false;
+    NMR::lib3mf_resourceiterator_movenext(it.get(), &has);
+    if (!has) {
+        ADD_FAILURE() << path << " holds no mesh object";
+        return c;
+    }
+    NMR::PLib3MFModelResource* rawMesh = nullptr;
+    EXPECT_EQ(NMR::lib3mf_resourceiterator_getcurrent(it.get(), &rawMesh), LIB3MF_OK);
+    const Handle meshObject(rawMesh);
+    NMR::lib3mf_meshobject_getvertexcount(meshObject.get(), &c.vertices);
+    NMR::lib3mf_meshobject_gettrianglecount(meshObject.get(), &c.triangles);
+    std::vector<NMR::MODELMESHVERTEX> v(c.vertices);
+    NMR::lib3mf_meshobject_getvertices(meshObject.get(), v.data(), DWORD(v.size()), nullptr);
+    for (const NMR::MODELMESHVERTEX& p : v)
+        c.box.add({p.m_fPosition[0], p.m_fPosition[1], p.m_fPosition[2]});
+    return c;
+}
+
+TEST_F(MeshExport, StlInMillimetresMeasuresAThousandTimesItsExportInMetres) {
+    const MeshBuffers mesh = testPartMesh();
+    const std::string mm = (mDir / "part_mm.stl").string(), m = (mDir / "part_m.stl").string(),
+                      cm = (mDir / "part_cm.stl").string();
+    const std::string byDefault = (mDir / "part.stl").string();
+    exportMesh(mesh, mm, {.unit = LengthUnit::Millimetre});
+    exportMesh(mesh, m, {.unit = LengthUnit::Metre});
+    exportMesh(mesh, cm, {.unit = LengthUnit::Centimetre});
+    exportMesh(mesh, byDefault);
+    const std::vector<float> a = stlCoordinates(mm), b = stlCoordinates(m), c = stlCoordinates(cm);
+    ASSERT_EQ(a.size(), 9 * mesh.triangleCount());
+    ASSERT_EQ(b.size(), a.size());
+    ASSERT_EQ(c.size(), a.size());
+    EXPECT_EQ(stlCoordinates(byDefault), a) << "STL's default unit is the millimetre";
+    Box boxMm, boxM;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        // Each is the float nearest to the metre value times the factor: within half an ulp.
+        EXPECT_NEAR(a[i], 1000.0 * double(b[i]), 1e-7 * std::abs(a[i])) << "coordinate " << i;
+        EXPECT_NEAR(c[i], 100.0 * double(b[i]), 1e-7 * std::abs(c[i])) << "coordinate " << i;
+        if (i % 3 == 2) {
+            boxMm.add({a[i - 2], a[i - 1], a[i]});
+            boxM.add({b[i - 2], b[i - 1], b[i]});
+        }
+    }
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(boxMm.hi[k] - boxMm.lo[k], 1000.0 * (boxM.hi[k] - boxM.lo[k]), 1e-3)
+            << "axis " << k;
+        EXPECT_GT(boxM.hi[k] - boxM.lo[k], 0.1) << "the test part is tens of centimetres";
+    }
+}
+
+TEST_F(MeshExport, ThreeMfCarriesItsUnitAndMeasuresAThousandTimesItsExportInMetres) {
+    const MeshBuffers mesh = testPartMesh();
+    Box want;
+    for (const glm::vec3& p : mesh.positions) want.add(glm::dvec3(p));
+    const std::string mm = (mDir / "part_mm.3mf").string(), m = (mDir / "part_m.3mf").string(),
+                      cm = (mDir / "part_cm.3MF").string();
+    const std::string byDefault = (mDir / "part.3mf").string();
+    exportMesh(mesh, mm, {.unit = LengthUnit::Millimetre});
+    exportMesh(mesh, m, {.unit = LengthUnit::Metre});
+    exportMesh(mesh, cm, {.unit = LengthUnit::Centimetre});
+    exportMesh(mesh, byDefault);
+    const ThreeMfContent a = readThreeMf(mm), b = readThreeMf(m), c = readThreeMf(cm),
+                         d = readThreeMf(byDefault);
+    EXPECT_EQ(a.unit, DWORD(NMR::MODELUNIT_MILLIMETER));
+    EXPECT_EQ(b.unit, DWORD(NMR::MODELUNIT_METER));
+    EXPECT_EQ(c.unit, DWORD(NMR::MODELUNIT_CENTIMETER));
+    EXPECT_EQ(d.unit, DWORD(NMR::MODELUNIT_MILLIMETER)) << "3MF's default unit is the millimetre";
+    for (const ThreeMfContent* r : {&a, &b, &c, &d}) {
+        EXPECT_EQ(r->vertices, mesh.vertexCount());
+        EXPECT_EQ(r->triangles, mesh.triangleCount());
+    }
+    // lib3mf writes coordinates with 6 decimals: 1e-6 of the file's unit.
+    for (int k = 0; k < 3; ++k) {
+        EXPECT_NEAR(b.box.lo[k], want.lo[k], 1e-6) << "axis " << k;
+        EXPECT_NEAR(b.box.hi[k], want.hi[k], 1e-6) << "axis " << k;
+        EXPECT_NEAR(a.box.lo[k], 1000.0 * b.box.lo[k], 1e-3) << "axis " << k;
+        EXPECT_NEAR(a.box.hi[k], 1000.0 * b.box.hi[k], 1e-3) << "axis " << k;
+        EXPECT_NEAR(c.box.hi[k] - c.box.lo[k], 100.0 * (b.box.hi[k] - b.box.lo[k]), 1e-4)
+            << "axis " << k;
+        EXPECT_EQ(d.box.lo[k], a.box.lo[k]);
+    }
+}
+
+TEST_F(MeshExport, GltfIsMetresOnly) {
+    const MeshBuffers mesh = uvSphere(0.2f, 6, 8);
+    const std::string path = (mDir / "sphere.glb").string();
+    EXPECT_EQ(exportUnit(path, {}), LengthUnit::Metre);
+    EXPECT_EQ(exportUnit(path, {.unit = LengthUnit::Metre}), LengthUnit::Metre);
+    try {
+        exportMesh(mesh, path, {.unit = LengthUnit::Millimetre});
+        ADD_FAILURE() << "a glTF in millimetres was written";
+    } catch (const FileError& e) {
+        EXPECT_NE(std::string(e.what()).find("metres by its specification"), std::string::npos)
+            << e.what();
+    }
+    EXPECT_FALSE(std::filesystem::exists(path));
+    EXPECT_EQ(exportUnit((mDir / "a.obj").string(), {}), LengthUnit::Millimetre);
+    EXPECT_EQ(exportUnit((mDir / "a.PLY").string(), {.unit = LengthUnit::Centimetre}),
+              LengthUnit::Centimetre);
+    EXPECT_EQ(lengthUnitOf("cm"), LengthUnit::Centimetre);
+    EXPECT_FALSE(lengthUnitOf("in").has_value());
+}
+
+/// A mesh already in the file's unit (read from a file, written again) keeps its coordinates bit
+/// for bit.
+TEST_F(MeshExport, EqualUnitsCopyCoordinatesExactly) {
+    const MeshBuffers mesh = uvSphere(200.0f, 6, 8);  // millimetres
+    const std::string path = (mDir / "sphere.stl").string();
+    exportMesh(mesh, path, {.meshUnit = LengthUnit::Millimetre});
+    const std::vector<float> xyz = stlCoordinates(path);
+    ASSERT_EQ(xyz.size(), 9 * mesh.triangleCount());
+    for (std::size_t t = 0; t < mesh.triangleCount(); ++t)
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3& p = mesh.positions[mesh.indices[3 * t + k]];
+            EXPECT_EQ(std::memcmp(&xyz[9 * t + 3 * k], &p, 12), 0) << "triangle " << t;
+        }
 }
 
 }  // namespace

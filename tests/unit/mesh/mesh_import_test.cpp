@@ -48,7 +48,7 @@ TEST(MeshImport, RoundTripsThroughOurExporters) {
     for (const char* ext : {"obj", "stl", "ply"}) {
         SCOPED_TRACE(ext);
         const std::string path = (dir / (std::string("oct.") + ext)).string();
-        exportMesh(mesh, path);
+        exportMesh(mesh, path, {.unit = LengthUnit::Metre});  // read back as they are written
         const MeshBuffers back = importMesh(path);
         ASSERT_EQ(back.triangleCount(), mesh.triangleCount());
         ASSERT_EQ(back.vertexCount(), mesh.vertexCount());  // STL facets weld back to 6 vertices
