@@ -9,6 +9,8 @@
 #include "adf/test_part.h"
 #include "mesh/surface_nets.h"
 
+#include "mesh/mesh_import.h"
+#include "tests/support/mesh_intersections.h"
 #include "tests/util/painted.h"
 #include "util/file_error.h"
 
@@ -415,3 +417,25 @@ TEST_F(MeshExport, EqualUnitsCopyCoordinatesExactly) {
 }
 
 }  // namespace
+
+TEST_F(MeshExport, UntangledExportsAreEmbeddedOnTheirWrittenCoordinates) {
+    // A closed sphere with one vertex mirrored across a neighbour: its fan folds over.
+    MeshBuffers folded = uvSphere(0.2f, 12, 16);
+    const uint32_t v = 40, w = 40 + 16;  // a vertex and the one below it on the next ring
+    folded.positions[v] = folded.positions[w] + (folded.positions[w] - folded.positions[v]);
+    for (const LengthUnit unit : {LengthUnit::Metre, LengthUnit::Millimetre}) {
+        const std::string raw = (mDir / "folded_raw.stl").string(), fixed = (mDir / "folded.stl").string();
+        exportMesh(folded, raw, {.unit = unit});
+        UntangleReport report;
+        exportMesh(folded, fixed, {.unit = unit, .untangle = true, .untangled = &report});
+        EXPECT_GT(report.contacts, 0u);
+        EXPECT_EQ(report.remaining, 0u);
+        // Read back as a slicer would: the STL reader welds vertices by position.
+        const test::MeshIntersections before = test::findMeshIntersections(importMesh(raw));
+        EXPECT_FALSE(before.clean()) << "the fold is written as it is without untangling";
+        const MeshBuffers back = importMesh(fixed);
+        const test::MeshIntersections after = test::findMeshIntersections(back);
+        EXPECT_TRUE(after.clean()) << unitSymbol(unit) << ": " << after.describe(back);
+        EXPECT_TRUE(test::weldsToClosedManifold(back)) << unitSymbol(unit);
+    }
+}
