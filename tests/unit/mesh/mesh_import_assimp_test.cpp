@@ -123,7 +123,7 @@ std::filesystem::path AssimpImport::sDir;
 TEST_F(AssimpImport, AssimpExportsComeBackWithTheSameTriangles) {
     const MeshBuffers source = ellipsoid(12, 16);
     const std::string obj = path("source.obj");
-    exportMesh(source, obj);
+    exportMesh(source, obj, {.unit = LengthUnit::Metre});  // assimp reads OBJ numbers as metres
     glm::vec3 lo, hi;
     bounds(source, lo, hi);
     const double volume = signedVolume(source);
