@@ -10,7 +10,8 @@
 /// manifold where it matters. `untangle` finds every contact on the float32 positions with
 /// exact predicates (mesh/exact_predicates.h) and smooths the vertices around it toward their
 /// neighbours' mean until none is left, widening the smoothed patch where a contact persists.
-/// The moves are local (a few vertices, within their ring), the topology is kept.
+/// The moves are local (a few vertices, within their ring), the topology is kept. It runs where
+/// meshes are written, not in the mesher (docs/decisions/0029-untangle-at-export.md).
 /// Determinism: the result depends on the mesh's geometry and connectivity, not on the
 /// numbering (neighbours are summed in the order of their positions), so two numberings of one
 /// mesh untangle to the same positions.
