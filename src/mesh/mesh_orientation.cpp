@@ -4,10 +4,10 @@
 /// nesting depth through a box tree of the closed parts and a BVH per containing part.
 #include "mesh/mesh_orientation.h"
 
+#include "mesh/box_tree.h"
 #include "mesh/triangle_bvh.h"
 
 #include <glm/geometric.hpp>
-#include <glm/vector_relational.hpp>
 
 #include <algorithm>
 #include <bit>
@@ -70,85 +70,6 @@ private:
     std::vector<uint32_t> mParent;
 };
 
-struct Box {
-    glm::dvec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
-    void add(const glm::dvec3& p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    bool holds(const Box& b) const {
-        return glm::all(glm::lessThanEqual(lo, b.lo)) && glm::all(glm::lessThanEqual(b.hi, hi));
-    }
-};
-
-/// Static hierarchy over some boxes (median split on the longest axis): which of them hold a
-/// given box, in O(log n + k) when few do.
-class BoxTree {
-public:
-    BoxTree(const std::vector<Box>& boxes, std::vector<uint32_t> items)
-        : mBoxes(boxes), mItems(std::move(items)) {
-        if (!mItems.empty()) build(0, uint32_t(mItems.size()));
-    }
-    /// Calls f(item) for each item whose box holds `b`.
-    template <class F>
-    void forEachHolding(const Box& b, F&& f) const {
-        if (mNodes.empty()) return;
-        uint32_t stack[64];
-        int top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const Node& n = mNodes[stack[--top]];
-            if (!n.box.holds(b)) continue;
-            if (n.count > 0) {
-                for (uint32_t i = n.first; i < n.first + n.count; ++i)
-                    if (mBoxes[mItems[i]].holds(b)) f(mItems[i]);
-                continue;
-            }
-            stack[top++] = n.left;
-            stack[top++] = n.right;
-        }
-    }
-
-private:
-    struct Node {
-        Box box;
-        uint32_t first = 0, count = 0;  ///< leaf: item range; inner: count == 0
-        uint32_t left = 0, right = 0;
-    };
-    uint32_t build(uint32_t first, uint32_t count) {
-        const auto index = uint32_t(mNodes.size());
-        mNodes.emplace_back();
-        Node n;
-        Box centres;
-        for (uint32_t i = first; i < first + count; ++i) {
-            const Box& b = mBoxes[mItems[i]];
-            n.box.add(b.lo);
-            n.box.add(b.hi);
-            centres.add(0.5 * (b.lo + b.hi));
-        }
-        if (count <= 4) {
-            n.first = first;
-            n.count = count;
-            mNodes[index] = n;
-            return index;
-        }
-        const glm::dvec3 e = centres.hi - centres.lo;
-        const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
-        const uint32_t mid = first + count / 2;
-        std::nth_element(mItems.begin() + first, mItems.begin() + mid,
-                         mItems.begin() + first + count, [&](uint32_t l, uint32_t r) {
-                             return mBoxes[l].lo[axis] + mBoxes[l].hi[axis] <
-                                    mBoxes[r].lo[axis] + mBoxes[r].hi[axis];
-                         });
-        n.left = build(first, mid - first);
-        n.right = build(mid, first + count - mid);
-        mNodes[index] = n;
-        return index;
-    }
-    const std::vector<Box>& mBoxes;
-    std::vector<uint32_t> mItems;
-    std::vector<Node> mNodes;
-};
 
 /// The parts of a mesh: triangles by part, and what orientation needs of each.
 struct Parts {
@@ -158,7 +79,7 @@ struct Parts {
     std::vector<uint32_t> triangles;
     std::vector<uint8_t> closed;  ///< closed and consistently oriented
     std::vector<double> volume;   ///< signed, m^3
-    std::vector<Box> box;
+    std::vector<Box3> box;
     std::size_t count() const { return start.size() - 1; }
 };
 
@@ -225,7 +146,7 @@ Parts findParts(const MeshBuffers& mesh) {
     parts.triangles.resize(triangleCount);
     parts.closed.assign(n, 1);
     parts.volume.assign(n, 0.0);
-    parts.box.assign(n, Box{});
+    parts.box.assign(n, Box3{});
     std::vector<uint32_t> cursor(parts.start.begin(), parts.start.end() - 1);
     std::vector<uint32_t> owner(mesh.positions.size(), ~0u);
     parts.touching.assign(mesh.positions.size(), 0);
@@ -299,7 +220,7 @@ std::vector<uint32_t> nestingDepths(const MeshBuffers& mesh, const Parts& parts,
         return any;
     };
     for (uint32_t p : closed)
-        tree.forEachHolding(parts.box[p], [&](uint32_t q) {
+        tree.visit([&](const Box3& b) { return b.holds(parts.box[p]); }, [&](uint32_t q) {
             if (q != p && inside(p, q)) ++depth[p];
         });
     return depth;

@@ -4,6 +4,7 @@
 /// smoothing until no contact is left.
 #include "mesh/mesh_untangle.h"
 
+#include "mesh/box_tree.h"
 #include "mesh/exact_predicates.h"
 #include "util/thread_pool.h"
 
@@ -175,13 +176,6 @@ struct Geometry {
     }
 };
 
-struct Box {
-    Point lo, hi;
-    bool overlaps(const Box& o) const {
-        return lo.x <= o.hi.x && o.lo.x <= hi.x && lo.y <= o.hi.y && o.lo.y <= hi.y && lo.z <= o.hi.z && o.lo.z <= hi.z;
-    }
-};
-
 /// What one detection pass found: the vertices to move and the counts.
 struct Found {
     std::vector<uint32_t> vertices;
@@ -208,95 +202,14 @@ void findCoincident(const MeshBuffers& m, Found& out) {
     }
 }
 
-/// A bounding-volume hierarchy over triangle boxes: median splits along the widest axis of the
-/// box centres, four triangles a leaf. Adapts to triangles of very different sizes (an
-/// adaptive mesh's flat regions and fine details), which a grid does not.
-class BoxTree {
-public:
-    explicit BoxTree(const std::vector<Box>& boxes) : mBoxes(boxes), mOrder(boxes.size()) {
-        for (uint32_t i = 0; i < mOrder.size(); ++i) mOrder[i] = i;
-        mNodes.reserve(2 * boxes.size() / kLeaf + 2);
-        if (boxes.empty()) return;
-        mNodes.emplace_back();
-        build(0, 0, uint32_t(boxes.size()));
-    }
-    /// Calls `f(t)` for every triangle whose box meets `b` (closed boxes: touching counts).
-    template <class F>
-    void query(const Box& b, F&& f) const {
-        if (mNodes.empty()) return;
-        uint32_t stack[64];
-        int top = 0;
-        stack[top++] = 0;
-        while (top > 0) {
-            const Node& n = mNodes[stack[--top]];
-            if (!n.box.overlaps(b)) continue;
-            if (n.count > 0) {
-                for (uint32_t i = n.first; i < n.first + n.count; ++i)
-                    if (mBoxes[mOrder[i]].overlaps(b)) f(mOrder[i]);
-            } else {
-                stack[top++] = n.first;
-                stack[top++] = n.first + 1;
-            }
-        }
-    }
-
-private:
-    static constexpr uint32_t kLeaf = 4;
-    struct Node {
-        Box box;
-        uint32_t first = 0;  ///< a leaf's first entry of mOrder, else the first child
-        uint32_t count = 0;  ///< a leaf's triangles; 0 for an inner node
-    };
-    /// Fills node `at` with the triangles mOrder[begin, end); children are made in pairs.
-    void build(uint32_t at, uint32_t begin, uint32_t end) {
-        Box box = mBoxes[mOrder[begin]];
-        Box centres{box.lo + box.hi, box.lo + box.hi};
-        for (uint32_t i = begin; i < end; ++i) {
-            const Box& b = mBoxes[mOrder[i]];
-            box.lo = glm::min(box.lo, b.lo);
-            box.hi = glm::max(box.hi, b.hi);
-            centres.lo = glm::min(centres.lo, b.lo + b.hi);
-            centres.hi = glm::max(centres.hi, b.lo + b.hi);
-        }
-        mNodes[at].box = box;
-        if (end - begin <= kLeaf) {
-            mNodes[at].first = begin;
-            mNodes[at].count = end - begin;
-            return;
-        }
-        const glm::dvec3 e = centres.hi - centres.lo;
-        const int axis = e.x >= e.y && e.x >= e.z ? 0 : (e.y >= e.z ? 1 : 2);
-        const uint32_t mid = begin + (end - begin) / 2;
-        std::nth_element(mOrder.begin() + begin, mOrder.begin() + mid, mOrder.begin() + end, [&](uint32_t l, uint32_t r) {
-            return mBoxes[l].lo[axis] + mBoxes[l].hi[axis] < mBoxes[r].lo[axis] + mBoxes[r].hi[axis];
-        });
-        const uint32_t left = uint32_t(mNodes.size());
-        mNodes.resize(mNodes.size() + 2);
-        mNodes[at].first = left;
-        build(left, begin, mid);
-        build(left + 1, mid, end);
-    }
-
-    const std::vector<Box>& mBoxes;
-    std::vector<uint32_t> mOrder;
-    std::vector<Node> mNodes;
-};
-
 /// Triangle pairs in contact where at least one is `dirty`, and degenerate dirty triangles:
 /// each dirty triangle's box is looked up in a tree of all boxes; a pair of dirty triangles is
 /// examined once, from the smaller number.
 void findContacts(const Geometry& g, const std::vector<uint8_t>& dirty, util::ThreadPool* pool, Found& out) {
     const std::size_t nt = g.mesh.triangleCount();
-    std::vector<Box> boxes(nt);
-    for (std::size_t t = 0; t < nt; ++t) {
-        const Triangle tri = g.triangle(t);
-        Box b{g.at(tri[0]), g.at(tri[0])};
-        for (int i = 1; i < 3; ++i) {
-            b.lo = glm::min(b.lo, g.at(tri[i]));
-            b.hi = glm::max(b.hi, g.at(tri[i]));
-        }
-        boxes[t] = b;
-    }
+    std::vector<Box3> boxes(nt);
+    for (std::size_t t = 0; t < nt; ++t)
+        for (const uint32_t v : g.triangle(t)) boxes[t].add(g.at(v));
     std::vector<uint8_t> degenerate(nt, 0);
     for (std::size_t t = 0; t < nt; ++t)
         if (dirty[t] && g.degenerate(g.triangle(t))) {
@@ -316,7 +229,7 @@ void findContacts(const Geometry& g, const std::vector<uint8_t>& dirty, util::Th
         for (uint32_t s = uint32_t(blk * kBlock); s < end; ++s) {
             if (!dirty[s] || degenerate[s]) continue;
             const Triangle a = g.triangle(s);
-            tree.query(boxes[s], [&](uint32_t t) {
+            tree.visit([&](const Box3& b) { return b.meets(boxes[s]); }, [&](uint32_t t) {
                 if (t == s || degenerate[t] || (dirty[t] && t < s)) return;
                 const Triangle b = g.triangle(t);
                 if (!g.inContact(a, b)) return;
