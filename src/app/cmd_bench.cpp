@@ -4,6 +4,7 @@
 #include "app/commands.h"
 #include "bench/adf_bench.h"
 #include "bench/edit_bench.h"
+#include "bench/live_bench.h"
 #include "bench/mesh_bench.h"
 
 #include <CLI/CLI.hpp>
@@ -81,6 +82,20 @@ void addBenchCommand(CLI::App& app) {
     editCmd->add_option("--threads", editOptions->threads, "Worker threads (0: all cores)")->capture_default_str();
     editCmd->callback([editOptions] {
         const int rc = bench::runEditBench(*editOptions);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+
+    auto* liveCmd = bench->add_subcommand("live", "The live engine's input: tool-sample push cost, draining and with a full ring");
+    auto liveOptions = std::make_shared<bench::LiveBenchOptions>();
+    liveCmd->add_flag("--json", liveOptions->json, "One JSON object per figure per line, nothing else on stdout");
+    liveCmd->add_option("--pushes", liveOptions->pushes, "Timed pushes with a draining consumer")
+        ->check(CLI::Range(std::size_t(10'000), std::size_t(100'000'000)))
+        ->capture_default_str();
+    liveCmd->add_option("--full-pushes", liveOptions->fullPushes, "Timed pushes into a full ring")
+        ->check(CLI::Range(std::size_t(1'000), std::size_t(100'000'000)))
+        ->capture_default_str();
+    liveCmd->callback([liveOptions] {
+        const int rc = bench::runLiveBench(*liveOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 }

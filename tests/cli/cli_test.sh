@@ -277,4 +277,19 @@ assert not missing, f"missing figures: {missing}"
 assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
 PY
 
+# bench live contract (small: 20k pushes)
+"$kizamu" bench live --json --pushes 20000 --full-pushes 5000 >"$tmp/live.json" 2>/dev/null || fail "bench live exited non-zero"
+python3 - "$tmp/live.json" <<'PY' || failures=$((failures + 1))
+import json, sys
+names = {}
+for line in open(sys.argv[1]):
+    obj = json.loads(line)
+    assert set(obj) == {"figure", "value", "unit"}, obj
+    names[obj["figure"]] = obj["value"]
+need = ["live.push_us.p50", "live.push_us.p999", "live.push_full_us.p999"]
+missing = [n for n in need if n not in names]
+assert not missing, f"missing figures: {missing}"
+assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
+PY
+
 finish

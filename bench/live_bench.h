@@ -1,0 +1,21 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file live_bench.h
+/// @brief `kizamu bench live`: the live engine's input, the cost of one SampleQueue push with
+/// a consumer draining on another thread, and while the ring is full (the pending buffer
+/// simplifying).
+#pragma once
+
+#include <cstddef>
+
+namespace kizamu::bench {
+
+struct LiveBenchOptions {
+    bool json = false;
+    std::size_t pushes = 1'000'000;    ///< timed pushes with a draining consumer
+    std::size_t fullPushes = 200'000;  ///< timed pushes into a full ring (nobody drains)
+};
+
+/// Runs the benchmark and prints its figures. Returns a process exit code.
+int runLiveBench(const LiveBenchOptions& options);
+
+}  // namespace kizamu::bench
