@@ -3,6 +3,7 @@
 /// @brief EpochDomain slots and the reclamation test.
 #include "adf/epoch.h"
 
+#include <algorithm>
 #include <cassert>
 
 namespace kizamu::adf {
@@ -30,6 +31,13 @@ bool EpochDomain::canReclaim(uint64_t retiredEpoch) const noexcept {
         if (e != kIdle && e <= retiredEpoch) return false;
     }
     return true;
+}
+
+uint64_t EpochDomain::oldestAnnounced() const noexcept {
+    uint64_t oldest = kIdle;
+    for (std::size_t i = 0; i < mSlotCount; ++i)
+        oldest = std::min(oldest, mSlots[i].epoch.load(std::memory_order_seq_cst));
+    return oldest;
 }
 
 std::size_t EpochDomain::registeredReaders() const noexcept {

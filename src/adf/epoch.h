@@ -34,7 +34,8 @@ public:
     /// Reader: announce the current epoch before loading shared pointers. Lock-free, O(1).
     /// One announcement per slot at a time (a nested enter would be ended by the inner exit).
     void enter(int slot) noexcept {
-        assert(mSlots[slot].epoch.load(std::memory_order_relaxed) == kIdle && "nested acquire on one reader");
+        assert(mSlots[slot].epoch.load(std::memory_order_relaxed) == kIdle &&
+               "nested acquire on one reader");
         mSlots[slot].epoch.store(mEpoch.load(std::memory_order_seq_cst), std::memory_order_seq_cst);
     }
     /// Reader: done with everything loaded since enter(). Lock-free, O(1).
@@ -45,6 +46,15 @@ public:
     /// Writer: true when no reader can still hold what was retired under `retiredEpoch`.
     /// Complexity: O(maxReaders).
     bool canReclaim(uint64_t retiredEpoch) const noexcept;
+    /// Writer: the smallest epoch a reader announces, or kIdle when every slot is idle; what was
+    /// retired under an epoch below it is unreachable (canReclaim for all of them in one scan).
+    /// Complexity: O(maxReaders).
+    uint64_t oldestAnnounced() const noexcept;
+
+    /// True while `slot` is between enter() and exit() (debug checks and diagnostics).
+    bool isInside(int slot) const noexcept {
+        return mSlots[slot].epoch.load(std::memory_order_relaxed) != kIdle;
+    }
 
     /// Readers currently inside enter/exit (for tests and diagnostics).
     std::size_t activeReaders() const noexcept;
