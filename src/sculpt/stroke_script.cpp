@@ -176,6 +176,12 @@ Step stepOf(const json& j) {
 
 Step parseStep(const std::string& line) { return stepOf(json::parse(line)); }
 
+Script parseHeaderLine(const std::string& line) {
+    Script s;
+    parseHeader(json::parse(line), s);
+    return s;
+}
+
 Script parseScript(const std::string& text, const std::string& name) {
     Script s;
     std::istringstream in(text);

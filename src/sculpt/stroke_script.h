@@ -34,6 +34,10 @@ Script parseScript(const std::string& text, const std::string& name);
 /// Parses one record line (a stroke, {"undo": 1} or {"redo": 1}). @throw std::invalid_argument,
 /// nlohmann::json::exception.
 Step parseStep(const std::string& line);
+/// Parses a header line alone (version, domain, start shape; no steps). Other formats that
+/// start from a script's clay read their start with it. @throw std::invalid_argument,
+/// nlohmann::json::exception.
+Script parseHeaderLine(const std::string& line);
 /// Reads and parses a file. @throw kizamu::FileError.
 Script readScript(const std::string& path);
 
