@@ -181,12 +181,50 @@ void benchTileRemesh(FigureSink& out, util::ThreadPool& pool, const AdfPtr& part
             }
             mesher.update(part);  // back to the base for the next dab
         }
+    // Then, in a loop of their own (mesh() and the shares would evict the update's caches): the
+    // mesh delta of each dab (mesh_delta.h) and, for scale, mesh().
+    std::vector<double> deltaMs, deltaTiles, meshMs;
+    mesher.takeDelta();
+    for (const AdfPtr& edited : dabs) {
+        mesher.update(edited);
+        const double t0 = nowSeconds();
+        const mesh::MeshDelta delta = mesher.takeDelta();
+        deltaMs.push_back((nowSeconds() - t0) * 1e3);
+        deltaTiles.push_back(double(delta.tiles.size() + delta.removed.size()));
+        const double t1 = nowSeconds();
+        const mesh::MeshBuffers m = mesher.mesh();
+        meshMs.push_back((nowSeconds() - t1) * 1e3);
+        mesher.update(part);
+        mesher.takeDelta();
+    }
     if (ms.empty()) {
         out.progress("no surface point lies well inside a tile at this level: no re-mesh figure");
     } else {
         out.add("mesh.tile_remesh_ms", median(ms), "ms", "update after a dab inside one tile, median of " + std::to_string(ms.size()) + " after an untimed pass");
         out.add("mesh.tile_remesh_tiles", median(tiles), "tiles", "tiles whose vertices were recomputed (median)");
+        out.add("mesh.tile_delta_ms", median(deltaMs), "ms", "takeDelta() after that update (median)");
+        out.add("mesh.tile_delta_tiles", median(deltaTiles), "tiles", "tiles in that delta, changed or removed (median)");
+        out.add("mesh.tile_delta_mesh_ms", median(meshMs), "ms", "mesh() after that update, for scale (median)");
     }
+    // A consumer's resync: every tile's share, and the consumer's flatten of its mirror.
+    mesher.update(part);
+    mesh::MeshMirror mirror;
+    std::vector<double> fullMs, flattenMs, assembleMs;
+    for (int rep = 0; rep < 5; ++rep) {
+        double t0 = nowSeconds();
+        mesh::MeshDelta resync = mesher.fullDelta();
+        fullMs.push_back((nowSeconds() - t0) * 1e3);
+        mirror.apply(std::move(resync));
+        t0 = nowSeconds();
+        const mesh::MeshBuffers flat = mirror.flatten();
+        flattenMs.push_back((nowSeconds() - t0) * 1e3);
+        t0 = nowSeconds();
+        const mesh::MeshBuffers m = mesher.mesh();
+        assembleMs.push_back((nowSeconds() - t0) * 1e3);
+    }
+    out.add("mesh.full_delta_ms", median(fullMs), "ms", "fullDelta(): every tile's share (resync), median of 5");
+    out.add("mesh.full_delta_mesh_ms", median(assembleMs), "ms", "mesh() of the same mesher, for scale, median of 5");
+    out.add("mesh.mirror_flatten_ms", median(flattenMs), "ms", "MeshMirror::flatten() of the resynced mirror (consumer side, serial)");
 }
 
 #ifdef KIZAMU_HAVE_OPENVDB

@@ -254,6 +254,10 @@ void SurfaceMesher::build(adf::AdfPtr adf) {
     dropEmptyTiles();
     totals(st);
     mStats = st;
+    // Every share is new: the next take is a full delta.
+    ++mGeneration;
+    mResetPending = true;
+    mChangedTiles.clear();
 }
 
 TileMesh* SurfaceMesher::ensureTile(uint64_t key) {

@@ -44,11 +44,13 @@
 /// Files: the phases are in surface_nets_crossings.cpp, surface_nets_cycles.cpp,
 /// surface_nets_vertices.cpp, surface_nets_assembly.cpp and surface_nets_update.cpp; the build
 /// and its scheduling in surface_nets.cpp; the internal state in namespace detail
-/// (surface_nets_records.h, surface_nets_tile.h, surface_nets_internal.h).
+/// (surface_nets_records.h, surface_nets_tile.h, surface_nets_internal.h); the per-tile deltas
+/// a consumer mirrors the mesh from (takeDelta, fullDelta) in mesh_delta.h and .cpp.
 #pragma once
 
 #include "adf/adf.h"
 #include "mesh/mesh_buffers.h"
+#include "mesh/mesh_delta.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -112,6 +114,19 @@ public:
     /// Complexity: O(mesh). Memory: the buffers.
     MeshBuffers mesh() const;
 
+    /// The tiles whose shares changed since the last takeDelta() or fullDelta() (mesh_delta.h):
+    /// each in full, with the tiles that were dropped. Several updates between two takes give
+    /// one delta (the union of their tiles); after a build, a full delta (reset).
+    /// Complexity: O(changed tiles' vertices + crossings), parallel over tiles on the pool.
+    /// Threading: the mesher's owning thread, between builds and updates (the delta is a value
+    /// it may hand to another thread). Memory: the delta.
+    MeshDelta takeDelta();
+    /// Every tile's share (reset: a consumer's resync). Counts as a take: the next takeDelta()
+    /// follows it. Complexity, threading, memory: as takeDelta(), over every tile.
+    MeshDelta fullDelta();
+    /// Counts builds and updates: the generation a delta taken now brings a mirror to.
+    uint64_t generation() const { return mGeneration; }
+
     const SurfaceNetsStats& stats() const { return mStats; }
     const adf::AdfPtr& snapshot() const { return mAdf; }
 
@@ -131,6 +146,13 @@ private:
     /// An update's scanned tiles' leaves, one set per tile: as many as the last update scanned
     /// stay, for their vectors' room.
     std::vector<std::unique_ptr<detail::ScannedLeaves>> mScanned;
+    /// Delta tracking: the keys of the tiles whose shares changed since the last take (with
+    /// repeats; appended by update()'s serial steps), whether a build happened since, the
+    /// generation counter and the generation of the last take.
+    MeshDelta deltaOf(std::vector<uint64_t> keys, bool reset);
+    std::vector<uint64_t> mChangedTiles;
+    bool mResetPending = true;
+    uint64_t mGeneration = 0, mTakenGeneration = 0;
 };
 
 /// Convenience: the SurfaceNets mesh of one snapshot.

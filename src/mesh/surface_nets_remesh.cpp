@@ -22,6 +22,7 @@
 #include "util/thread_pool.h"
 
 #include <algorithm>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -215,22 +216,68 @@ std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const 
     return made;
 }
 
+/// Phase 2d: the tiles whose shares the re-meshing changed: every re-meshed tile (its vertex
+/// slots), and the tile of every crossing around a re-meshed cell (meshCell rewrote its vertex
+/// refs; a crossing lives in the tile of its emitter's cell). A removed crossing's tile is its
+/// scan's. Complexity: O(incidences of the new vertices), nearly all in the vertex's own tile.
+/// Serial.
+void listRemeshedShares(const UpdateContext& ctx, const RemeshTiles& toRemesh,
+                        const std::vector<std::vector<VertexRef>>& made, std::vector<uint64_t>& changedTiles) {
+    for (const TileMesh* tm : toRemesh.tiles) changedTiles.push_back(tm->key);
+    for (const std::vector<VertexRef>& list : made)
+        for (const VertexRef& r : list) {
+            const TileMesh& tm = *r.tile;
+            const Vertex& v = tm.vertices[r.index];
+            uint64_t lastOther = UINT64_MAX;  // (a vertex's crossings mostly share a tile)
+            for (uint32_t j = v.incBegin; j < v.incEnd; ++j) {
+                const Crossing& x = *tm.incidences[j].x;
+                const uint64_t emitterCell = x.ringCell[x.emitter];
+                if (inTile(emitterCell, tm.key, tm.outside)) continue;
+                const uint64_t owner = ownerKey(ctx.newAdf, emitterCell);
+                if (owner != lastOther) changedTiles.push_back(lastOther = owner);
+            }
+        }
+}
+
 // --- Phase 3: split vertices and relaxation -----------------------------------------------------
 
 /// Phase 3a: recomputes the split vertices (rare) of the re-meshed tiles and their neighbours:
 /// a multi-crossing face lies between two adjacent cells, so its owner is the tile of a
-/// re-meshed cell or a neighbour of it. Complexity: O(multi-crossing faces of those tiles).
-/// Serial.
-void splitFacesNear(const UpdateContext& ctx, const RemeshTiles& toRemesh, TotalDeltas& deltas) {
+/// re-meshed cell or a neighbour of it. A tile whose split list changed, and the tile of each
+/// crossing whose split index changed, go to `changedTiles` (the crossings of re-meshed cells
+/// are there already). Complexity: O(multi-crossing faces of those tiles). Serial.
+void splitFacesNear(const UpdateContext& ctx, const RemeshTiles& toRemesh, TotalDeltas& deltas,
+                    std::vector<uint64_t>& changedTiles) {
     std::vector<uint64_t> nearKeys;
     for (const TileMesh* tm : toRemesh.tiles) neighbourKeys(ctx.newAdf, tm->slotMin, tm->slotEnd, nearKeys);
     sortUnique(nearKeys);
+    std::vector<SplitVertex> splitsBefore;
+    std::vector<std::array<uint32_t, 4>> indicesBefore;  // per segment end: its crossing's split[]
+    auto sameRef = [](const VertexRef& a, const VertexRef& b) { return a.tile == b.tile && a.index == b.index; };
     for (uint64_t k : nearKeys) {
         auto it = ctx.tiles.find(k);
         if (it == ctx.tiles.end() || (it->second->multiFaces.empty() && it->second->splits.empty())) continue;
-        deltas.splitEdges -= int64_t(it->second->splits.size());
-        splitFaces(*it->second);
-        deltas.splitEdges += int64_t(it->second->splits.size());
+        TileMesh& tm = *it->second;
+        splitsBefore.assign(tm.splits.begin(), tm.splits.end());
+        indicesBefore.clear();
+        for (const MultiFace& mf : tm.multiFaces)
+            for (const auto& [e, l] : mf.segments) {
+                indicesBefore.push_back(std::to_array(e.x->split));
+                indicesBefore.push_back(std::to_array(l.x->split));
+            }
+        deltas.splitEdges -= int64_t(tm.splits.size());
+        splitFaces(tm);
+        deltas.splitEdges += int64_t(tm.splits.size());
+        bool same = splitsBefore.size() == tm.splits.size();
+        for (std::size_t i = 0; same && i < splitsBefore.size(); ++i)
+            same = sameRef(splitsBefore[i].a, tm.splits[i].a) && sameRef(splitsBefore[i].b, tm.splits[i].b);
+        if (!same) changedTiles.push_back(tm.key);
+        std::size_t at = 0;
+        for (const MultiFace& mf : tm.multiFaces)
+            for (const auto& [e, l] : mf.segments)
+                for (const Crossing* x : {e.x, l.x})
+                    if (std::to_array(x->split) != indicesBefore[at++])
+                        changedTiles.push_back(ownerKey(ctx.newAdf, x->ringCell[x->emitter]));
     }
 }
 
@@ -262,7 +309,7 @@ void relaxBlocks(util::ThreadPool* pool, const std::vector<VertexRef>& list, uin
 /// Returns how many were relaxed. Complexity: O(relaxed vertices x their incidences).
 /// Threading: parallel over blocks of vertices; the marking between the two passes is serial.
 std::size_t relaxNewVertices(const UpdateContext& ctx, const std::vector<std::vector<VertexRef>>& made,
-                             uint32_t relaxMark) {
+                             uint32_t relaxMark, std::vector<uint64_t>& changedTiles) {
     std::vector<VertexRef> newVertices;
     for (const std::vector<VertexRef>& list : made) newVertices.insert(newVertices.end(), list.begin(), list.end());
     std::vector<std::vector<VertexRef>> readers;
@@ -274,6 +321,7 @@ std::size_t relaxNewVertices(const UpdateContext& ctx, const std::vector<std::ve
             if (reader.relaxStamp == relaxMark) continue;
             reader.relaxStamp = relaxMark;
             readersToRelax.push_back(r);
+            if (changedTiles.empty() || changedTiles.back() != r.tile->key) changedTiles.push_back(r.tile->key);
         }
     relaxBlocks(ctx.pool, readersToRelax, relaxMark, nullptr);
     return newVertices.size() + readersToRelax.size();
@@ -293,7 +341,7 @@ void releaseRemovedCrossings(const ScanList& toScan, const std::vector<TileResca
 /// Phase 4b: drops the state of the tiles that are gone (which must be empty by now) and of the
 /// tiles left empty (only a visited tile can become empty). Complexity: O(visited tiles). Serial.
 void dropEmptiedTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const ScanList& toScan,
-                      const RemeshTiles& toRemesh, TotalDeltas& deltas) {
+                      const RemeshTiles& toRemesh, TotalDeltas& deltas, std::vector<uint64_t>& changedTiles) {
     std::vector<uint64_t> emptied;
     for (uint64_t k : rebuilt.keys) {
         auto it = ctx.tiles.find(k);
@@ -311,6 +359,7 @@ void dropEmptiedTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, con
         deltas.splitEdges -= int64_t(it->second->splits.size());
         deltas.crossingSlots -= int64_t(it->second->crossings.size());
         ctx.tiles.erase(it);
+        changedTiles.push_back(k);
     }
 }
 

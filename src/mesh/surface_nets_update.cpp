@@ -496,6 +496,8 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     const std::vector<TileRescan> scans = rescanCrossings(ctx, rebuilt, changed, toScan, scanned);
     st.tilesScanned = toScan.tiles.size();
     addRescanCounts(scans, st, deltas);
+    for (std::size_t i = 0; i < scans.size(); ++i)  // (their crossings, hence triangles, changed)
+        if (!scans[i].added.empty() || !scans[i].removed.empty()) mChangedTiles.push_back(toScan.tiles[i]->key);
     const RemeshQueue queue = queueCellsToRemesh(ctx, changed, scans);
     const auto tPhase1 = std::chrono::steady_clock::now();
 
@@ -504,18 +506,19 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     const uint32_t relaxMark = nextRelaxMark(mTiles, mRelaxStamp);
     const std::vector<std::vector<VertexRef>> made =
         remeshCells(ctx, changed, queue, toRemesh, toScan, scanned, relaxMark, st, deltas);
+    listRemeshedShares(ctx, toRemesh, made, mChangedTiles);
     const auto tPhase2 = std::chrono::steady_clock::now();
 
     // 3. Split vertices near the re-meshed cells; relaxation of the new vertices and their readers.
-    splitFacesNear(ctx, toRemesh, deltas);
-    st.verticesRelaxed = relaxNewVertices(ctx, made, relaxMark);
+    splitFacesNear(ctx, toRemesh, deltas, mChangedTiles);
+    st.verticesRelaxed = relaxNewVertices(ctx, made, relaxMark, mChangedTiles);
 
     // 4. Removed records released, empty tiles dropped, totals.
     // The scans' leaf sets stay for the next update's room, as many as this one scanned (one
     // large edit does not keep hundreds of them for every dab after it).
     mScanned.resize(toScan.tiles.size());
     releaseRemovedCrossings(toScan, scans, deltas);
-    dropEmptiedTiles(ctx, rebuilt, toScan, toRemesh, deltas);
+    dropEmptiedTiles(ctx, rebuilt, toScan, toRemesh, deltas, mChangedTiles);
     const auto tPhase3 = std::chrono::steady_clock::now();
     auto ms = [](auto from, auto to) { return std::chrono::duration<double, std::milli>(to - from).count(); };
     st.crossingMs = ms(tStart, tPhase1);
@@ -528,6 +531,9 @@ void SurfaceMesher::update(adf::AdfPtr next) {
     assert(recount.crossingSlots == st.crossingSlots && "surface nets: the record count drifted");
 #endif
     mStats = st;
+    ++mGeneration;
+    // Updates nobody takes keep their tiles' keys: bounded by the tiles, not the updates.
+    if (mChangedTiles.size() > 4096 + 2 * mTiles.size()) sortUnique(mChangedTiles);
 }
 
 }  // namespace kizamu::mesh

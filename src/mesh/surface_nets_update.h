@@ -153,19 +153,28 @@ std::vector<std::vector<VertexRef>> remeshCells(const UpdateContext& ctx, const 
                                                 const ScanList& toScan, const std::vector<ScannedLeaves*>& scanned,
                                                 uint32_t relaxMark, SurfaceNetsStats& st, TotalDeltas& deltas);
 
-/// Phase 3a: recomputes the split vertices of the re-meshed tiles and their neighbours.
-void splitFacesNear(const UpdateContext& ctx, const RemeshTiles& toRemesh, TotalDeltas& deltas);
+/// Phase 2d: appends to `changedTiles` the keys of the tiles whose shares the re-meshing
+/// changed: the re-meshed tiles and the tiles of the crossings whose vertex refs it rewrote.
+void listRemeshedShares(const UpdateContext& ctx, const RemeshTiles& toRemesh,
+                        const std::vector<std::vector<VertexRef>>& made, std::vector<uint64_t>& changedTiles);
+
+/// Phase 3a: recomputes the split vertices of the re-meshed tiles and their neighbours; appends
+/// to `changedTiles` the tiles whose split vertices, or whose crossings' split indices, changed.
+void splitFacesNear(const UpdateContext& ctx, const RemeshTiles& toRemesh, TotalDeltas& deltas,
+                    std::vector<uint64_t>& changedTiles);
 
 /// Phase 3b: relaxes the new vertices, then every vertex that reads one; returns how many.
+/// Appends to `changedTiles` the tiles of the readers it relaxed.
 std::size_t relaxNewVertices(const UpdateContext& ctx, const std::vector<std::vector<VertexRef>>& made,
-                             uint32_t relaxMark);
+                             uint32_t relaxMark, std::vector<uint64_t>& changedTiles);
 
 /// Phase 4a: releases the removed crossing records.
 void releaseRemovedCrossings(const ScanList& toScan, const std::vector<TileRescan>& scans, TotalDeltas& deltas);
 
-/// Phase 4b: drops the state of the tiles that are gone and of the tiles left empty.
+/// Phase 4b: drops the state of the tiles that are gone and of the tiles left empty; appends
+/// their keys to `changedTiles`.
 void dropEmptiedTiles(const UpdateContext& ctx, const RebuiltTiles& rebuilt, const ScanList& toScan,
-                      const RemeshTiles& toRemesh, TotalDeltas& deltas);
+                      const RemeshTiles& toRemesh, TotalDeltas& deltas, std::vector<uint64_t>& changedTiles);
 
 /// Phase 4c: the whole mesh's totals in `st`: those `before` the update moved by `deltas`.
 void addTotals(const SurfaceNetsStats& before, const TotalDeltas& deltas, SurfaceNetsStats& st);
