@@ -12,6 +12,7 @@
 #include "mesh/mesh_import.h"
 #include "tests/support/mesh_intersections.h"
 #include "tests/util/painted.h"
+#include "tests/util/uv_sphere.h"
 #include "util/file_error.h"
 
 #include <Model/COM/NMR_DLLInterfaces.h>
@@ -38,29 +39,9 @@ namespace {
 
 /// A closed UV sphere with normals and a colour gradient.
 MeshBuffers uvSphere(float radius, int rings, int segments) {
-    MeshBuffers m;
-    auto add = [&](glm::vec3 n) {
-        m.positions.push_back(n * radius + glm::vec3(0.5f, 0.25f, -0.125f));
-        m.normals.push_back(n);
+    MeshBuffers m = test::uvEllipsoid(glm::vec3(0.5f, 0.25f, -0.125f), glm::vec3(radius), rings, segments);
+    for (const glm::vec3& n : m.normals)
         m.colours.push_back(glm::u8vec3(uint8_t(127.5f * (n.x + 1)), uint8_t(127.5f * (n.y + 1)), 200));
-    };
-    add({0, 0, 1});
-    for (int r = 1; r < rings; ++r)
-        for (int s = 0; s < segments; ++s) {
-            const float th = float(M_PI) * float(r) / float(rings), ph = 2.0f * float(M_PI) * float(s) / float(segments);
-            add({std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th)});
-        }
-    add({0, 0, -1});
-    const auto ring = [&](int r, int s) { return uint32_t(1 + (r - 1) * segments + (s % segments)); };
-    const auto bottom = uint32_t(m.positions.size() - 1);
-    for (int s = 0; s < segments; ++s) {
-        m.indices.insert(m.indices.end(), {0u, ring(1, s), ring(1, s + 1)});
-        for (int r = 1; r + 1 < rings; ++r) {
-            m.indices.insert(m.indices.end(), {ring(r, s), ring(r + 1, s), ring(r + 1, s + 1)});
-            m.indices.insert(m.indices.end(), {ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)});
-        }
-        m.indices.insert(m.indices.end(), {ring(rings - 1, s), bottom, ring(rings - 1, s + 1)});
-    }
     return m;
 }
 

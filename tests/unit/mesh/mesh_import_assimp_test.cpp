@@ -8,6 +8,7 @@
 #include "mesh/mesh_import_assimp.h"
 #include "mesh/mesh_import_reply.h"
 
+#include "tests/util/uv_sphere.h"
 #include "util/file_error.h"
 
 #include <glm/geometric.hpp>
@@ -34,28 +35,7 @@ namespace {
 /// A closed UV sphere stretched to an ellipsoid and moved off the origin, so that a swapped
 /// axis, a lost transform or a unit scale shows in the bounds.
 MeshBuffers ellipsoid(int rings, int segments) {
-    MeshBuffers m;
-    const glm::vec3 radii(0.3f, 0.5f, 0.7f), centre(0.5f, -0.25f, 1.5f);
-    m.positions.push_back(centre + glm::vec3(0, 0, radii.z));
-    for (int r = 1; r < rings; ++r)
-        for (int s = 0; s < segments; ++s) {
-            const float th = float(M_PI) * float(r) / float(rings);
-            const float ph = 2.0f * float(M_PI) * float(s) / float(segments);
-            m.positions.push_back(centre + radii * glm::vec3(std::sin(th) * std::cos(ph),
-                                                             std::sin(th) * std::sin(ph), std::cos(th)));
-        }
-    m.positions.push_back(centre - glm::vec3(0, 0, radii.z));
-    const auto ring = [&](int r, int s) { return uint32_t(1 + (r - 1) * segments + (s % segments)); };
-    const auto bottom = uint32_t(m.positions.size() - 1);
-    for (int s = 0; s < segments; ++s) {
-        m.indices.insert(m.indices.end(), {0u, ring(1, s), ring(1, s + 1)});
-        for (int r = 1; r + 1 < rings; ++r) {
-            m.indices.insert(m.indices.end(), {ring(r, s), ring(r + 1, s), ring(r + 1, s + 1)});
-            m.indices.insert(m.indices.end(), {ring(r, s), ring(r + 1, s + 1), ring(r, s + 1)});
-        }
-        m.indices.insert(m.indices.end(), {ring(rings - 1, s), bottom, ring(rings - 1, s + 1)});
-    }
-    return m;
+    return test::uvEllipsoid(glm::vec3(0.5f, -0.25f, 1.5f), glm::vec3(0.3f, 0.5f, 0.7f), rings, segments);
 }
 
 double signedVolume(const MeshBuffers& m) {
