@@ -109,7 +109,7 @@ void runConvert(const ConvertOptions& o) {
         return;
     }
     std::vector<std::string> warnings;
-    bool inMetres = false;  // a format that declares its unit (read through assimp)
+    bool inMetres = false;  // a format that declares its unit (glTF, FBX, COLLADA)
     mesh::MeshBuffers m = mesh::importMesh(o.in, &warnings, &inMetres);
     const mesh::LengthUnit inUnit = inMetres ? mesh::LengthUnit::Metre : *mesh::lengthUnitOf(o.inUnits);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -170,7 +170,7 @@ void addConvertCommand(CLI::App& app) {
         "Convert between mesh formats (.obj .stl .ply .off, and through assimp .gltf .glb .fbx .dae .3ds and more "
         "-> .obj .stl .ply .glb .3mf) and ADFs (.kza), either way. A mesh -> mesh conversion with --level or --lod "
         "goes through an ADF: a closed, manifold remesh. ADFs are in metres; mesh files in millimetres unless "
-        "--units/--in-units say otherwise (.glb: metres; files read through assimp keep the unit they declare).");
+        "--units/--in-units say otherwise (.glb: metres; glTF, FBX and COLLADA inputs keep the unit they declare).");
     auto o = std::make_shared<ConvertOptions>();
     cmd->add_option("in", o->in, "Input file")->required();
     cmd->add_option("out", o->out, "Output file; its extension picks the format")->required();
@@ -188,7 +188,7 @@ void addConvertCommand(CLI::App& app) {
                     "Unit of the output mesh's coordinates (default: mm; .3mf records it; .glb is "
                     "always m)")
         ->check(CLI::IsMember({"mm", "cm", "m"}));
-    cmd->add_option("--in-units", o->inUnits, "Unit of a unitless mesh input's coordinates (OBJ, STL, PLY, OFF; formats read through assimp declare theirs)")
+    cmd->add_option("--in-units", o->inUnits, "Unit of a mesh input's coordinates (glTF, FBX and COLLADA declare theirs and keep it)")
         ->check(CLI::IsMember({"mm", "cm", "m"}))
         ->capture_default_str();
     cmd->add_flag("--quiet", o->quiet, "No progress line on stderr (drawn only on a terminal)");

@@ -8,7 +8,10 @@
 /// and orient3d, bound A); only where the result lies inside that bound is it recomputed in
 /// exact integers (boost::multiprecision::cpp_int, every coordinate scaled by the power of two
 /// of the smallest among them), which is rare off degenerate input. Every finite double converts
-/// exactly, so the sign is that of the real determinant of the given points.
+/// exactly, so the sign is that of the real determinant of the given points, provided no product
+/// of coordinate differences underflows (the filter's bound is relative): true for any float32
+/// coordinates, which is what the untangling passes (the smallest product of three differences
+/// of floats is about 2^-447, far above double's 2^-1022).
 /// Pure functions; any thread.
 #pragma once
 

@@ -288,7 +288,8 @@ void exportMesh(const MeshBuffers& mesh, const std::string& path, const ExportOp
     if (options.untangle) {
         untangled.positions.assign(pos.begin(), pos.end());
         untangled.indices = mesh.indices;
-        const UntangleReport r = untangle(untangled, options.pool);
+        const UntangleReport r = untangle(untangled, options.pool, 64,
+                                          format == ExportFormat::ThreeMf ? detail::threeMfWritten : nullptr);
         if (options.untangled != nullptr) *options.untangled = r;  // (the caller reports r.remaining)
         pos = Positions(untangled.positions.data(), untangled.positions.size());
     }

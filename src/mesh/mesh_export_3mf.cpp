@@ -116,4 +116,13 @@ void writeThreeMf(const MeshBuffers& m, std::span<const glm::vec3> pos, LengthUn
           "write the package");
 }
 
+glm::vec3 threeMfWritten(const glm::vec3& p) {
+    glm::vec3 out;
+    for (int k = 0; k < 3; ++k) {
+        const auto micro = static_cast<long long>(p[k] * 1e6f);  // lib3mf's float product, truncated
+        out[k] = static_cast<float>(static_cast<double>(micro) / 1e6);
+    }
+    return out;
+}
+
 }  // namespace kizamu::mesh::detail

@@ -23,4 +23,10 @@ namespace kizamu::mesh::detail {
 void writeThreeMf(const MeshBuffers& m, std::span<const glm::vec3> pos, LengthUnit unit,
                   const std::string& path, std::vector<std::byte>& out);
 
+/// The position a reader gets back from a 3MF for `p` as lib3mf writes it: each coordinate
+/// multiplied by 10^6 in float, truncated toward zero and written with six decimals (what
+/// lib3mf 1.8's mesh writer does; a test reads every coordinate of an export back to hold it
+/// to that). Not the identity: untangling decides contacts on these.
+glm::vec3 threeMfWritten(const glm::vec3& p);
+
 }  // namespace kizamu::mesh::detail

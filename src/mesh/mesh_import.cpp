@@ -400,6 +400,19 @@ MeshBuffers decodeMesh(std::string_view bytes, MeshFormat format, const std::str
     return m;
 }
 
+namespace {
+
+/// The formats whose unit the helper applies (glTF is metres by its specification; FBX's
+/// UnitScaleFactor and COLLADA's <unit> are converted): the rest (3DS, X, 3MF, AMF, ...) come as
+/// their numbers, like ours.
+bool assimpConvertsToMetres(std::string_view extension) {
+    for (const char* e : {"gltf", "glb", "fbx", "dae"})
+        if (equalsNoCase(extension, e)) return true;
+    return false;
+}
+
+}  // namespace
+
 MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnings, bool* inMetres) {
     const std::string bytes = util::readWholeFile(path);
     if (inMetres != nullptr) *inMetres = false;
@@ -419,7 +432,7 @@ MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnin
     const bool foreignName = byName == none && assimpReadsExtension(path);
     if (byContent == none && !foreign && byName == none) {
         if (foreignName) {
-            if (inMetres != nullptr) *inMetres = true;
+            if (inMetres != nullptr) *inMetres = assimpConvertsToMetres(extension.empty() ? "" : extension.substr(1));
             return importWithAssimp(path, {}, warnings);
         }
         throw FileError(path,
@@ -442,7 +455,7 @@ MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnin
                                 ": read as " + content);
     }
     if (foreign) {
-        if (inMetres != nullptr) *inMetres = true;
+        if (inMetres != nullptr) *inMetres = assimpConvertsToMetres(foreign->extension);
         return importWithAssimp(path, settings, warnings);
     }
     return decodeMesh(bytes, byContent != none ? byContent : byName, path, warnings);

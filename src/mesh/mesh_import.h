@@ -55,8 +55,9 @@ std::optional<MeshFormat> meshFormatOfContent(std::string_view bytes);
 /// (importWithAssimp, default settings).
 /// @param warnings  as for decodeMesh; may be null.
 /// @param inMetres  set where not null: true when the format carries its unit and the positions
-///                  were converted to metres (everything read through assimp), false when the
-///                  numbers are as the file holds them, in no unit (OBJ, STL, PLY, OFF).
+///                  were converted to metres (glTF, FBX, COLLADA, read through assimp), false
+///                  when the numbers are as the file holds them (OBJ, STL, PLY, OFF, and assimp's
+///                  other formats: 3DS, X, 3MF, ...).
 /// @throw kizamu::FileError when the file cannot be read, neither its content nor its extension
 /// names a format, or decodeMesh or importWithAssimp fails.
 MeshBuffers importMesh(const std::string& path, std::vector<std::string>* warnings = nullptr,

@@ -123,7 +123,9 @@ using Triangle = std::array<uint32_t, 3>;
 /// The mesh's positions in doubles (exact) and its triangles.
 struct Geometry {
     const MeshBuffers& mesh;
-    Point at(uint32_t v) const { return Point(mesh.positions[v]); }
+    WrittenPosition written;  ///< or null: the positions as they are
+    glm::vec3 position(uint32_t v) const { return written ? written(mesh.positions[v]) : mesh.positions[v]; }
+    Point at(uint32_t v) const { return Point(position(v)); }
     Triangle triangle(std::size_t t) const {
         return {mesh.indices[3 * t], mesh.indices[3 * t + 1], mesh.indices[3 * t + 2]};
     }
@@ -183,11 +185,11 @@ struct Found {
 };
 
 /// Vertices sharing a position (compared as floats, so -0 and +0 are one position).
-void findCoincident(const MeshBuffers& m, Found& out) {
-    std::vector<uint32_t> order(m.positions.size());
+void findCoincident(const Geometry& g, Found& out) {
+    std::vector<uint32_t> order(g.mesh.positions.size());
     for (uint32_t i = 0; i < order.size(); ++i) order[i] = i;
     auto key = [&](uint32_t v) {
-        const glm::vec3& p = m.positions[v];
+        const glm::vec3 p = g.position(v);
         return std::make_tuple(p.x, p.y, p.z);
     };
     std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return key(a) < key(b); });
@@ -270,7 +272,7 @@ struct Rings {
 
 }  // namespace
 
-UntangleReport untangle(MeshBuffers& mesh, util::ThreadPool* pool, int maxRounds) {
+UntangleReport untangle(MeshBuffers& mesh, util::ThreadPool* pool, int maxRounds, WrittenPosition written) {
     UntangleReport report;
     const std::size_t nt = mesh.triangleCount(), nv = mesh.positions.size();
     if (nt == 0) return report;
@@ -285,10 +287,10 @@ UntangleReport untangle(MeshBuffers& mesh, util::ThreadPool* pool, int maxRounds
     }
     std::vector<uint8_t> dirty(nt, 1), moved(nv, 0);
     std::vector<std::pair<uint32_t, glm::vec3>> original;  // moved vertices' first positions
-    const Geometry g{mesh};
+    const Geometry g{mesh, written};
     for (int round = 0; round <= maxRounds; ++round) {
         Found found;
-        findCoincident(mesh, found);
+        findCoincident(g, found);
         findContacts(g, dirty, pool, found);
         if (round == 0) {
             report.coincidentVertices = found.coincident;

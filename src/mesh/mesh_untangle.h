@@ -15,12 +15,14 @@
 /// Determinism: the result depends on the mesh's geometry and connectivity, not on the
 /// numbering (neighbours are summed in the order of their positions), so two numberings of one
 /// mesh untangle to the same positions.
-/// Complexity: O(T log T) per round (a sparse grid over triangle boxes), a few rounds.
+/// Complexity: O(T log T) per round (a tree of triangle boxes), a few rounds.
 /// Threading: the pair tests in parallel on a pool, the rest on the caller's thread; the mesh is
 /// the caller's.
 #pragma once
 
 #include "mesh/mesh_buffers.h"
+
+#include <glm/vec3.hpp>
 
 #include <cstddef>
 
@@ -39,9 +41,16 @@ struct UntangleReport {
     std::size_t remaining = 0;           ///< coincident vertices plus contacts left (0 unless the rounds ran out)
 };
 
+/// How a writer turns a position into the one a reader gets back (a 3MF's six decimals); the
+/// identity where it writes floats as they are.
+using WrittenPosition = glm::vec3 (*)(const glm::vec3&);
+
 /// Separates coincident vertices and removes contacts from `mesh` (positions only).
 /// @param pool the pair tests run on it (nullptr: on the caller's thread); the result is the same
 /// @param maxRounds detection-and-smoothing rounds before it gives up (`remaining` says what is left)
-UntangleReport untangle(MeshBuffers& mesh, util::ThreadPool* pool = nullptr, int maxRounds = 64);
+/// @param written where set, contacts and coincidences are decided on written(position), what
+///        the file will hold, while the mesh keeps the positions to hand to the writer
+UntangleReport untangle(MeshBuffers& mesh, util::ThreadPool* pool = nullptr, int maxRounds = 64,
+                        WrittenPosition written = nullptr);
 
 }  // namespace kizamu::mesh

@@ -9,6 +9,7 @@
 #include "adf/test_part.h"
 #include "mesh/surface_nets.h"
 
+#include "mesh/mesh_export_3mf.h"
 #include "mesh/mesh_import.h"
 #include "tests/support/mesh_intersections.h"
 #include "tests/util/painted.h"
@@ -29,6 +30,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -257,6 +259,7 @@ struct ThreeMfContent {
     DWORD unit = 99;
     DWORD vertices = 0, triangles = 0;
     Box box;
+    MeshBuffers mesh;  ///< the positions and triangles as read
 };
 
 ThreeMfContent readThreeMf(const std::string& path) {
@@ -293,8 +296,14 @@ ThreeMfContent readThreeMf(const std::string& path) {
     NMR::lib3mf_meshobject_gettrianglecount(meshObject.get(), &c.triangles);
     std::vector<NMR::MODELMESHVERTEX> v(c.vertices);
     NMR::lib3mf_meshobject_getvertices(meshObject.get(), v.data(), DWORD(v.size()), nullptr);
-    for (const NMR::MODELMESHVERTEX& p : v)
+    for (const NMR::MODELMESHVERTEX& p : v) {
         c.box.add({p.m_fPosition[0], p.m_fPosition[1], p.m_fPosition[2]});
+        c.mesh.positions.push_back({p.m_fPosition[0], p.m_fPosition[1], p.m_fPosition[2]});
+    }
+    std::vector<NMR::MODELMESHTRIANGLE> t(c.triangles);
+    NMR::lib3mf_meshobject_gettriangleindices(meshObject.get(), t.data(), DWORD(t.size()), nullptr);
+    for (const NMR::MODELMESHTRIANGLE& tri : t)
+        c.mesh.indices.insert(c.mesh.indices.end(), {tri.m_nIndices[0], tri.m_nIndices[1], tri.m_nIndices[2]});
     return c;
 }
 
@@ -418,5 +427,29 @@ TEST_F(MeshExport, UntangledExportsAreEmbeddedOnTheirWrittenCoordinates) {
         const test::MeshIntersections after = test::findMeshIntersections(back);
         EXPECT_TRUE(after.clean()) << unitSymbol(unit) << ": " << after.describe(back);
         EXPECT_TRUE(test::weldsToClosedManifold(back)) << unitSymbol(unit);
+        // A 3MF keeps six decimals of its unit: decided on what a reader gets back.
+        const std::string threeMf = (mDir / "folded.3mf").string();
+        exportMesh(folded, threeMf, {.unit = unit, .untangle = true});
+        const MeshBuffers read = readThreeMf(threeMf).mesh;
+        const test::MeshIntersections in3mf = test::findMeshIntersections(read);
+        EXPECT_TRUE(in3mf.clean()) << "3MF in " << unitSymbol(unit) << ": " << in3mf.describe(read);
     }
+}
+
+TEST_F(MeshExport, ThreeMfCoordinatesReadBackAsTheUntanglingAssumes) {
+    MeshBuffers m;
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(-700.0f, 700.0f);
+    for (int i = 0; i < 3000; ++i) m.positions.push_back({u(rng), u(rng) * 1e-3f, u(rng) * 1e-5f});
+    for (uint32_t i = 0; i < 3000; ++i) m.indices.push_back(i);
+    const std::string path = (mDir / "grid.3mf").string();
+    exportMesh(m, path, {.unit = LengthUnit::Millimetre, .meshUnit = LengthUnit::Millimetre});
+    const MeshBuffers back = readThreeMf(path).mesh;
+    ASSERT_EQ(back.positions.size(), m.positions.size());
+    std::size_t changed = 0;
+    for (std::size_t i = 0; i < m.positions.size(); ++i) {
+        ASSERT_EQ(back.positions[i], detail::threeMfWritten(m.positions[i])) << i;
+        changed += back.positions[i] != m.positions[i];
+    }
+    EXPECT_GT(changed, 1000u) << "the six decimals do round";
 }
