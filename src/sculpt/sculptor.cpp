@@ -15,6 +15,11 @@
 #include <glm/vector_relational.hpp>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+#include <stdexcept>
+#include <string>
 #include <chrono>
 #include <memory>
 #include <span>
@@ -37,7 +42,22 @@ std::size_t replacedBytes(const adf::Adf& before, const adf::Adf& after, const a
     return bytes;
 }
 
+adf::BoxWorld boxUnion(const adf::BoxWorld& a, const adf::BoxWorld& b) { return {glm::min(a.min, b.min), glm::max(a.max, b.max)}; }
+
 }  // namespace
+
+/// The state of a live stroke (Sculptor::beginStroke): what it measures against and what it
+/// has applied.
+struct Sculptor::LiveStroke {
+    Stroke stroke;                 ///< the header with every pose so far and the total dwell
+    adf::AdfPtr start;             ///< the snapshot before the stroke (undo and cancel return to it)
+    adf::SourcePtr startSource;    ///< its field: what following, smooth and flatten read
+    ToolLimits limits;
+    std::vector<ToolSample> path;  ///< resolved poses applied so far; back() is the next joint
+    std::shared_ptr<const SweptTool> applied;  ///< swept along `path` (gradual tools); null before the first segment
+    double appliedDwell = 0.0;     ///< s, the dwell the applied segments melted for
+    std::array<std::optional<adf::BoxWorld>, 8> regions;  ///< per mirrored copy: the union of its segments' regions
+};
 
 Sculptor::Sculptor(adf::AdfPtr start, util::ThreadPool* pool, std::size_t historyBytes)
     : mPool(pool), mCurrent(std::move(start)), mBudget(historyBytes) {
@@ -45,6 +65,135 @@ Sculptor::Sculptor(adf::AdfPtr start, util::ThreadPool* pool, std::size_t histor
 }
 
 Sculptor::~Sculptor() = default;
+
+void Sculptor::requireNoLiveStroke(const char* what) const {
+    if (mLive) throw std::logic_error(std::string(what) + " while a live stroke is open (endStroke or cancelStroke first)");
+}
+
+void Sculptor::beginStroke(const Stroke& header) {
+    requireNoLiveStroke("beginStroke");
+    if (header.bezier) throw std::invalid_argument("a live stroke is a polyline: its header cannot be a Bezier curve");
+    Stroke check = header;
+    if (check.samples.empty()) check.samples.push_back({});  // validate() wants a pose; the tool and constraints matter here
+    validate(check);
+    if (header.tool.op == ToolOp::Paint) throw std::logic_error("live strokes: paint is not segmented yet");
+    ToolLimits limits = limitsFor(header);
+    // Following reads the field away from the surface; the path is not known yet, so every
+    // pending zone is corrected now (apply() corrects those near its path).
+    if (header.constraints.followOffset && mCorrecting) finishCorrections();
+    auto live = std::make_unique<LiveStroke>();
+    live->stroke = header;
+    live->stroke.samples.clear();
+    live->stroke.dwell = 0.0;
+    live->start = mCurrent;
+    live->startSource = adf::makeAdfSource(mCurrent);
+    live->limits = std::move(limits);
+    mLive = std::move(live);
+    if (header.samples.empty() && !(header.dwell > 0.0)) return;
+    try {
+        extendStroke(header.samples, header.dwell);
+    } catch (...) {
+        mLive.reset();
+        throw;
+    }
+}
+
+void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
+    if (!mLive) throw std::logic_error("extendStroke without a live stroke (beginStroke first)");
+    LiveStroke& live = *mLive;
+    const Tool& tool = live.stroke.tool;
+    if (tool.op == ToolOp::Paint) throw std::logic_error("live strokes: paint is not segmented yet");
+    if (!std::isfinite(dwell) || dwell < 0.0) throw std::invalid_argument("a live stroke's dwell must be finite and >= 0 s");
+    const auto t0 = std::chrono::steady_clock::now();
+    // The segment starts at the joint: the last pose applied, so consecutive segments overlap there.
+    std::vector<ToolSample> raw;
+    if (!live.stroke.samples.empty()) raw.push_back(live.stroke.samples.back());
+    raw.insert(raw.end(), samples.begin(), samples.end());
+    if (!samples.empty()) validateStroke(tool, raw);
+    const double dwellNow = live.stroke.dwell + dwell;
+    const bool melts = tool.op == ToolOp::HeatGun && dwell > 0.0;
+    if (raw.empty() || (samples.empty() && !melts)) {  // nothing new to sweep
+        live.stroke.dwell = dwellNow;
+        return;
+    }
+    const adf::Domain d = live.start->domain();
+    const double h = d.finestCellSize();
+    Stroke segment = live.stroke;
+    segment.samples = std::move(raw);
+    // Resolved against the start snapshot; the joint resolves to the previous segment's last pose.
+    std::vector<ToolSample> segPath = resolvePath(segment, *live.start, 0.1 * h);
+    std::vector<ToolSample> pathNow = live.path;
+    pathNow.insert(pathNow.end(), segPath.begin() + (live.path.empty() ? 0 : 1), segPath.end());
+    const auto segTool = makeSweptTool(tool, segPath);
+    const bool csg = tool.op == ToolOp::Carve || tool.op == ToolOp::Add;
+    const std::shared_ptr<const SweptTool> appliedNow = csg ? nullptr : makeSweptTool(tool, pathNow);
+    // The heat gun's grown dwell melts the whole path so far.
+    const adf::BoxWorld toolBox = melts && live.applied ? boxUnion(segTool->bounds(), live.applied->bounds()) : segTool->bounds();
+    const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
+    adf::AdfPtr next = mCurrent;
+    std::array<std::optional<adf::BoxWorld>, 8> regions = live.regions;
+    std::size_t tiles = 0, evaluated = 0;
+    for (uint8_t reflect = 0; reflect < 8; ++reflect) {
+        if ((reflect & ~live.stroke.mirror) != 0) continue;
+        const adf::BoxWorld region = strokeRegion(*next, mirroredBox(toolBox, reflect, centre));
+        const adf::SourcePtr old = adf::makeAdfSource(next);
+        adf::SourcePtr edited;
+        if (csg) {
+            edited = makeStrokeEdit(old, segTool, reflect, centre, 0.0, live.limits, h);
+        } else {
+            const bool heat = tool.op == ToolOp::HeatGun;
+            LiveSegment seg{live.startSource, segTool, live.applied, heat ? tool.rate * live.appliedDwell : tool.amount,
+                            heat ? tool.rate * dwellNow : tool.amount, pathNow.front()};
+            edited = makeLiveSegmentEdit(old, std::move(seg), reflect, centre, live.limits, h);
+        }
+        adf::GenerationStats gs;
+        next = adf::regenerate(*next, *adf::makeRegionLimited(old, edited, region), region, mPool, &gs);
+        tiles += gs.tilesGenerated + gs.coarseTiles;
+        evaluated += gs.samples;
+        regions[reflect] = regions[reflect] ? boxUnion(*regions[reflect], region) : region;
+    }
+    // Nothing has changed the live state before this point: a throw above leaves it as it was.
+    mCurrent = std::move(next);
+    live.stroke.samples.insert(live.stroke.samples.end(), samples.begin(), samples.end());
+    live.stroke.dwell = dwellNow;
+    live.path = std::move(pathNow);
+    live.applied = appliedNow;
+    live.appliedDwell = dwellNow;
+    live.regions = regions;
+    mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    mLast.tilesRebuilt = tiles;
+    mLast.samples = evaluated;
+    mLast.colourTilesPainted = 0;
+    mLast.replacedBytes = 0;
+}
+
+Stroke Sculptor::endStroke() {
+    if (!mLive) throw std::logic_error("endStroke without a live stroke (beginStroke first)");
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::unique_ptr<LiveStroke> live = std::move(mLive);
+    if (live->path.empty()) {  // nothing applied: no record
+        mCurrent = live->start;
+        return live->stroke;
+    }
+    adf::AdfPtr last = std::move(mCurrent);
+    PendingList pending = mPending;
+    std::size_t bytes = 0;
+    for (const std::optional<adf::BoxWorld>& region : live->regions) {
+        if (!region) continue;
+        bytes += replacedBytes(*live->start, *last, *region);
+        if (mCorrecting) pending = std::make_shared<const PendingZone>(PendingZone{correctionZone(*last, *region, mCorrection), pending});
+    }
+    mCurrent = live->start;  // the undo record's snapshot
+    mLast.colourTilesPainted = 0;
+    finish(std::move(last), bytes, std::move(pending), t0);
+    return live->stroke;
+}
+
+void Sculptor::cancelStroke() {
+    if (!mLive) throw std::logic_error("cancelStroke without a live stroke (beginStroke first)");
+    mCurrent = mLive->start;
+    mLive.reset();
+}
 
 adf::BoxWorld strokeRegion(const adf::Adf& adf, const adf::BoxWorld& swept) {
     const adf::Domain& d = adf.domain();
@@ -65,6 +214,7 @@ ToolLimits Sculptor::limitsFor(const Stroke& stroke) const {
 }
 
 void Sculptor::apply(const Stroke& stroke) {
+    requireNoLiveStroke("apply");
     const auto t0 = std::chrono::steady_clock::now();
     validate(stroke);  // before anything changes: a rejected stroke leaves no trace
     const ToolLimits limits = limitsFor(stroke);
@@ -143,6 +293,7 @@ void Sculptor::finish(adf::AdfPtr next, std::size_t replacedBytes, PendingList p
 }
 
 bool Sculptor::undo() {
+    requireNoLiveStroke("undo");
     if (mUndo.empty()) return false;
     Record r = std::move(mUndo.back());
     mUndo.pop_back();
@@ -154,6 +305,7 @@ bool Sculptor::undo() {
 }
 
 bool Sculptor::redo() {
+    requireNoLiveStroke("redo");
     if (mRedo.empty()) return false;
     Record r = std::move(mRedo.back());
     mRedo.pop_back();
@@ -188,6 +340,7 @@ Sculptor::PendingList Sculptor::listOf(const std::vector<adf::BoxWorld>& oldestF
 std::vector<adf::BoxWorld> Sculptor::pendingCorrections() const { return oldestFirst(mPending); }
 
 void Sculptor::correct(std::vector<adf::BoxWorld> zones, std::vector<adf::BoxWorld> remaining) {
+    requireNoLiveStroke("a correction");
     if (!zones.empty()) mCurrent = correctZones(mCurrent, std::move(zones), mPool, mCorrection);
     mPending = listOf(remaining);
 }

@@ -13,6 +13,24 @@
 /// Undo history: the snapshot before each stroke. Snapshots share untouched tiles, so a record
 /// costs the tiles the stroke replaced, and undo/redo are a pointer swap. The history keeps at
 /// most `historyBytes` of such tiles, dropping the oldest records first.
+///
+/// Live strokes (beginStroke, extendStroke, endStroke, cancelStroke): while the button is held,
+/// each extendStroke applies the segment of the path since the last applied pose and publishes
+/// the result as current(); endStroke makes the whole stroke one undo record and one correction
+/// zone, cancelStroke restores the start. Everything the stroke measures against (surface
+/// following, depth and height limits, flatten's plane, smooth's mean) reads the snapshot from
+/// the stroke's start. A stroke applied live in any number of segments equals apply() of the
+/// whole stroke within the error bound plus one quantisation step (tested):
+/// - carve, add: min/max of the previous segment's result with the segment's swept tool; min and
+///   max are associative and the segments' volumes (each including the joint) make up the whole.
+/// - build, smooth, flatten: a segment applies only the growth of the stroke's running maximum
+///   weight (LiveSegment, stroke_edit.h); each is linear in the weight, the rest read from the
+///   start snapshot.
+/// - heat gun: the dwell comes with the samples (extendStroke's `dwell`, s); a segment applies
+///   rate x (dwell so far x W so far) less what was applied, over the whole path when the dwell grew.
+/// - paint: not segmented yet (std::logic_error).
+/// Mirrored live strokes of the gradual tools read the start snapshot in every copy, where
+/// apply() lets a copy read the one before it: they differ only where copies overlap.
 /// Owned by the edit thread; not thread-safe.
 #pragma once
 
@@ -24,6 +42,7 @@
 #include <cstddef>
 #include <deque>
 #include <memory>
+#include <span>
 
 namespace kizamu::util {
 class ThreadPool;
@@ -58,6 +77,37 @@ public:
     bool undo();
     /// Re-applies the last undone stroke; false when there is none. Complexity: O(1).
     bool redo();
+    /// Opens a live stroke: `header` gives the tool, the constraints, the mirror mask, and any
+    /// first poses and dwell (applied at once, as extendStroke would). A stroke that follows the
+    /// surface first completes every pending correction (its path is not known yet). Undo, redo,
+    /// apply and corrections throw std::logic_error until the stroke ends or is cancelled.
+    /// @throw std::invalid_argument for a bad tool or constraints, or a Bezier header;
+    ///        std::logic_error while a stroke is open, or for paint (not segmented yet).
+    /// Complexity: O(1) plus what the first poses cost. Threading: the edit thread.
+    void beginStroke(const Stroke& header);
+    /// Applies the swept tool from the last applied pose (the joint, so segments leave no gap)
+    /// through `samples`, and `dwell` (s, the heat gun's time since the last call; ignored by
+    /// the other tools), and makes the result current(). Empty `samples` with a dwell melts
+    /// the path so far further.
+    /// @throw std::logic_error without an open stroke; std::invalid_argument for bad samples or
+    ///        dwell (nothing changes).
+    /// Complexity: one regeneration of the segment's region (the heat gun: the path's, when the
+    /// dwell grew); the poses so far are kept, O(poses) memory.
+    void extendStroke(std::span<const ToolSample> samples, double dwell = 0.0);
+    /// Ends the live stroke: one undo record (undo returns the snapshot before beginStroke, redo
+    /// this one), one pending correction zone per mirrored copy (the union of its segments'
+    /// regions), redo records dropped. A stroke that applied nothing leaves no record.
+    /// @return the whole stroke (header, every pose, the total dwell): what a journal records,
+    ///         and what apply() of it reproduces.
+    /// @throw std::logic_error without an open stroke.
+    /// Complexity: O(tiles in the stroke's regions), counting the replaced bytes; no regeneration.
+    Stroke endStroke();
+    /// Drops the live stroke: current() is the snapshot before beginStroke again; no record.
+    /// @throw std::logic_error without an open stroke. Complexity: O(1).
+    void cancelStroke();
+    /// Whether a live stroke is open.
+    bool stroking() const { return mLive != nullptr; }
+
     /// A script step: apply, undo, redo or correct.
     void replay(const Step& step);
 
@@ -96,6 +146,9 @@ private:
     static PendingList listOf(const std::vector<adf::BoxWorld>& oldestFirst);
 
     ToolLimits limitsFor(const Stroke& stroke) const;
+    /// @throw std::logic_error naming `what` while a live stroke is open.
+    void requireNoLiveStroke(const char* what) const;
+    struct LiveStroke;
     /// Makes `next` current, with `pending` corrections, and an undo record of `replacedBytes`.
     void finish(adf::AdfPtr next, std::size_t replacedBytes, PendingList pending, std::chrono::steady_clock::time_point t0);
 
@@ -116,6 +169,7 @@ private:
     std::deque<Record> mRedo;
     std::size_t mBudget, mHistoryBytes = 0;
     EditStats mLast;
+    std::unique_ptr<LiveStroke> mLive;
 };
 
 /// The region a stroke regenerates: its swept box plus the band and two finest cells, clipped

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
 #include <span>
 #include <utility>
 
@@ -169,7 +170,127 @@ private:
     ToolLimits mLimits;
 };
 
+/// The tool's distance at p (q: p mirrored) where below `limit`, cut by masks and limits
+/// (StrokeEdit::toolBelow, for any swept tool).
+double limitedToolBelow(const SweptTool& tool, const ToolLimits& limits, const glm::dvec3& p, const glm::dvec3& q, double limit) {
+    double d = tool.distanceBelow(q, limit);
+    if (d >= limit || limits.empty()) return d;
+    for (const adf::SourcePtr& m : limits.masks) d = std::max(d, -m->distance(p));
+    if (limits.reference) {
+        const double ref = limits.reference->distance(p);
+        if (limits.depth >= 0.0) d = std::max(d, -(ref + limits.depth));
+        if (limits.height >= 0.0) d = std::max(d, ref - limits.height);
+    }
+    return d;
+}
+
+/// old + the growth a live segment of a gradual tool adds (LiveSegment).
+class LiveSegmentEdit final : public adf::DistanceSource {
+public:
+    LiveSegmentEdit(adf::SourcePtr old, LiveSegment seg, uint8_t reflect, glm::dvec3 centre, ToolLimits limits, double finestCell)
+        : mOld(std::move(old)), mSeg(std::move(seg)), mOp(mSeg.segment->tool().op), mReflect(reflect), mCentre(centre),
+          mFinestCell(finestCell), mCore(mSeg.segment->tool().strength * mSeg.segment->tool().radius),
+          mLimits(std::move(limits)) {
+        if (mOp == ToolOp::Carve || mOp == ToolOp::Add || mOp == ToolOp::Paint)
+            throw std::invalid_argument("a live segment edit is for the gradual tools (build, heat gun, smooth, flatten)");
+        // Flatten's plane: through the stroke's first pose, as StrokeEdit takes it.
+        mPlanePoint = mirroredPoint(mSeg.first.position, mReflect, mCentre);
+        mPlaneNormal = glm::normalize(mSeg.first.orientation) * glm::dvec3(0.0, 0.0, 1.0);
+        for (int k = 0; k < 3; ++k)
+            if ((mReflect >> k) & 1) mPlaneNormal[k] = -mPlaneNormal[k];
+        // The heat gun's dwell grew: the whole path swept so far melts further.
+        mWholePath = mOp == ToolOp::HeatGun && mSeg.before && mSeg.offsetNow != mSeg.offsetBefore;
+        mSmallestFeature = std::min({mOld->smallestFeature(), mSeg.start->smallestFeature(), mSeg.segment->smallestFeature()});
+        for (const adf::SourcePtr& m : mLimits.masks) mSmallestFeature = std::min(mSmallestFeature, m->smallestFeature());
+    }
+    double distance(const glm::dvec3& p) const override { return combine(p, mOld->distance(p)); }
+    void distances(std::span<const glm::dvec3> p, std::span<double> out) const override {
+        mOld->distances(p, out);
+        for (std::size_t i = 0; i < p.size(); ++i) out[i] = combine(p[i], out[i]);
+    }
+    bool answersLattice(const adf::Domain& d) const override { return mOld->answersLattice(d); }
+    void latticeDistances(const adf::Domain& d, std::span<const glm::uvec3> p, std::span<double> out) const override {
+        mOld->latticeDistances(d, p, out);
+        for (std::size_t i = 0; i < p.size(); ++i)
+            out[i] = combine(adf::Domain::latticeToWorld(d.originWorld, d.finestCellSize(), p[i]), out[i]);
+    }
+    double featureSize(const glm::dvec3& c, double radius) const override {
+        double f = std::min({mOld->featureSize(c, radius), mSeg.start->featureSize(c, radius),
+                             mSeg.segment->featureSize(mirrored(c), radius)});
+        if (mWholePath) f = std::min(f, mSeg.before->featureSize(mirrored(c), radius));
+        for (const adf::SourcePtr& m : mLimits.masks) f = std::min(f, m->featureSize(c, radius));
+        return f;
+    }
+    /// The growth is 0 outside the segment's tool (and, when the heat gun's dwell grew, outside
+    /// the path swept so far): the old field stands there.
+    Range unchangedRange(const glm::dvec3& c, double radius) const override {
+        constexpr double kInf = std::numeric_limits<double>::infinity();
+        const double reach = radius + 0.05 * mFinestCell;
+        const glm::dvec3 q = mirrored(c);
+        if (mSeg.segment->lowerBound(q, reach) < reach) return {};
+        if (mWholePath && mSeg.before->lowerBound(q, reach) < reach) return {};
+        return {-kInf, kInf};
+    }
+
+private:
+    glm::dvec3 mirrored(const glm::dvec3& p) const { return mirroredPoint(p, mReflect, mCentre); }
+    double weight(const SweptTool& tool, const glm::dvec3& p, const glm::dvec3& q) const {
+        const double inside = -limitedToolBelow(tool, mLimits, p, q, 0.0);
+        return inside > 0.0 ? toolWeight(inside, mCore) : 0.0;
+    }
+    /// Where the running maximum weight grows (or the heat gun's dwell did), the start field
+    /// moved by the new maximum: the previous segments' result there plus the growth, read
+    /// from the start snapshot rather than from the regenerated field, so no error accumulates
+    /// over segments. Elsewhere the old field stands.
+    double combine(const glm::dvec3& p, double old) const {
+        const glm::dvec3 q = mirrored(p);
+        const double wSeg = weight(*mSeg.segment, p, q);
+        if (!(wSeg > 0.0) && !mWholePath) return old;
+        const double wBefore = mSeg.before ? weight(*mSeg.before, p, q) : 0.0;
+        const double w = std::max(wBefore, wSeg);
+        if (mOp == ToolOp::HeatGun) {
+            if (!(w > 0.0) || (!(wSeg > wBefore) && !mWholePath)) return old;
+            return mSeg.start->distance(p) + mSeg.offsetNow * w;
+        }
+        if (!(wSeg > wBefore)) return old;
+        const double start = mSeg.start->distance(p);
+        switch (mOp) {
+        case ToolOp::Build: return start - mSeg.offsetNow * w;
+        case ToolOp::Smooth: {
+            // StrokeEdit's Laplacian step, of the start field.
+            const double r = 0.25 * mSeg.segment->tool().radius;
+            double mean = 0.0;
+            for (int k = 0; k < 3; ++k)
+                for (double sign : {-1.0, 1.0}) {
+                    glm::dvec3 o(0.0);
+                    o[k] = sign * r;
+                    mean += mSeg.start->distance(p + o);
+                }
+            return start + w * mSeg.segment->tool().strength * (mean / 6.0 - start);
+        }
+        case ToolOp::Flatten: return start + w * (glm::dot(p - mPlanePoint, mPlaneNormal) - start);
+        default: return old;
+        }
+    }
+    adf::SourcePtr mOld;
+    LiveSegment mSeg;
+    ToolOp mOp;
+    uint8_t mReflect;
+    glm::dvec3 mCentre;
+    double mFinestCell;  ///< m
+    double mCore;        ///< m
+    glm::dvec3 mPlanePoint{0.0}, mPlaneNormal{0.0, 0.0, 1.0};
+    bool mWholePath = false;
+    ToolLimits mLimits;
+};
+
 }  // namespace
+
+adf::SourcePtr makeLiveSegmentEdit(adf::SourcePtr old, LiveSegment segment, uint8_t reflect, glm::dvec3 centre,
+                                   ToolLimits limits, double finestCell) {
+    return std::make_shared<LiveSegmentEdit>(std::move(old), std::move(segment), reflect, centre, std::move(limits),
+                                             finestCell);
+}
 
 adf::SourcePtr makeStrokeEdit(adf::SourcePtr old, std::shared_ptr<const SweptTool> tool, uint8_t reflect,
                               glm::dvec3 centre, double offset, ToolLimits limits, double finestCell) {
