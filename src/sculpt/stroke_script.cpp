@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -105,17 +106,32 @@ void parseConstraints(const json& j, Stroke& s) {
     if (j.contains("keep_out")) c.keepOut = shapesOf(j.at("keep_out"), "keep_out");
 }
 
+/// A whole number that fits an int: nlohmann's get<int> converts a float out of range with
+/// undefined behaviour (the trajectory fuzzer found a header with "tile_span": 6e42).
+int wholeNumber(const json& j, const std::string& what) {
+    const bool fits = (j.is_number_unsigned() && j.get<uint64_t>() <= uint64_t(std::numeric_limits<int>::max())) ||
+                      (j.is_number_integer() && !j.is_number_unsigned() &&
+                       j.get<int64_t>() >= std::numeric_limits<int>::min() &&
+                       j.get<int64_t>() <= std::numeric_limits<int>::max());
+    if (!fits) throw std::invalid_argument(what + " must be a whole number");
+    return int(j.get<int64_t>());
+}
+
+int wholeNumber(const json& object, const char* key, int fallback) {
+    return object.contains(key) ? wholeNumber(object.at(key), key) : fallback;
+}
+
 void parseHeader(const json& h, Script& s) {
     if (h.value("kizamu", "") != "stroke-script") throw std::invalid_argument("not a Kizamu stroke script (no header)");
-    s.version = h.at("version").get<int>();
+    s.version = wholeNumber(h.at("version"), "version");
     if (s.version < 1 || s.version > kScriptVersion)
         throw std::invalid_argument("stroke script version " + std::to_string(s.version) + " is not supported (this build reads " +
                                     std::to_string(kScriptVersion) + ")");
     const json& d = h.at("domain");
     s.domain.originWorld = d.contains("origin") ? vec3Of(d.at("origin"), "domain origin") : glm::dvec3(0.0);
     s.domain.sizeWorld = d.at("size").get<double>();
-    s.domain.maxLevel = d.value("level", 10);
-    s.domain.tileSpanLevels = d.value("tile_span", adf::Domain{}.tileSpanLevels);
+    s.domain.maxLevel = wholeNumber(d, "level", 10);
+    s.domain.tileSpanLevels = wholeNumber(d, "tile_span", adf::Domain{}.tileSpanLevels);
     if (!s.domain.valid()) throw std::invalid_argument("invalid domain (size > 0, level 1..16)");
     s.start = shapeOf(h.at("start"));
 }

@@ -412,6 +412,15 @@ TEST(StrokeScript, RoundTripsAndReportsTheLine) {
               std::string::npos);
     EXPECT_NE(error("{\"kizamu\": \"stroke-script\", \"version\": 99}\n").find("version 99 is not supported"),
               std::string::npos);
+    // Numbers no int holds (a conversion with undefined behaviour, found by the trajectory fuzzer).
+    EXPECT_NE(error("{\"kizamu\": \"stroke-script\", \"version\": 1e40}\n").find("version must be a whole number"),
+              std::string::npos);
+    EXPECT_NE(error("{\"kizamu\": \"stroke-script\", \"version\": 1, \"domain\": {\"size\": 1, \"tile_span\": 6e42}}\n")
+                  .find("tile_span must be a whole number"),
+              std::string::npos);
+    EXPECT_NE(error("{\"kizamu\": \"stroke-script\", \"version\": 1, \"domain\": {\"size\": 1, \"level\": 4294967296}}\n")
+                  .find("level must be a whole number"),
+              std::string::npos);
     EXPECT_NE(error("hello\n").find("line 1"), std::string::npos);
     EXPECT_NE(error("").find("no header"), std::string::npos);
 }
