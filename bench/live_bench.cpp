@@ -9,6 +9,7 @@
 #include "bench/live_bench.h"
 
 #include "bench/figures.h"
+#include "bench/live_engine_bench.h"
 #include "bench/timing.h"
 #include "engine/sample_queue.h"
 
@@ -114,6 +115,7 @@ int runLiveBench(const LiveBenchOptions& opt) {
         out.add("live.push_full_coarsening", double(q.stats().maxCoarsening), "k",
                 "tolerances x 2^k");
     }
+    if (!opt.levels.empty()) liveEngineFigures(out, {opt.levels, opt.placement});
     return 0;
 }
 

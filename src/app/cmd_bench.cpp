@@ -85,7 +85,7 @@ void addBenchCommand(CLI::App& app) {
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 
-    auto* liveCmd = bench->add_subcommand("live", "The live engine's input: tool-sample push cost, draining and with a full ring");
+    auto* liveCmd = bench->add_subcommand("live", "The live engine: tool-sample push cost; a 2 s carving stroke's latency to snapshot and mesh delta");
     auto liveOptions = std::make_shared<bench::LiveBenchOptions>();
     liveCmd->add_flag("--json", liveOptions->json, "One JSON object per figure per line, nothing else on stdout");
     liveCmd->add_option("--pushes", liveOptions->pushes, "Timed pushes with a draining consumer")
@@ -94,6 +94,11 @@ void addBenchCommand(CLI::App& app) {
     liveCmd->add_option("--full-pushes", liveOptions->fullPushes, "Timed pushes into a full ring")
         ->check(CLI::Range(std::size_t(1'000), std::size_t(100'000'000)))
         ->capture_default_str();
+    liveCmd->add_option("--levels", liveOptions->levels, "Levels of the engine's carving stroke (none: only the queue)")
+        ->expected(0, 4)
+        ->check(CLI::Range(4, 14))
+        ->capture_default_str();
+    liveCmd->add_flag("!--no-placement", liveOptions->placement, "Skip the haptic-core and supersede comparisons");
     liveCmd->callback([liveOptions] {
         const int rc = bench::runLiveBench(*liveOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);

@@ -30,6 +30,8 @@ void addGenerateCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
 /// Registers `run`: replays a stroke script.
 void addRunCommand(CLI::App& app);
+/// Registers `live`: a tool trajectory through the live engine.
+void addLiveCommand(CLI::App& app);
 /// Registers `bench` with its areas (`bench adf`, `bench mesh`, `bench edit`). Defined only
 /// where the benchmark library is built (KIZAMU_HAVE_BENCH, from KIZAMU_BUILD_BENCH).
 void addBenchCommand(CLI::App& app);

@@ -150,6 +150,21 @@ printf '%s\n{"op": "carve", "shape": "blob", "radius": 0.1, "path": [[0,0,0]]}\n
 [ "$rc" -eq 2 ] || fail "a bad script exited $rc, expected 2"
 grep -q "bad.jsonl: line 2: unknown tool shape" "$tmp/err" || fail "bad script error: $(cat "$tmp/err")"
 [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "bad script error is not one line"
+# live: a trajectory through the live engine; lock step gives the same bytes on every run, and
+# the session it journals replays to them; real time works; a bad trajectory is one line
+traj="$repo/examples/carve_line.trajectory.jsonl"
+"$kizamu" live --trajectory "$traj" --level 6 --rate 0 --out "$tmp/l1.kza" >/dev/null || fail "live --rate 0"
+"$kizamu" live --trajectory "$traj" --level 6 --rate 0 --session "$tmp/lsess" --out "$tmp/l2.kza" >/dev/null || fail "live --session"
+cmp -s "$tmp/l1.kza" "$tmp/l2.kza" || fail "live --rate 0 gave different bytes on two runs"
+"$kizamu" convert "$tmp/lsess" "$tmp/l3.kza" >/dev/null || fail "convert a live session"
+cmp -s "$tmp/l1.kza" "$tmp/l3.kza" || fail "the live session's journal does not replay to the live clay"
+grep -q '"live"' "$tmp/lsess/journal.jsonl" || fail "the live session's journal has no live record"
+"$kizamu" live --trajectory "$repo/examples/sculpt_session.trajectory.jsonl" --level 6 --rate 2000 --out "$tmp/l.stl" >"$tmp/out" ||
+    fail "live in real time"
+grep -q "strokes" "$tmp/out" || fail "live printed no summary: $(cat "$tmp/out")"
+printf '{"kizamu_trajectory": 1, "units": "m"}\n{"t": "x"}\n' >"$tmp/bad.trajectory.jsonl"
+"$kizamu" live --trajectory "$tmp/bad.trajectory.jsonl" >/dev/null 2>"$tmp/err" && fail "a bad trajectory was accepted"
+[ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "a bad trajectory's error is not one line: $(cat "$tmp/err")"
 # progress: a line rewritten with \r on a terminal (script(1) gives the command one), nothing
 # when stderr is no terminal or with --quiet; 300 slab strokes at level 7 on one thread take
 # about a second, several times the 0.25 s before the first line
@@ -277,8 +292,8 @@ assert not missing, f"missing figures: {missing}"
 assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
 PY
 
-# bench live contract (small: 20k pushes)
-"$kizamu" bench live --json --pushes 20000 --full-pushes 5000 >"$tmp/live.json" 2>/dev/null || fail "bench live exited non-zero"
+# bench live contract (small: 20k pushes, the engine's stroke at level 6 only)
+"$kizamu" bench live --json --pushes 20000 --full-pushes 5000 --levels 6 --no-placement >"$tmp/live.json" 2>/dev/null || fail "bench live exited non-zero"
 python3 - "$tmp/live.json" <<'PY' || failures=$((failures + 1))
 import json, sys
 names = {}
@@ -286,7 +301,8 @@ for line in open(sys.argv[1]):
     obj = json.loads(line)
     assert set(obj) == {"figure", "value", "unit"}, obj
     names[obj["figure"]] = obj["value"]
-need = ["live.push_us.p50", "live.push_us.p999", "live.push_full_us.p999"]
+need = ["live.push_us.p50", "live.push_us.p999", "live.push_full_us.p999", "live.sample_to_snapshot_ms.level6.p50",
+        "live.sample_to_mesh_ms.level6.p99", "live.segments.level6", "live.vs_whole_stroke.level6"]
 missing = [n for n in need if n not in names]
 assert not missing, f"missing figures: {missing}"
 assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
