@@ -6,6 +6,7 @@
 
 #include "adf/adf_file.h"
 #include "mesh/mesh_export.h"
+#include "util/cpu_set.h"
 #include "util/file_error.h"
 
 #include <algorithm>
@@ -43,7 +44,7 @@ CommandResult failure(const std::exception& e) { return {false, e.what()}; }
 EditPass::EditPass(const EngineSettings& settings, const std::vector<std::unique_ptr<SampleQueue>>& queues, Mailbox& mailbox,
                    Counters& counters, std::atomic<bool>& stroking, std::atomic<bool>& fullMeshWanted)
     : mSettings(settings), mQueues(queues), mMailbox(mailbox), mCounters(counters), mStroking(stroking),
-      mFullMeshWanted(fullMeshWanted), mPool(settings.threads), mMesher(&mPool), mProducers(queues.size()) {
+      mFullMeshWanted(fullMeshWanted), mPool(settings.threads, settings.poolCpus), mMesher(&mPool), mProducers(queues.size()) {
     std::vector<std::string> warnings;
     mSession = openOrCreate(settings.sessionDir, settings.start, settings.level, &mPool, &warnings);
     for (std::string& w : warnings) notice(std::move(w));
@@ -60,6 +61,11 @@ EditPass::~EditPass() = default;
 const adf::AdfPtr& EditPass::current() const { return mSession->sculptor().current(); }
 
 void EditPass::run(CommandQueue& commands) {
+    // The edit thread runs pool items as thread 0: it keeps to the pool's CPUs.
+    if (!mSettings.poolCpus.empty()) {
+        std::string why;
+        if (!util::pinCurrentThread(mSettings.poolCpus, &why)) notice("edit thread: " + why);
+    }
     for (;;) {
         std::deque<Command> taken;
         bool stop = false;
@@ -116,7 +122,7 @@ void EditPass::onSample(std::size_t producer, const ToolSample& s) {
     p.buttons = s.buttons;
     if (!down) {
         p.ignorePress = false;
-        if (was && owner) endStroke(false);
+        if (was && mOwner == int(producer)) endStroke(false);
         return;
     }
     if (!was && mOwner < 0 && !p.ignorePress) {
@@ -204,6 +210,7 @@ void EditPass::cancelStroke() {
 
 void EditPass::runCommand(Command& c) {
     CommandResult r;
+    bool deferred = false;  // save() and exportMesh() answer from their background job
     try {
         switch (c.kind) {
         case Command::Kind::SetTool: r = setTool(c.tool); break;
@@ -213,8 +220,8 @@ void EditPass::runCommand(Command& c) {
             if (!mBegun) r.message = "no stroke to cancel";
             cancelStroke();
             break;
-        case Command::Kind::Save: r = save(c); break;
-        case Command::Kind::Export: r = exportMesh(c); break;
+        case Command::Kind::Save: deferred = save(c); break;
+        case Command::Kind::Export: deferred = exportMesh(c); break;
         case Command::Kind::New:
         case Command::Kind::Open: r = replaceSession(c); break;
         case Command::Kind::Sync: break;
@@ -222,8 +229,7 @@ void EditPass::runCommand(Command& c) {
     } catch (const std::exception& e) {
         r = failure(e);
     }
-    // save() and exportMesh() answer from their background job.
-    if (c.kind != Command::Kind::Save && c.kind != Command::Kind::Export) c.result.set_value(std::move(r));
+    if (!deferred) c.result.set_value(std::move(r));
 }
 
 CommandResult EditPass::setTool(const ToolSettings& tool) {
@@ -248,13 +254,13 @@ CommandResult EditPass::undoRedo(bool undo) {
     return {};
 }
 
-CommandResult EditPass::save(Command& c) {
+bool EditPass::save(Command& c) {
     endStroke(true);
     if (c.path.empty()) {
         if (mSession->dir().empty()) throw std::invalid_argument("this session is kept in memory: save to a .kza file instead");
         finishCheckpoint(true);
         startCheckpoint(std::move(c.result));
-        return {};
+        return true;
     }
     adf::AdfPtr clay = mSession->sculptor().settled();
     auto job = [clay = std::move(clay), path = c.path, promise = std::move(c.result)]() mutable {
@@ -266,10 +272,10 @@ CommandResult EditPass::save(Command& c) {
         }
     };
     mBackground.push_back(std::async(std::launch::async, std::move(job)));
-    return {};
+    return true;
 }
 
-CommandResult EditPass::exportMesh(Command& c) {
+bool EditPass::exportMesh(Command& c) {
     mesh::ExportOptions options;
     if (!c.unit.empty()) {
         options.unit = mesh::lengthUnitOf(c.unit);
@@ -289,7 +295,7 @@ CommandResult EditPass::exportMesh(Command& c) {
         }
     };
     mBackground.push_back(std::async(std::launch::async, std::move(job)));
-    return {};
+    return true;
 }
 
 CommandResult EditPass::replaceSession(Command& c) {

@@ -94,8 +94,10 @@ private:
     void runCommand(Command& c);
     CommandResult setTool(const ToolSettings& tool);
     CommandResult undoRedo(bool undo);
-    CommandResult save(Command& c);
-    CommandResult exportMesh(Command& c);
+    /// Start their background job, which answers `c`: true once it holds c.result (else the
+    /// caller answers; a throw means nothing was started).
+    bool save(Command& c);
+    bool exportMesh(Command& c);
     CommandResult replaceSession(Command& c);
 
     // Publishing and meshing.
