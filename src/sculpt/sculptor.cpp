@@ -57,6 +57,16 @@ struct Sculptor::LiveStroke {
     std::shared_ptr<const SweptTool> applied;  ///< swept along `path` (gradual tools); null before the first segment
     double appliedDwell = 0.0;     ///< s, the dwell the applied segments melted for
     std::array<std::optional<adf::BoxWorld>, 8> regions;  ///< per mirrored copy: the union of its segments' regions
+    LiveRecord record;             ///< the segments so far, as replay repeats them (cuts, dwells)
+    /// Records a call that was given samples or dwell. Calls before the first samples apply
+    /// nothing and only add dwell: they are folded into the first segment, whose dwell is then
+    /// the dwell so far (0 + that sum is that sum, so replay adds the same values).
+    void recordSegment(std::size_t newSamples, double dwell, double dwellNow) {
+        if (newSamples == 0 && !(dwell > 0.0)) return;
+        if (record.cuts.empty() && stroke.samples.empty()) return;  // nothing applied yet: folded
+        record.cuts.push_back(uint32_t(stroke.samples.size()));
+        record.dwells.push_back(record.cuts.size() == 1 ? dwellNow : dwell);
+    }
 };
 
 Sculptor::Sculptor(adf::AdfPtr start, util::ThreadPool* pool, std::size_t historyBytes)
@@ -83,6 +93,7 @@ void Sculptor::beginStroke(const Stroke& header) {
     if (header.constraints.followOffset && mCorrecting) finishCorrections();
     auto live = std::make_unique<LiveStroke>();
     live->stroke = header;
+    live->stroke.live.reset();
     live->stroke.samples.clear();
     live->stroke.dwell = 0.0;
     live->start = mCurrent;
@@ -114,6 +125,7 @@ void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
     const bool melts = tool.op == ToolOp::HeatGun && dwell > 0.0;
     if (raw.empty() || (samples.empty() && !melts)) {  // nothing new to sweep
         live.stroke.dwell = dwellNow;
+        live.recordSegment(0, dwell, dwellNow);
         return;
     }
     const adf::Domain d = live.start->domain();
@@ -160,6 +172,7 @@ void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
     live.applied = appliedNow;
     live.appliedDwell = dwellNow;
     live.regions = regions;
+    live.recordSegment(samples.size(), dwell, dwellNow);
     mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     mLast.tilesRebuilt = tiles;
     mLast.samples = evaluated;
@@ -171,6 +184,7 @@ Stroke Sculptor::endStroke() {
     if (!mLive) throw std::logic_error("endStroke without a live stroke (beginStroke first)");
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<LiveStroke> live = std::move(mLive);
+    live->stroke.live = live->record;
     if (live->path.empty()) {  // nothing applied: no record
         mCurrent = live->start;
         return live->stroke;
@@ -187,6 +201,36 @@ Stroke Sculptor::endStroke() {
     mLast.colourTilesPainted = 0;
     finish(std::move(last), bytes, std::move(pending), t0);
     return live->stroke;
+}
+
+Stroke Sculptor::liveStroke() const {
+    if (!mLive) throw std::logic_error("liveStroke without a live stroke (beginStroke first)");
+    Stroke out = mLive->stroke;
+    out.live = mLive->record;
+    return out;
+}
+
+bool Sculptor::liveChanged() const {
+    if (!mLive) throw std::logic_error("liveChanged without a live stroke (beginStroke first)");
+    return !mLive->path.empty();
+}
+
+void Sculptor::replayLive(const Stroke& stroke) {
+    validate(stroke);  // before anything changes
+    const LiveRecord& r = *stroke.live;
+    const std::span<const ToolSample> all(stroke.samples);
+    Stroke header = stroke;
+    header.live.reset();
+    header.samples.assign(all.begin(), all.begin() + r.cuts[0]);
+    header.dwell = r.dwells[0];
+    beginStroke(header);
+    try {
+        for (std::size_t i = 1; i < r.cuts.size(); ++i) extendStroke(all.subspan(r.cuts[i - 1], r.cuts[i] - r.cuts[i - 1]), r.dwells[i]);
+    } catch (...) {
+        cancelStroke();
+        throw;
+    }
+    endStroke();
 }
 
 void Sculptor::cancelStroke() {
@@ -369,7 +413,12 @@ void Sculptor::finishCorrections() { correct(oldestFirst(mPending), {}); }
 
 void Sculptor::replay(const Step& step) {
     switch (step.kind) {
-    case Step::Kind::Stroke: apply(step.stroke); break;
+    case Step::Kind::Stroke:
+        if (step.stroke.live)
+            replayLive(step.stroke);
+        else
+            apply(step.stroke);
+        break;
     case Step::Kind::Undo: undo(); break;
     case Step::Kind::Redo: redo(); break;
     case Step::Kind::Correct:

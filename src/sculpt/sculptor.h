@@ -17,9 +17,11 @@
 /// Live strokes (beginStroke, extendStroke, endStroke, cancelStroke): while the button is held,
 /// each extendStroke applies the segment of the path since the last applied pose and publishes
 /// the result as current(); endStroke makes the whole stroke one undo record and one correction
-/// zone, cancelStroke restores the start. Everything the stroke measures against (surface
-/// following, depth and height limits, flatten's plane, smooth's mean) reads the snapshot from
-/// the stroke's start. A stroke applied live in any number of segments equals apply() of the
+/// zone, cancelStroke restores the start. endStroke returns the stroke with its live record
+/// (Stroke::live: where the segments were cut and their dwells), and replay() of that record
+/// repeats the same calls, so a journal reaches the live result bit for bit. Everything the
+/// stroke measures against (surface following, depth and height limits, flatten's plane,
+/// smooth's mean) reads the snapshot from the stroke's start. A stroke applied live in any number of segments equals apply() of the
 /// whole stroke within the error bound plus one quantisation step (tested):
 /// - carve, add: min/max of the previous segment's result with the segment's swept tool; min and
 ///   max are associative and the segments' volumes (each including the joint) make up the whole.
@@ -97,8 +99,10 @@ public:
     /// Ends the live stroke: one undo record (undo returns the snapshot before beginStroke, redo
     /// this one), one pending correction zone per mirrored copy (the union of its segments'
     /// regions), redo records dropped. A stroke that applied nothing leaves no record.
-    /// @return the whole stroke (header, every pose, the total dwell): what a journal records,
-    ///         and what apply() of it reproduces.
+    /// @return the whole stroke (header, every pose, the total dwell) with its live record (the
+    ///         cuts and dwells of every beginStroke and extendStroke call given samples or dwell;
+    ///         no time stamps or strengths): what a journal records. replay() of it reproduces
+    ///         the live result bit for bit; apply() of it, within the bound above.
     /// @throw std::logic_error without an open stroke.
     /// Complexity: O(tiles in the stroke's regions), counting the replaced bytes; no regeneration.
     Stroke endStroke();
@@ -107,8 +111,19 @@ public:
     void cancelStroke();
     /// Whether a live stroke is open.
     bool stroking() const { return mLive != nullptr; }
+    /// The open live stroke so far, as endStroke would return it (so a journal can be written
+    /// before endStroke commits). Its live record is empty while nothing has been applied.
+    /// @throw std::logic_error without an open stroke. Complexity: O(poses) (a copy).
+    Stroke liveStroke() const;
+    /// Whether the open live stroke applied anything (endStroke would leave an undo record).
+    /// @throw std::logic_error without an open stroke. Complexity: O(1).
+    bool liveChanged() const;
 
-    /// A script step: apply, undo, redo or correct.
+    /// A script step: apply, undo, redo or correct. A stroke with a live record is applied as
+    /// it was live: beginStroke with samples [0, cuts[0]) and dwells[0], extendStroke with each
+    /// later segment and its dwell, endStroke (bit for bit what the live calls made).
+    /// @throw std::invalid_argument for a bad stroke (nothing changes); std::logic_error while
+    ///        a live stroke is open.
     void replay(const Step& step);
 
     /// Remote-field correction (Kizamu 5.4, remote_field.h). A stroke leaves its zone pending;
@@ -146,6 +161,8 @@ private:
     static PendingList listOf(const std::vector<adf::BoxWorld>& oldestFirst);
 
     ToolLimits limitsFor(const Stroke& stroke) const;
+    /// replay() of a stroke with a live record.
+    void replayLive(const Stroke& stroke);
     /// @throw std::logic_error naming `what` while a live stroke is open.
     void requireNoLiveStroke(const char* what) const;
     struct LiveStroke;

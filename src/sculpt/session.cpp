@@ -14,7 +14,10 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <algorithm>
 #include <filesystem>
+#include <span>
+#include <stdexcept>
 #include <system_error>
 
 namespace kizamu::sculpt {
@@ -184,18 +187,26 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
     return s;
 }
 
-void Session::record(const Step& step) {
-    if (mFd < 0) throw FileError(mDir, "the session is read-only or a journal write failed earlier");
-    if (step.kind == Step::Kind::Stroke) validate(step.stroke);  // never journal a stroke that cannot replay
-    // Opened from a checkpoint, the sculptor has no history before it: an undo reaching there
-    // first rebuilds it from the journal, so the live session matches any later replay.
-    if (step.kind == Step::Kind::Undo && mSculptor->undoDepth() == 0 && mHistoryFromCheckpoint) {
-        mSculptor = makeSculptor(mJournal, 0, mPool);
-        for (const Step& s : mJournal.steps) mSculptor->replay(s);
-        mHistoryFromCheckpoint = false;
-    }
-    // Journal first: a step is applied only once it is durable. A failed write is cut back off
-    // the journal and the session stops taking steps (the clay on disk is whole).
+std::unique_ptr<Session> Session::createInMemory(const Script& script, int level, util::ThreadPool* pool) {
+    std::unique_ptr<Session> s(new Session());
+    s->mInMemory = true;
+    s->mPool = pool;
+    s->mJournal = script;
+    s->mJournal.steps.clear();
+    s->mJournal.version = kScriptVersion;
+    if (level > 0) s->mJournal.domain.maxLevel = level;
+    s->mSculptor = makeSculptor(s->mJournal, 0, pool);
+    return s;
+}
+
+void Session::requireWritable() const {
+    if (!mInMemory && mFd < 0) throw FileError(mDir, "the session is read-only or a journal write failed earlier");
+}
+
+void Session::append(const Step& step) {
+    if (mInMemory) return;
+    // A failed write is cut back off the journal and the session stops taking steps (the clay
+    // on disk is whole).
     const std::string path = journalPath(mDir);
     const off_t before = ::lseek(mFd, 0, SEEK_END);
     try {
@@ -206,23 +217,120 @@ void Session::record(const Step& step) {
         mFd = -1;
         throw;
     }
+}
+
+void Session::upgradeJournal() {
+    if (mInMemory || mJournal.version >= 3) return;
+    // The header line is replaced, every byte after it kept; written atomically, so a crash
+    // leaves the old journal or the new one, both whole.
+    const std::string path = journalPath(mDir);
+    try {
+        std::string text = util::readWholeFile(path);
+        std::size_t at = 0;
+        for (;;) {  // the first line that is not blank or a comment is the header
+            const std::size_t end = text.find('\n', at);
+            if (end == std::string::npos) throw FileError(path, "no header line to upgrade");
+            const std::size_t first = text.find_first_not_of(" \t\r", at);
+            if (first < end && text[first] != '#') {
+                Script header = mJournal;
+                header.steps.clear();
+                header.version = 3;
+                text.replace(at, end - at, headerLine(header));
+                break;
+            }
+            at = end + 1;
+        }
+        util::writeFileAtomically(path, std::as_bytes(std::span<const char>(text.data(), text.size())));
+    } catch (...) {
+        ::close(mFd);
+        mFd = -1;
+        throw;
+    }
+    ::close(mFd);
+    mFd = -1;
+    openJournalForAppend();
+    mJournal.version = 3;
+}
+
+void Session::beginStroke(const Stroke& header) {
+    requireWritable();
+    mSculptor->beginStroke(header);
+}
+
+void Session::extendStroke(std::span<const ToolSample> samples, double dwell) { mSculptor->extendStroke(samples, dwell); }
+
+bool Session::endStroke(std::vector<int64_t> timesNs, std::vector<float> strengths) {
+    if (!mSculptor->liveChanged()) {  // throws without an open stroke
+        mSculptor->cancelStroke();
+        return false;
+    }
+    Step step{Step::Kind::Stroke, mSculptor->liveStroke(), 0};
+    step.stroke.live->timesNs = std::move(timesNs);
+    step.stroke.live->strengths = std::move(strengths);
+    validate(step.stroke);  // never journal a stroke that cannot replay; the stroke stays open
+    try {
+        requireWritable();
+        upgradeJournal();
+        append(step);
+    } catch (...) {
+        mSculptor->cancelStroke();  // the clay as on disk: the stroke's start
+        throw;
+    }
+    mSculptor->endStroke();
+    mJournal.steps.push_back(std::move(step));
+    return true;
+}
+
+void Session::cancelStroke() { mSculptor->cancelStroke(); }
+
+void Session::record(const Step& step) {
+    requireWritable();
+    if (mSculptor->stroking()) throw std::logic_error("a session step while a live stroke is open (endStroke or cancelStroke first)");
+    if (step.kind == Step::Kind::Stroke) validate(step.stroke);  // never journal a stroke that cannot replay
+    // Opened from a checkpoint, the sculptor has no history before it: an undo reaching there
+    // first rebuilds it from the journal, so the live session matches any later replay.
+    if (step.kind == Step::Kind::Undo && mSculptor->undoDepth() == 0 && mHistoryFromCheckpoint) {
+        mSculptor = makeSculptor(mJournal, 0, mPool);
+        for (const Step& s : mJournal.steps) mSculptor->replay(s);
+        mHistoryFromCheckpoint = false;
+    }
+    // Journal first: a step is applied only once it is durable.
+    if (step.kind == Step::Kind::Stroke && step.stroke.live) upgradeJournal();
+    append(step);
     mSculptor->replay(step);
     mJournal.steps.push_back(step);
 }
 
 void Session::checkpoint() {
+    const CheckpointJob job = prepareCheckpoint();
+    writeCheckpoint(job);
+    checkpointWritten(job);
+}
+
+Session::CheckpointJob Session::prepareCheckpoint() {
+    if (mInMemory) return {};
+    if (mSculptor->stroking()) throw std::logic_error("a checkpoint while a live stroke is open (endStroke or cancelStroke first)");
     // A checkpoint holds no pending corrections: correct first, and journal that, so that a
     // replay of the journal corrects at the same point and reaches the same bits.
     if (!mSculptor->pendingCorrections().empty()) record(Step::correct());
     const std::size_t steps = mJournal.steps.size();
-    const std::string path = (fs::path(mDir) / checkpointName(steps)).string();
-    adf::saveAdf(*mSculptor->current(), path);  // temporary file, fsync, rename, directory fsync
+    return {steps, mSculptor->current(), (fs::path(mDir) / checkpointName(steps)).string()};
+}
+
+void Session::writeCheckpoint(const CheckpointJob& job) {
+    if (job.path.empty()) return;
+    adf::saveAdf(*job.adf, job.path);  // temporary file, fsync, rename, directory fsync
+}
+
+void Session::checkpointWritten(const CheckpointJob& job) {
+    if (job.path.empty()) return;
+    // Only older ones: a newer checkpoint (a later job finished first) stays.
     for (std::size_t old : checkpoints(mDir))
-        if (old != steps) {
+        if (old < job.steps) {
             std::error_code ec;
             fs::remove(fs::path(mDir) / checkpointName(old), ec);
         }
-    mCheckpointSteps = steps;
+    mCheckpointSteps = std::max(mCheckpointSteps, job.steps);
 }
 
 }  // namespace kizamu::sculpt

@@ -12,13 +12,25 @@
 /// record cut short (a killed process mid-write) is dropped with a warning and cut from the
 /// file, so the session continues from every finished step. Replay is deterministic, so
 /// reopening gives the same ADF bit for bit as the live session had.
+///
+/// A live stroke (beginStroke ... endStroke) is journaled as one record when it ends, with its
+/// live record (where the segments were cut, their dwells, the producer's time stamps and
+/// strengths: script version 3), before the sculptor commits it; replay repeats the segments, so
+/// reopening reaches the live bits too. A journal of version 1 or 2 gets a version 3 header
+/// (rewritten atomically, records kept byte for byte) before its first live record.
+/// Checkpoints can be written off the edit thread: prepareCheckpoint, writeCheckpoint (any
+/// thread; it reads only an immutable snapshot), checkpointWritten.
+/// A session made by createInMemory has the same journal and sculptor and writes nothing.
 /// Owned by the edit thread; not thread-safe. Errors: kizamu::FileError, one line.
 #pragma once
 
 #include "sculpt/sculptor.h"
 #include "sculpt/stroke_script.h"
 
+#include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,14 +51,52 @@ public:
     /// record() (what `kizamu info` and `convert` use).
     static std::unique_ptr<Session> open(const std::string& dir, util::ThreadPool* pool = nullptr,
                                          std::vector<std::string>* warnings = nullptr, bool readOnly = false);
+    /// A session kept in memory only: the same journal and sculptor, nothing written (dir() empty;
+    /// checkpoint() and the checkpoint functions do nothing). What the live engine uses without a session directory.
+    static std::unique_ptr<Session> createInMemory(const Script& script, int level, util::ThreadPool* pool = nullptr);
 
     /// Makes a step durable (journal append + fsync), then applies it. A stroke that fails
     /// validation is not journaled. @throw FileError if the journal cannot be written (the
-    /// session then refuses further steps); std::invalid_argument for a bad stroke.
+    /// session then refuses further steps); std::invalid_argument for a bad stroke;
+    /// std::logic_error while a live stroke is open (nothing journaled).
     void record(const Step& step);
     /// Writes a checkpoint of the current state (atomic, fsynced) and removes older ones. Pending
-    /// remote-field corrections are made (and journaled as a correct step) first.
+    /// remote-field corrections are made (and journaled as a correct step) first: the three
+    /// checkpoint functions below in a row. @throw FileError; std::logic_error while a live
+    /// stroke is open.
     void checkpoint();
+
+    /// Live strokes through the session: forward to the sculptor (same contracts as Sculptor's).
+    /// beginStroke also throws FileError when the session refuses steps (read-only, or after a
+    /// failed write).
+    void beginStroke(const Stroke& header);
+    void extendStroke(std::span<const ToolSample> samples, double dwell = 0.0);
+    /// Journals the live stroke (its liveStroke() with `timesNs` and `strengths` added to its live record, appended and fsynced) and only then
+    /// ends it in the sculptor: one journal record, one undo record. A stroke that changed nothing is cancelled and not journaled (returns false).
+    /// @param timesNs    per sample: the producer's time stamps, ns (non-decreasing), or empty
+    /// @param strengths  per sample: 0..1, or empty
+    /// @throw FileError if the journal cannot be written: the stroke is then cancelled (the clay returns to the stroke's start, as on disk) and the session refuses further steps, as record() does.
+    ///        std::invalid_argument when `timesNs` or `strengths` break LiveRecord's rules: nothing is journaled and the stroke stays open.
+    ///        std::logic_error without an open stroke.
+    /// Complexity: O(poses) to format the record, one fsync, then Sculptor::endStroke.
+    bool endStroke(std::vector<int64_t> timesNs = {}, std::vector<float> strengths = {});
+    void cancelStroke();
+    bool stroking() const { return mSculptor->stroking(); }
+
+    /// Background checkpoints: prepareCheckpoint (edit thread) makes pending corrections (journaled, as checkpoint() does) and returns what to write; writeCheckpoint (any thread, touches no session state) writes it atomically; checkpointWritten (edit thread) removes older checkpoints and records it. checkpoint() = the three in a row.
+    /// In memory, prepareCheckpoint returns an empty job (no path) and the other two do nothing.
+    struct CheckpointJob {
+        std::size_t steps = 0;  ///< journal records the checkpoint covers
+        adf::AdfPtr adf;        ///< the snapshot after them (immutable; safe to read on any thread)
+        std::string path;       ///< where it goes; empty: nothing to write
+    };
+    /// @throw FileError (journaling the correction); std::logic_error while a live stroke is open.
+    CheckpointJob prepareCheckpoint();
+    /// @throw FileError. Threading: any thread; reads only `job`.
+    static void writeCheckpoint(const CheckpointJob& job);
+    /// Removes the checkpoints older than `job.steps` (never a newer one) and records it as the
+    /// session's checkpoint. Call only after writeCheckpoint(job) returned.
+    void checkpointWritten(const CheckpointJob& job);
 
     const Sculptor& sculptor() const { return *mSculptor; }
     const Script& journal() const { return mJournal; }  ///< header and every recorded step
@@ -61,6 +111,14 @@ public:
 private:
     Session() = default;
     void openJournalForAppend();
+    /// @throw FileError unless the session takes steps (in memory, or the journal open).
+    void requireWritable() const;
+    /// Appends `step` to the journal and fsyncs it (nothing in memory). On failure the write is
+    /// cut back off and the session refuses further steps. @throw FileError.
+    void append(const Step& step);
+    /// Gives a journal older than version 3 a version 3 header before its first live record.
+    /// @throw FileError (then the session refuses further steps).
+    void upgradeJournal();
 
     std::string mDir;
     Script mJournal;
@@ -69,6 +127,7 @@ private:
     int mFd = -1;
     std::size_t mCheckpointSteps = 0;
     bool mHistoryFromCheckpoint = false;  ///< opened from a checkpoint: no undo history before it
+    bool mInMemory = false;               ///< createInMemory: nothing is written
 };
 
 /// True when `path` is a directory holding a session journal.

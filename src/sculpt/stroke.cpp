@@ -14,6 +14,43 @@
 
 namespace kizamu::sculpt {
 
+namespace {
+
+/// LiveRecord's rules. The dwell sum is exact: the Sculptor adds the same values in the same order.
+void validateLive(const Stroke& s) {
+    const LiveRecord& r = *s.live;
+    const std::size_t n = s.samples.size();
+    if (s.bezier) throw std::invalid_argument("a live stroke is a polyline: it cannot be a Bezier curve");
+    if (r.cuts.empty()) throw std::invalid_argument("a live record needs at least one segment (cuts)");
+    if (r.cuts.size() != r.dwells.size())
+        throw std::invalid_argument("a live record needs one dwell per cut (" + std::to_string(r.cuts.size()) + " cuts, " +
+                                    std::to_string(r.dwells.size()) + " dwells)");
+    if (r.cuts.front() < 1) throw std::invalid_argument("a live stroke's first segment must apply a sample (cuts[0] >= 1)");
+    for (std::size_t i = 1; i < r.cuts.size(); ++i)
+        if (r.cuts[i] < r.cuts[i - 1]) throw std::invalid_argument("a live record's cuts must not decrease");
+    if (r.cuts.back() != n)
+        throw std::invalid_argument("a live record's last cut must be the number of samples (" + std::to_string(r.cuts.back()) +
+                                    " != " + std::to_string(n) + ")");
+    double sum = 0.0;
+    for (double d : r.dwells) {
+        if (!(d >= 0.0) || !std::isfinite(d)) throw std::invalid_argument("a live record's dwells must be finite and >= 0 s");
+        sum = sum + d;
+    }
+    if (sum != s.dwell) throw std::invalid_argument("a live stroke's dwell must be the sum of its segments' dwells");
+    if (!r.timesNs.empty()) {
+        if (r.timesNs.size() != n) throw std::invalid_argument("a live record needs one time stamp per sample, or none");
+        for (std::size_t i = 1; i < n; ++i)
+            if (r.timesNs[i] < r.timesNs[i - 1]) throw std::invalid_argument("a live record's time stamps must not decrease");
+    }
+    if (!r.strengths.empty()) {
+        if (r.strengths.size() != n) throw std::invalid_argument("a live record needs one strength per sample, or none");
+        for (float v : r.strengths)
+            if (!(v >= 0.0f && v <= 1.0f)) throw std::invalid_argument("a live record's strengths must be in [0, 1]");
+    }
+}
+
+}  // namespace
+
 void Shape::validate() const {
     if (!std::isfinite(centre.x + centre.y + centre.z)) throw std::invalid_argument("a shape's centre must be finite");
     if (kind == Kind::Box && (!(glm::min(halfSize.x, glm::min(halfSize.y, halfSize.z)) > 0.0) || !(rounding >= 0.0) ||
@@ -42,6 +79,7 @@ void validate(const Stroke& s) {
     }
     for (const Shape& m : c.masks) m.validate();
     for (const Shape& k : c.keepOut) k.validate();
+    if (s.live) validateLive(s);
 }
 
 adf::SourcePtr Shape::source(const adf::Domain& domain) const {

@@ -48,6 +48,22 @@ struct StrokeConstraints {
     std::vector<Shape> keepOut;
 };
 
+/// How a stroke was applied live (Sculptor::beginStroke ... endStroke), which replay repeats
+/// to reach the live result bit for bit. Absent for a stroke applied whole.
+///
+/// A live stroke is applied in segments, and each segment regenerates the clay from the one
+/// before: the bits depend on where the path was cut and on the dwell each segment added, not
+/// only on the whole path. Segment i applies samples [cuts[i-1], cuts[i]) (cuts[-1] = 0) and
+/// dwells[i]; a segment with no new samples is a dwell alone (the heat gun melts further).
+/// `timesNs` and `strengths` are what the producer measured per sample (the live engine fills
+/// them; replay does not read them): kept so a journal loses nothing the device reported.
+struct LiveRecord {
+    std::vector<uint32_t> cuts;     ///< samples applied after each segment: non-decreasing, cuts[0] >= 1, back() == samples.size()
+    std::vector<double> dwells;     ///< per segment, s (>= 0, finite; one per cut)
+    std::vector<int64_t> timesNs;   ///< per sample: producer time stamp, ns (non-decreasing), or empty
+    std::vector<float> strengths;   ///< per sample: 0..1, or empty
+};
+
 /// One stroke: a tool moved along a path, with its constraints and symmetry.
 struct Stroke {
     Tool tool;
@@ -60,12 +76,16 @@ struct Stroke {
     /// 0), y (bit 1) and/or z (bit 2), and every combination of them.
     uint8_t mirror = 0;
     double dwell = 0.0;  ///< s the tool dwelt along the path (heat gun: melts rate × dwell)
+    /// Set for a stroke applied live: its segments, which replay repeats (Sculptor::replay). Then
+    /// `dwell` is the sum of `live->dwells`, added left to right from 0 as the Sculptor does.
+    std::optional<LiveRecord> live;
 };
 
 /// Throws std::invalid_argument (readable) unless `stroke` can be applied and written back as
 /// it is: the tool, the path, a Bezier's four controls, the constraints (depth for carving,
-/// height for add and build, finite offsets, valid shapes). Parsing, journaling and applying
-/// all check with this one function.
+/// height for add and build, finite offsets, valid shapes), and a live record (LiveRecord's
+/// rules; not with a Bezier curve; `dwell` the sum of its dwells). Parsing, journaling and
+/// applying all check with this one function.
 void validate(const Stroke& stroke);
 
 /// One step of a sculpting history (one record after a script's header): a stroke, an undo or

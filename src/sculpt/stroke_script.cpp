@@ -136,7 +136,42 @@ void parseHeader(const json& h, Script& s) {
     s.start = shapeOf(h.at("start"));
 }
 
-Stroke parseStroke(const json& j) {
+/// "live": {"cuts": [...], "dwells": [...], "t": [...], "s": [...]} (version 3). Strengths are
+/// floats written as the doubles they equal, so the cast back is exact.
+LiveRecord liveOf(const json& j) {
+    if (!j.is_object()) throw std::invalid_argument("live must be an object {\"cuts\", \"dwells\", \"t\", \"s\"}");
+    auto list = [&](const char* key, bool required) -> const json* {
+        if (!j.contains(key)) {
+            if (required) throw std::invalid_argument(std::string("live needs \"") + key + "\"");
+            return nullptr;
+        }
+        const json& a = j.at(key);
+        if (!a.is_array()) throw std::invalid_argument(std::string("live.") + key + " must be a list");
+        return &a;
+    };
+    LiveRecord r;
+    for (const json& c : *list("cuts", true)) {
+        if (!c.is_number_unsigned() || c.get<uint64_t>() > std::numeric_limits<uint32_t>::max())
+            throw std::invalid_argument("live.cuts must be sample counts (whole numbers >= 0)");
+        r.cuts.push_back(uint32_t(c.get<uint64_t>()));
+    }
+    for (const json& d : *list("dwells", true)) r.dwells.push_back(d.get<double>());
+    if (const json* t = list("t", false))
+        for (const json& v : *t) {
+            if (!v.is_number_integer() || (v.is_number_unsigned() && v.get<uint64_t>() > uint64_t(std::numeric_limits<int64_t>::max())))
+                throw std::invalid_argument("live.t must be time stamps in whole nanoseconds");
+            r.timesNs.push_back(v.get<int64_t>());
+        }
+    if (const json* st = list("s", false))
+        for (const json& v : *st) {
+            const double x = v.get<double>();
+            if (!(x >= 0.0 && x <= 1.0)) throw std::invalid_argument("live.s must be strengths in [0, 1]");
+            r.strengths.push_back(float(x));
+        }
+    return r;
+}
+
+Stroke parseStroke(const json& j, int version) {
     Stroke s;
     s.tool.op = parseOp(j.at("op").get<std::string>());
     s.tool.shape = parseShape(j.at("shape").get<std::string>());
@@ -172,11 +207,16 @@ Stroke parseStroke(const json& j) {
         }
     }
     parseConstraints(j, s);
+    if (j.contains("live")) {
+        if (version < 3)
+            throw std::invalid_argument("live strokes need version 3 (this script is version " + std::to_string(version) + ")");
+        s.live = liveOf(j.at("live"));
+    }
     validate(s);
     return s;
 }
 
-Step stepOf(const json& j) {
+Step stepOf(const json& j, int version) {
     if (j.contains("undo")) return Step::undo();
     if (j.contains("redo")) return Step::redo();
     if (j.contains("correct")) {
@@ -185,12 +225,12 @@ Step stepOf(const json& j) {
         if (c.is_number_unsigned() && c.get<std::size_t>() > 0) return Step::correct(c.get<std::size_t>());
         throw std::invalid_argument("correct takes \"all\" or a positive number of zones");
     }
-    return {Step::Kind::Stroke, parseStroke(j), 0};
+    return {Step::Kind::Stroke, parseStroke(j, version), 0};
 }
 
 }  // namespace
 
-Step parseStep(const std::string& line) { return stepOf(json::parse(line)); }
+Step parseStep(const std::string& line, int version) { return stepOf(json::parse(line), version); }
 
 Script parseHeaderLine(const std::string& line) {
     Script s;
@@ -214,7 +254,7 @@ Script parseScript(const std::string& text, const std::string& name) {
                 parseHeader(j, s);
                 header = true;
             } else {
-                s.steps.push_back(stepOf(j));
+                s.steps.push_back(stepOf(j, s.version));
             }
         } catch (const json::exception& e) {
             throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
@@ -249,10 +289,9 @@ std::string strokeLine(const Stroke& s) {
     if (s.tool.strength != 1.0) j["strength"] = s.tool.strength;
     if (s.tool.op == ToolOp::Build) j["amount"] = s.tool.amount;
     if (s.tool.op == ToolOp::Paint) j["color"] = json::array({s.tool.colour.r, s.tool.colour.g, s.tool.colour.b});
-    if (s.tool.op == ToolOp::HeatGun) {
-        j["rate"] = s.tool.rate;
-        j["dwell"] = s.dwell;
-    }
+    if (s.tool.op == ToolOp::HeatGun) j["rate"] = s.tool.rate;
+    // A live stroke's dwell is the sum of its segments' (validate()), whatever the tool.
+    if (s.tool.op == ToolOp::HeatGun || (s.live && s.dwell != 0.0)) j["dwell"] = s.dwell;
     json path = json::array();
     bool sameOrientation = true;
     for (const ToolSample& t : s.samples) {
@@ -284,6 +323,17 @@ std::string strokeLine(const Stroke& s) {
     };
     if (!c.masks.empty()) j["masks"] = shapes(c.masks);
     if (!c.keepOut.empty()) j["keep_out"] = shapes(c.keepOut);
+    if (s.live) {
+        const LiveRecord& r = *s.live;
+        json live = {{"cuts", r.cuts}, {"dwells", r.dwells}};
+        if (!r.timesNs.empty()) live["t"] = r.timesNs;
+        if (!r.strengths.empty()) {
+            json a = json::array();
+            for (float v : r.strengths) a.push_back(double(v));
+            live["s"] = a;
+        }
+        j["live"] = live;
+    }
     return j.dump();
 }
 

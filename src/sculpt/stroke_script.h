@@ -16,8 +16,9 @@
 
 namespace kizamu::sculpt {
 
-/// Version 2 added Bezier paths and constraints; version 1 scripts read unchanged.
-inline constexpr int kScriptVersion = 2;
+/// Version 2 added Bezier paths and constraints, version 3 live records (Stroke::live: how a
+/// stroke was applied in segments); version 1 and 2 scripts read unchanged.
+inline constexpr int kScriptVersion = 3;
 
 /// A whole script: the header (version, domain, start shape) and the steps after it.
 struct Script {
@@ -31,9 +32,9 @@ struct Script {
 /// Parses script text; `name` appears in errors.
 /// @throw kizamu::FileError "name: line N: problem" for anything malformed.
 Script parseScript(const std::string& text, const std::string& name);
-/// Parses one record line (a stroke, {"undo": 1} or {"redo": 1}). @throw std::invalid_argument,
-/// nlohmann::json::exception.
-Step parseStep(const std::string& line);
+/// Parses one record line (a stroke, {"undo": 1} or {"redo": 1}) of a script of `version`
+/// (a "live" record needs 3). @throw std::invalid_argument, nlohmann::json::exception.
+Step parseStep(const std::string& line, int version = kScriptVersion);
 /// Parses a header line alone (version, domain, start shape; no steps). Other formats that
 /// start from a script's clay read their start with it. @throw std::invalid_argument,
 /// nlohmann::json::exception.
