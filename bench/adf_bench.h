@@ -17,7 +17,7 @@ struct AdfBenchOptions {
     std::size_t errorPoints = 200'000;  ///< band points for the accuracy figure
     int repeats = 3;                  ///< generation runs per level (median reported)
     int queryPasses = 5;              ///< timed passes over the query points (medians reported)
-    unsigned threads = 0;             ///< 0: all cores
+    unsigned threads = 0;             ///< 0: util::allowedCpuCount()
     int tileSpan = 0;                 ///< 0: the default tile span
 };
 

@@ -18,7 +18,7 @@ struct MeshBenchOptions {
     int repeats = 5;                      ///< timed runs per figure (median reported)
     std::size_t points = 800'000;         ///< point-cloud size
     std::vector<std::string> models{"bunny00.off"};  ///< from the CGAL data archive
-    unsigned threads = 0;                 ///< 0: all cores
+    unsigned threads = 0;                 ///< 0: util::allowedCpuCount()
 };
 
 /// Runs the benchmark and prints its figures. Returns a process exit code.

@@ -40,7 +40,7 @@ void addBenchCommand(CLI::App& app) {
     adfCmd->add_option("--query-passes", adfOptions->queryPasses, "Timed passes over the query points (medians)")
         ->check(CLI::Range(1, 100))
         ->capture_default_str();
-    adfCmd->add_option("--threads", adfOptions->threads, "Worker threads (0: all cores)")->capture_default_str();
+    adfCmd->add_option("--threads", adfOptions->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     adfCmd->add_option("--tile-span", adfOptions->tileSpan, "Octree levels inside a stored tile (0: default)")
         ->check(CLI::Range(0, 8));
     adfCmd->callback([adfOptions] {
@@ -64,7 +64,7 @@ void addBenchCommand(CLI::App& app) {
     meshCmd->add_option("--models", meshOptions->models, "Meshes from Debian's CGAL data (data/meshes/...), e.g. bunny00.off")
         ->delimiter(',')
         ->capture_default_str();
-    meshCmd->add_option("--threads", meshOptions->threads, "Worker threads (0: all cores)")->capture_default_str();
+    meshCmd->add_option("--threads", meshOptions->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     meshCmd->callback([meshOptions] {
         const int rc = bench::runMeshBench(*meshOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);
@@ -79,7 +79,7 @@ void addBenchCommand(CLI::App& app) {
     editCmd->add_option("--slab-level", editOptions->slabLevel, "Level of the slab replay")->check(CLI::Range(4, 14))->capture_default_str();
     editCmd->add_option("--slab-strokes", editOptions->slabStrokes, "Strokes of the slab to replay (0: skip)")->capture_default_str();
     editCmd->add_option("--slab-script", editOptions->slabScript, "The slab's stroke script")->capture_default_str();
-    editCmd->add_option("--threads", editOptions->threads, "Worker threads (0: all cores)")->capture_default_str();
+    editCmd->add_option("--threads", editOptions->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     editCmd->callback([editOptions] {
         const int rc = bench::runEditBench(*editOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);

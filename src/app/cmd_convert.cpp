@@ -192,7 +192,7 @@ void addConvertCommand(CLI::App& app) {
         ->check(CLI::IsMember({"mm", "cm", "m"}))
         ->capture_default_str();
     cmd->add_flag("--quiet", o->quiet, "No progress line on stderr (drawn only on a terminal)");
-    cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     cmd->callback([o, cmd] {
         o->levelGiven = cmd->count("--level") > 0;
         // A unit the output cannot take fails here, before the work.

@@ -63,7 +63,7 @@ void addGenerateCommand(CLI::App& app) {
     cmd->add_option("--tile-span", o->tileSpan, "Octree levels inside one stored tile")
         ->check(CLI::Range(1, adf::kMaxTileSpan))
         ->capture_default_str();
-    cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     cmd->add_option("-o,--out", o->out, "Output file")->capture_default_str();
     cmd->add_flag("--quiet", o->quiet, "No progress line on stderr (drawn only on a terminal)");
     cmd->callback([o] { runGenerate(*o); });

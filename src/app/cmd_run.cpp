@@ -143,7 +143,7 @@ void addRunCommand(CLI::App& app) {
     cmd->add_option("--checkpoint-every", o->checkpointEvery, "Steps between checkpoints in the session")
         ->check(CLI::Range(std::size_t(1), std::size_t(1) << 30))
         ->capture_default_str();
-    cmd->add_option("--threads", o->threads, "Worker threads (0: all cores)")->capture_default_str();
+    cmd->add_option("--threads", o->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     cmd->callback([o] {
         // A unit the output cannot take fails here, before the replay.
         if (!o->out.empty() && !isAdfPath(o->out))

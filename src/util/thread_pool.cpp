@@ -9,6 +9,8 @@
 /// thread (docs/decisions/0006-own-thread-pool.md).
 #include "util/thread_pool.h"
 
+#include "util/cpu_set.h"
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
@@ -44,9 +46,9 @@ bool pollFor(std::chrono::microseconds limit, Done done) {
 /// to back with short serial steps between them (a LOD about 14, a dab about 20), so a worker
 /// that polls across those steps starts the next loop at once
 /// (docs/decisions/0006-own-thread-pool.md). The same trade as OpenMP's and TBB's workers,
-/// which also spin before they sleep; after its last loop an idle pool costs at most this much CPU per thread. With
-/// more threads than cores nobody polls: the pollers would take the cores from the threads
-/// still running items.
+/// which also spin before they sleep; after its last loop an idle pool costs at most this much CPU
+/// per thread. With more threads than cores it may use (the affinity mask's, or the workers' set)
+/// nobody polls: the pollers would take the cores from the threads still running items.
 constexpr std::chrono::microseconds kPoll{500};
 
 thread_local unsigned tThreadIndex = 0;  ///< set once by each worker (ThreadPool::threadIndex)
@@ -55,15 +57,37 @@ thread_local unsigned tThreadIndex = 0;  ///< set once by each worker (ThreadPoo
 
 unsigned ThreadPool::threadIndex() { return tThreadIndex; }
 
-ThreadPool::ThreadPool(unsigned threads) {
-    const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
+ThreadPool::ThreadPool(unsigned threads) : ThreadPool(threads, {}) {}
+
+ThreadPool::ThreadPool(unsigned threads, std::vector<int> cpus) : mCpus(std::move(cpus)) {
+    std::sort(mCpus.begin(), mCpus.end());
+    mCpus.erase(std::unique(mCpus.begin(), mCpus.end()), mCpus.end());
+    // The cores the pool's threads share: those allowed to the process, or the workers' set.
+    const unsigned cores = mCpus.empty() ? allowedCpuCount() : unsigned(mCpus.size());
     if (threads == 0) threads = cores;
     mPoll = threads <= cores ? kPoll : std::chrono::microseconds(0);
     for (unsigned i = 1; i < threads; ++i)
         mWorkers.emplace_back([this, i] {
             tThreadIndex = i;
+            // Pinned before the first poll: a worker must never spin on a CPU it was kept off.
+            if (!mCpus.empty()) {
+                std::string why;
+                const bool pinned = pinCurrentThread(mCpus, &why);
+                {
+                    std::lock_guard lock(mMutex);
+                    if (!pinned && mPinError.empty())
+                        mPinError = "worker " + std::to_string(i) + ": " + why;
+                    ++mStarted;
+                }
+                mDone.notify_all();
+            }
             workerLoop();
         });
+    if (!mCpus.empty()) {
+        // No loop runs yet, so mDone has no other waiter.
+        std::unique_lock lock(mMutex);
+        mDone.wait(lock, [&] { return mStarted == mWorkers.size(); });
+    }
 }
 
 ThreadPool::~ThreadPool() {

@@ -4,7 +4,8 @@
 ///
 /// Used by generation, regeneration, the mesher and the point sampler. We keep our own small pool rather
 /// than TBB so that every thread Kizamu starts is visible and nameable, and so ThreadSanitizer
-/// sees plain std::thread/mutex synchronisation. Never used by the haptic thread.
+/// sees plain std::thread/mutex synchronisation. Never used by the haptic thread. Sized from the
+/// affinity mask (util/cpu_set.h); optionally kept off the haptic thread's core.
 #pragma once
 
 #include <algorithm>
@@ -18,6 +19,7 @@
 #include <memory>
 #include <mutex>
 #include <numeric>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -27,8 +29,17 @@ namespace kizamu::util {
 /// One parallelFor at a time; calling it from two threads at once is a bug.
 class ThreadPool {
 public:
-    /// `threads` workers in total, the calling thread included (0: hardware concurrency).
+    /// `threads` workers in total, the calling thread included (0: allowedCpuCount(), the CPUs
+    /// in the calling thread's affinity mask, not the machine's core count). Workers inherit
+    /// the constructing thread's mask.
     explicit ThreadPool(unsigned threads = 0);
+    /// As above, but the workers (not the calling thread, whose mask is left alone) run only on
+    /// the CPUs in `cpus`, so a core kept for the haptic thread (allowedCpusExcept({core})) never
+    /// runs or polls a worker. 0 threads: cpus.size(). Empty `cpus`: no pinning, the same as
+    /// ThreadPool(threads). Each worker pins itself before it takes any work, and the
+    /// constructor returns once all have tried; one refused (a CPU absent or outside the
+    /// process's cpuset) keeps its inherited mask, and pinError() says why.
+    ThreadPool(unsigned threads, std::vector<int> cpus);
     ~ThreadPool();
     ThreadPool(const ThreadPool&) = delete;
     ThreadPool& operator=(const ThreadPool&) = delete;
@@ -43,6 +54,11 @@ public:
     void parallelFor(std::size_t n, const std::function<void(std::size_t)>& fn);
 
     unsigned threadCount() const { return unsigned(mWorkers.size()) + 1; }
+    /// The CPUs the workers were asked to run on, ascending, no duplicates; empty: not pinned.
+    const std::vector<int>& workerCpus() const { return mCpus; }
+    /// Empty when every worker runs on workerCpus() (or none was asked for); otherwise why the
+    /// first refused worker keeps the mask it inherited.
+    const std::string& pinError() const { return mPinError; }
     /// The calling thread's place in its pool: k for worker k (1..threadCount() - 1), 0 for a
     /// thread that is no pool's worker (the caller of parallelFor runs items as thread 0). A
     /// worker of another pool answers its index there (a home is only a preference).
@@ -79,6 +95,9 @@ private:
     std::chrono::microseconds mPoll{0};  ///< 0 when there are more threads than cores
     std::atomic<bool> mStop{false};      ///< set under the mutex; read by sleeping and polling workers
     std::exception_ptr mError;
+    std::vector<int> mCpus;  ///< the workers' CPUs; empty: not pinned
+    std::string mPinError;   ///< written under the mutex before the constructor returns
+    unsigned mStarted = 0;   ///< workers that have tried to pin (under the mutex)
 };
 
 /// Runs fn(i) for i in [0, n) on `pool`, or serially when `pool` is null.
