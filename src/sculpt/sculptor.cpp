@@ -86,7 +86,6 @@ void Sculptor::beginStroke(const Stroke& header) {
     Stroke check = header;
     if (check.samples.empty()) check.samples.push_back({});  // validate() wants a pose; the tool and constraints matter here
     validate(check);
-    if (header.tool.op == ToolOp::Paint) throw std::logic_error("live strokes: paint is not segmented yet");
     ToolLimits limits = limitsFor(header);
     // Following reads the field away from the surface; the path is not known yet, so every
     // pending zone is corrected now (apply() corrects those near its path).
@@ -113,7 +112,6 @@ void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
     if (!mLive) throw std::logic_error("extendStroke without a live stroke (beginStroke first)");
     LiveStroke& live = *mLive;
     const Tool& tool = live.stroke.tool;
-    if (tool.op == ToolOp::Paint) throw std::logic_error("live strokes: paint is not segmented yet");
     if (!std::isfinite(dwell) || dwell < 0.0) throw std::invalid_argument("a live stroke's dwell must be finite and >= 0 s");
     const auto t0 = std::chrono::steady_clock::now();
     // The segment starts at the joint: the last pose applied, so consecutive segments overlap there.
@@ -136,6 +134,10 @@ void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
     std::vector<ToolSample> segPath = resolvePath(segment, *live.start, 0.1 * h);
     std::vector<ToolSample> pathNow = live.path;
     pathNow.insert(pathNow.end(), segPath.begin() + (live.path.empty() ? 0 : 1), segPath.end());
+    if (tool.op == ToolOp::Paint) {
+        extendPaint(samples, segPath, std::move(pathNow), dwellNow, t0);
+        return;
+    }
     const auto segTool = makeSweptTool(tool, segPath);
     const bool csg = tool.op == ToolOp::Carve || tool.op == ToolOp::Add;
     const std::shared_ptr<const SweptTool> appliedNow = csg ? nullptr : makeSweptTool(tool, pathNow);
@@ -180,6 +182,27 @@ void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
     mLast.replacedBytes = 0;
 }
 
+void Sculptor::extendPaint(std::span<const ToolSample> samples, std::span<const ToolSample> segPath, std::vector<ToolSample> pathNow,
+                            double dwellNow, std::chrono::steady_clock::time_point t0) {
+    LiveStroke& live = *mLive;
+    PaintStats ps;
+    adf::ColourLayerPtr colours = paintLiveSegment(*mCurrent, live.stroke, live.start->colours().get(), live.path, segPath, mPool, &ps);
+    // Nothing has changed the live state before this point: a throw above leaves it as it was.
+    if (colours != mCurrent->colours()) {  // only the colour layer changes: every distance tile is shared
+        adf::AdfBuilder builder(*mCurrent);
+        builder.setColours(std::move(colours));
+        mCurrent = builder.build(mCurrent->version() + 1);
+    }
+    live.stroke.samples.insert(live.stroke.samples.end(), samples.begin(), samples.end());
+    live.stroke.dwell = dwellNow;
+    live.path = std::move(pathNow);
+    mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    mLast.tilesRebuilt = 0;
+    mLast.samples = 0;
+    mLast.colourTilesPainted = ps.slotsPainted;
+    mLast.replacedBytes = 0;
+}
+
 Stroke Sculptor::endStroke() {
     if (!mLive) throw std::logic_error("endStroke without a live stroke (beginStroke first)");
     const auto t0 = std::chrono::steady_clock::now();
@@ -197,8 +220,13 @@ Stroke Sculptor::endStroke() {
         bytes += replacedBytes(*live->start, *last, *region);
         if (mCorrecting) pending = std::make_shared<const PendingZone>(PendingZone{correctionZone(*last, *region, mCorrection), pending});
     }
+    // Paint: the colour tiles the stroke replaced, as apply() counts them; no correction is owed.
+    const PaintStats painted = live->stroke.tool.op == ToolOp::Paint
+                                   ? paintedBetween(live->start->colours().get(), last->colours().get())
+                                   : PaintStats{};
+    bytes += painted.replacedBytes;
     mCurrent = live->start;  // the undo record's snapshot
-    mLast.colourTilesPainted = 0;
+    mLast.colourTilesPainted = painted.slotsPainted;
     finish(std::move(last), bytes, std::move(pending), t0);
     return live->stroke;
 }

@@ -30,7 +30,14 @@
 ///   start snapshot.
 /// - heat gun: the dwell comes with the samples (extendStroke's `dwell`, s); a segment applies
 ///   rate x (dwell so far x W so far) less what was applied, over the whole path when the dwell grew.
-/// - paint: not segmented yet (std::logic_error).
+/// - paint: a point's colour is its start colour blended by each mirrored copy's weight in
+///   turn, and a path's weight is the maximum of its pieces'; a segment rewrites only the points
+///   where some copy's running maximum weight grows, blending from the start colour with the
+///   weights so far (paintLiveSegment, paint.h). Bit for bit for a sphere on a free path,
+///   mirrored or not (the pieces' distances are the same closed-form capsules); other shapes
+///   within one 8-bit step per channel (their searched distance at a joint may round
+///   differently). One undo record of the colour tiles replaced, no correction zone, every
+///   distance tile shared, as apply().
 /// Mirrored live strokes of the gradual tools read the start snapshot in every copy, where
 /// apply() lets a copy read the one before it: they differ only where copies overlap.
 /// Owned by the edit thread; not thread-safe.
@@ -84,7 +91,7 @@ public:
     /// surface first completes every pending correction (its path is not known yet). Undo, redo,
     /// apply and corrections throw std::logic_error until the stroke ends or is cancelled.
     /// @throw std::invalid_argument for a bad tool or constraints, or a Bezier header;
-    ///        std::logic_error while a stroke is open, or for paint (not segmented yet).
+    ///        std::logic_error while a stroke is open.
     /// Complexity: O(1) plus what the first poses cost. Threading: the edit thread.
     void beginStroke(const Stroke& header);
     /// Applies the swept tool from the last applied pose (the joint, so segments leave no gap)
@@ -94,11 +101,13 @@ public:
     /// @throw std::logic_error without an open stroke; std::invalid_argument for bad samples or
     ///        dwell (nothing changes).
     /// Complexity: one regeneration of the segment's region (the heat gun: the path's, when the
-    /// dwell grew); the poses so far are kept, O(poses) memory.
+    /// dwell grew; paint: no regeneration, the colour tiles the segment reaches); the poses so
+    /// far are kept, O(poses) memory.
     void extendStroke(std::span<const ToolSample> samples, double dwell = 0.0);
     /// Ends the live stroke: one undo record (undo returns the snapshot before beginStroke, redo
     /// this one), one pending correction zone per mirrored copy (the union of its segments'
-    /// regions), redo records dropped. A stroke that applied nothing leaves no record.
+    /// regions; paint: none, and the record counts the colour tiles replaced, as apply()), redo
+    /// records dropped. A stroke that applied nothing leaves no record.
     /// @return the whole stroke (header, every pose, the total dwell) with its live record (the
     ///         cuts and dwells of every beginStroke and extendStroke call given samples or dwell;
     ///         no time stamps or strengths): what a journal records. replay() of it reproduces
@@ -166,6 +175,9 @@ private:
     /// @throw std::logic_error naming `what` while a live stroke is open.
     void requireNoLiveStroke(const char* what) const;
     struct LiveStroke;
+    /// extendStroke for paint: `segPath` resolved from the joint, `pathNow` the path after it.
+    void extendPaint(std::span<const ToolSample> samples, std::span<const ToolSample> segPath, std::vector<ToolSample> pathNow,
+                     double dwellNow, std::chrono::steady_clock::time_point t0);
     /// Makes `next` current, with `pending` corrections, and an undo record of `replacedBytes`.
     void finish(adf::AdfPtr next, std::size_t replacedBytes, PendingList pending, std::chrono::steady_clock::time_point t0);
 
