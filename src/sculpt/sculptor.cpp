@@ -135,7 +135,7 @@ void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
     std::vector<ToolSample> pathNow = live.path;
     pathNow.insert(pathNow.end(), segPath.begin() + (live.path.empty() ? 0 : 1), segPath.end());
     if (tool.op == ToolOp::Paint) {
-        extendPaint(samples, segPath, std::move(pathNow), dwellNow, t0);
+        extendPaint(samples, segPath, std::move(pathNow), dwell, dwellNow, t0);
         return;
     }
     const auto segTool = makeSweptTool(tool, segPath);
@@ -183,7 +183,7 @@ void Sculptor::extendStroke(std::span<const ToolSample> samples, double dwell) {
 }
 
 void Sculptor::extendPaint(std::span<const ToolSample> samples, std::span<const ToolSample> segPath, std::vector<ToolSample> pathNow,
-                            double dwellNow, std::chrono::steady_clock::time_point t0) {
+                            double dwell, double dwellNow, std::chrono::steady_clock::time_point t0) {
     LiveStroke& live = *mLive;
     PaintStats ps;
     adf::ColourLayerPtr colours = paintLiveSegment(*mCurrent, live.stroke, live.start->colours().get(), live.path, segPath, mPool, &ps);
@@ -196,6 +196,7 @@ void Sculptor::extendPaint(std::span<const ToolSample> samples, std::span<const 
     live.stroke.samples.insert(live.stroke.samples.end(), samples.begin(), samples.end());
     live.stroke.dwell = dwellNow;
     live.path = std::move(pathNow);
+    live.recordSegment(samples.size(), dwell, dwellNow);
     mLast.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     mLast.tilesRebuilt = 0;
     mLast.samples = 0;

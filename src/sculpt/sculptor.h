@@ -177,7 +177,7 @@ private:
     struct LiveStroke;
     /// extendStroke for paint: `segPath` resolved from the joint, `pathNow` the path after it.
     void extendPaint(std::span<const ToolSample> samples, std::span<const ToolSample> segPath, std::vector<ToolSample> pathNow,
-                     double dwellNow, std::chrono::steady_clock::time_point t0);
+                     double dwell, double dwellNow, std::chrono::steady_clock::time_point t0);
     /// Makes `next` current, with `pending` corrections, and an undo record of `replacedBytes`.
     void finish(adf::AdfPtr next, std::size_t replacedBytes, PendingList pending, std::chrono::steady_clock::time_point t0);
 

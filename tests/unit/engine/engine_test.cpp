@@ -87,6 +87,10 @@ engine::ToolChange toolChange(int64_t atMs, sculpt::ToolOp op, double h) {
     c.tool.radius = 0.04;
     if (op == sculpt::ToolOp::Build) c.tool.amount = 2.0 * h;
     if (op == sculpt::ToolOp::HeatGun) c.tool.rate = 0.05;
+    if (op == sculpt::ToolOp::Paint) {
+        c.tool.colour = {200, 40, 10};
+        c.tool.strength = 0.6;
+    }
     return c;
 }
 
@@ -136,7 +140,7 @@ TEST(Engine, JournalReplayEqualsTheLiveClayBitForBitForEveryTool) {
     int64_t ms = 0;
     int k = 0;
     for (sculpt::ToolOp op : {sculpt::ToolOp::Carve, sculpt::ToolOp::Add, sculpt::ToolOp::Build, sculpt::ToolOp::HeatGun,
-                              sculpt::ToolOp::Smooth, sculpt::ToolOp::Flatten}) {
+                              sculpt::ToolOp::Smooth, sculpt::ToolOp::Flatten, sculpt::ToolOp::Paint}) {
         t.add(toolChange(ms, op, h));
         addStroke(t, ms + 1, 25, 0.2 + 0.1 * k, 0.5f + 0.02f * float(k));
         ++k;
@@ -147,12 +151,12 @@ TEST(Engine, JournalReplayEqualsTheLiveClayBitForBitForEveryTool) {
         Engine e(settingsFor(dir.str()));
         const engine::PlaybackReport r = engine::play(e, t, {0.0, 0});
         EXPECT_TRUE(r.errors.empty());
-        EXPECT_EQ(e.stats().strokes, 6u);
-        EXPECT_GT(e.stats().segments, 6u * 10u) << "lock step cuts a segment per millisecond";
+        EXPECT_EQ(e.stats().strokes, 7u);
+        EXPECT_GT(e.stats().segments, 7u * 10u) << "lock step cuts a segment per millisecond";
         live = publishedBytes(e);
     }
     const auto reopened = sculpt::Session::open(dir.str());
-    EXPECT_EQ(reopened->steps(), 6u);
+    EXPECT_EQ(reopened->steps(), 7u);
     for (const sculpt::Step& s : reopened->journal().steps) {
         ASSERT_TRUE(s.stroke.live.has_value());
         EXPECT_EQ(s.stroke.live->timesNs.size(), s.stroke.samples.size());
