@@ -115,7 +115,7 @@ int runLiveBench(const LiveBenchOptions& opt) {
         out.add("live.push_full_coarsening", double(q.stats().maxCoarsening), "k",
                 "tolerances x 2^k");
     }
-    if (!opt.levels.empty()) liveEngineFigures(out, {opt.levels, opt.placement});
+    if (!opt.levels.empty()) liveEngineFigures(out, {opt.levels, opt.placement, opt.repeats});
     return 0;
 }
 

@@ -16,6 +16,7 @@ struct LiveBenchOptions {
     std::size_t fullPushes = 200'000;  ///< timed pushes into a full ring (nobody drains)
     std::vector<int> levels{10, 12};   ///< the engine's stroke at these levels (none: the queue only)
     bool placement = true;             ///< the haptic-core and supersede comparisons
+    int repeats = 3;                   ///< runs of the engine's stroke per configuration (medians)
 };
 
 /// Runs the benchmark and prints its figures. Returns a process exit code.

@@ -108,6 +108,7 @@ RunResult runStroke(int level, const Config& config, util::ThreadPool& wholePool
     }
     std::vector<double> servoError;
     servoError.reserve(kSamples + 1);
+    const util::CpuDmaLatency noDeepIdle;  // as the app's servo loop holds it: no deep C-states while it runs
     std::thread servo([&] {
         std::string why;
         if (dedicated) util::pinCurrentThread(cpus.back(), &why);
@@ -155,6 +156,38 @@ RunResult runStroke(int level, const Config& config, util::ThreadPool& wholePool
     return r;
 }
 
+/// One run's figures; across runs, each figure's median.
+struct Summary {
+    double snapshotP50 = 0, snapshotP99 = 0, meshP50 = 0, meshP99 = 0, segments = 0, superseded = 0;
+    double liveEditMs = 0, wholeEditMs = 0, vsWhole = 0, servoP999 = 0;
+};
+
+Summary summarise(const RunResult& r) {
+    return {quantile(r.toSnapshotMs, 0.5), quantile(r.toSnapshotMs, 0.99), quantile(r.toMeshMs, 0.5), quantile(r.toMeshMs, 0.99),
+            double(r.segments), double(r.superseded), r.liveEditMs, r.wholeEditMs, r.liveEditMs / r.wholeEditMs,
+            quantile(r.servoErrorUs, 0.999)};
+}
+
+/// Runs the stroke `repeats` times and takes each figure's median over the runs.
+Summary medianRun(int level, const Config& config, int repeats, util::ThreadPool& pool, FigureSink& out) {
+    std::vector<Summary> runs;
+    for (int i = 0; i < repeats; ++i) {
+        out.progress("live stroke at level " + std::to_string(level) + ", " + config.name + ", run " + std::to_string(i + 1) + "/" +
+                     std::to_string(repeats));
+        const RunResult r = runStroke(level, config, pool);
+        if (i == 0 && !r.realtime.empty()) out.progress("servo thread: " + r.realtime);
+        runs.push_back(summarise(r));
+    }
+    auto med = [&](double Summary::*f) {
+        std::vector<double> v;
+        for (const Summary& s : runs) v.push_back(s.*f);
+        return median(v);
+    };
+    return {med(&Summary::snapshotP50), med(&Summary::snapshotP99), med(&Summary::meshP50), med(&Summary::meshP99),
+            med(&Summary::segments), med(&Summary::superseded), med(&Summary::liveEditMs), med(&Summary::wholeEditMs),
+            med(&Summary::vsWhole), med(&Summary::servoP999)};
+}
+
 }  // namespace
 
 void liveEngineFigures(FigureSink& out, const LiveEngineBenchOptions& opt) {
@@ -162,33 +195,29 @@ void liveEngineFigures(FigureSink& out, const LiveEngineBenchOptions& opt) {
     for (std::size_t li = 0; li < opt.levels.size(); ++li) {
         const int level = opt.levels[li];
         const std::string lv = "level" + std::to_string(level);
-        out.section("a 2 s carving stroke at 1 kHz through the live engine, test part, " + lv);
-        out.progress("live stroke at " + lv);
-        const RunResult r = runStroke(level, {"shared", false, false}, pool);
-        if (!r.realtime.empty()) out.progress("servo thread: " + r.realtime);
-        out.add("live.sample_to_snapshot_ms." + lv + ".p50", quantile(r.toSnapshotMs, 0.5), "ms");
-        out.add("live.sample_to_snapshot_ms." + lv + ".p99", quantile(r.toSnapshotMs, 0.99), "ms");
-        out.add("live.sample_to_mesh_ms." + lv + ".p50", quantile(r.toMeshMs, 0.5), "ms", level == 10 ? "budget 4 ms" : "");
-        out.add("live.sample_to_mesh_ms." + lv + ".p99", quantile(r.toMeshMs, 0.99), "ms",
-                level == 10 ? "budget 11 ms" : level == 12 ? "budget 50 ms" : "");
-        out.add("live.segments." + lv, double(r.segments), "segments");
+        out.section("a 2 s carving stroke at 1 kHz through the live engine, test part, " + lv + " (medians of " +
+                    std::to_string(opt.repeats) + " runs)");
+        const Summary r = medianRun(level, {"shared", false, false}, opt.repeats, pool, out);
+        out.add("live.sample_to_snapshot_ms." + lv + ".p50", r.snapshotP50, "ms");
+        out.add("live.sample_to_snapshot_ms." + lv + ".p99", r.snapshotP99, "ms");
+        out.add("live.sample_to_mesh_ms." + lv + ".p50", r.meshP50, "ms", level == 10 ? "budget 4 ms" : "");
+        out.add("live.sample_to_mesh_ms." + lv + ".p99", r.meshP99, "ms", level == 10 ? "budget 11 ms" : level == 12 ? "budget 50 ms" : "");
+        out.add("live.segments." + lv, r.segments, "segments");
         out.add("live.live_edit_ms." + lv, r.liveEditMs, "ms", "the segments' edits, summed");
         out.add("live.whole_edit_ms." + lv, r.wholeEditMs, "ms", "Sculptor::apply of the same poses");
-        out.add("live.vs_whole_stroke." + lv, r.liveEditMs / r.wholeEditMs, "x");
-        out.add("live.servo_period_error_us." + lv + ".p999", quantile(r.servoErrorUs, 0.999), "us", "budget 100 us");
+        out.add("live.vs_whole_stroke." + lv, r.vsWhole, "x");
+        out.add("live.servo_period_error_us." + lv + ".p999", r.servoP999, "us", "budget 100 us");
         if (li != 0 || !opt.placement) continue;
-        out.section("the same stroke at " + lv + ": servo thread on its own CPU; mesh superseding");
-        out.progress("live stroke at " + lv + ", servo thread on its own CPU");
-        const RunResult d = runStroke(level, {"dedicated", true, false}, pool);
-        out.add("live.placement.dedicated.sample_to_mesh_ms." + lv + ".p50", quantile(d.toMeshMs, 0.5), "ms");
-        out.add("live.placement.dedicated.sample_to_mesh_ms." + lv + ".p99", quantile(d.toMeshMs, 0.99), "ms");
-        out.add("live.placement.dedicated.live_edit_ms." + lv, d.liveEditMs, "ms");
-        out.add("live.placement.dedicated.servo_period_error_us." + lv + ".p999", quantile(d.servoErrorUs, 0.999), "us");
-        out.progress("live stroke at " + lv + ", mesh superseding");
-        const RunResult s = runStroke(level, {"supersede", false, true}, pool);
-        out.add("live.supersede.sample_to_mesh_ms." + lv + ".p50", quantile(s.toMeshMs, 0.5), "ms");
-        out.add("live.supersede.sample_to_mesh_ms." + lv + ".p99", quantile(s.toMeshMs, 0.99), "ms");
-        out.add("live.supersede.superseded." + lv, double(s.superseded), "mesh updates skipped");
+        out.section("the same stroke at " + lv + ": servo thread on a CPU of its own; mesh superseding");
+        const Summary d = medianRun(level, {"dedicated", true, false}, opt.repeats, pool, out);
+        out.add("live.placement.dedicated.sample_to_mesh_ms." + lv + ".p50", d.meshP50, "ms");
+        out.add("live.placement.dedicated.sample_to_mesh_ms." + lv + ".p99", d.meshP99, "ms");
+        out.add("live.placement.dedicated.live_edit_ms." + lv, d.liveEditMs, "ms", "shared: live.live_edit_ms");
+        out.add("live.placement.dedicated.servo_period_error_us." + lv + ".p999", d.servoP999, "us");
+        const Summary s = medianRun(level, {"supersede", false, true}, opt.repeats, pool, out);
+        out.add("live.supersede.sample_to_mesh_ms." + lv + ".p50", s.meshP50, "ms");
+        out.add("live.supersede.sample_to_mesh_ms." + lv + ".p99", s.meshP99, "ms");
+        out.add("live.supersede.superseded." + lv, s.superseded, "mesh updates skipped");
     }
 }
 

@@ -13,6 +13,7 @@ namespace kizamu::bench {
 struct LiveEngineBenchOptions {
     std::vector<int> levels{10, 12};
     bool placement = true;  ///< also the haptic-core and supersede comparisons at the first level
+    int repeats = 3;        ///< runs per configuration; each figure is the median over them
 };
 
 /// Runs the stroke at each level and adds the live.* latency figures to `out`.

@@ -99,6 +99,9 @@ void addBenchCommand(CLI::App& app) {
         ->check(CLI::Range(4, 14))
         ->capture_default_str();
     liveCmd->add_flag("!--no-placement", liveOptions->placement, "Skip the haptic-core and supersede comparisons");
+    liveCmd->add_option("--repeats", liveOptions->repeats, "Runs of the engine's stroke per configuration (figures are medians)")
+        ->check(CLI::Range(1, 99))
+        ->capture_default_str();
     liveCmd->callback([liveOptions] {
         const int rc = bench::runLiveBench(*liveOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);

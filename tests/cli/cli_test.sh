@@ -293,7 +293,7 @@ assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "
 PY
 
 # bench live contract (small: 20k pushes, the engine's stroke at level 6 only)
-"$kizamu" bench live --json --pushes 20000 --full-pushes 5000 --levels 6 --no-placement >"$tmp/live.json" 2>/dev/null || fail "bench live exited non-zero"
+"$kizamu" bench live --json --pushes 20000 --full-pushes 5000 --levels 6 --no-placement --repeats 1 >"$tmp/live.json" 2>/dev/null || fail "bench live exited non-zero"
 python3 - "$tmp/live.json" <<'PY' || failures=$((failures + 1))
 import json, sys
 names = {}

@@ -37,6 +37,7 @@ using engine::ToolSample;
 sculpt::Script slabScript(int level = 6) {
     sculpt::Script s;
     s.domain.maxLevel = level;
+    s.domain.tileSpanLevels = 4;  // several tiles, so segments rebuild some and share the rest
     s.start.kind = sculpt::Shape::Kind::Box;  // top face at z = 0.5
     s.start.centre = {0.5, 0.5, 0.4};
     s.start.halfSize = {0.35, 0.35, 0.1};
