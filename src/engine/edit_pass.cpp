@@ -327,6 +327,7 @@ void EditPass::publish(std::span<const ToolSample> samples, double ms) {
     const adf::AdfPtr& clay = mSession->sculptor().current();
     if (clay == mStore->current()) return;
     const uint64_t sequence = mStore->publish(clay);
+    mCounters.retired.store(mStore->retiredCount(), std::memory_order_relaxed);
     mUnmeshed.insert(mUnmeshed.end(), samples.begin(), samples.end());
     if (mSettings.observer) mSettings.observer({EngineEvent::Kind::Published, sequence, nowNs(), ms, samples});
 }
@@ -385,7 +386,7 @@ bool EditPass::idle() const {
 void EditPass::housekeeping() {
     const auto now = Clock::now();
     if (now - mLastReclaim >= mSettings.reclaimEvery) {
-        mStore->reclaim();
+        mCounters.retired.store(mStore->reclaim(), std::memory_order_relaxed);
         mLastReclaim = now;
     }
     finishCheckpoint(false);

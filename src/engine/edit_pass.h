@@ -55,7 +55,7 @@ struct Mailbox {
 };
 
 struct Counters {
-    std::atomic<uint64_t> segments{0}, strokes{0}, cancelled{0}, meshUpdates{0}, superseded{0}, checkpoints{0}, corrections{0};
+    std::atomic<uint64_t> segments{0}, strokes{0}, cancelled{0}, meshUpdates{0}, superseded{0}, checkpoints{0}, corrections{0}, retired{0};
 };
 
 /// The edit thread's state. Every function runs on the edit thread, except the constructor and

@@ -100,7 +100,7 @@ std::vector<std::string> Engine::takeNotices() {
 EngineStats Engine::stats() const {
     const detail::Counters& c = *mCounters;
     auto get = [](const std::atomic<uint64_t>& a) { return a.load(std::memory_order_relaxed); };
-    return {get(c.segments), get(c.strokes), get(c.cancelled), get(c.meshUpdates), get(c.superseded), get(c.checkpoints), get(c.corrections)};
+    return {get(c.segments), get(c.strokes), get(c.cancelled), get(c.meshUpdates), get(c.superseded), get(c.checkpoints), get(c.corrections), get(c.retired)};
 }
 
 }  // namespace kizamu::engine

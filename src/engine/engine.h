@@ -124,6 +124,7 @@ struct EngineStats {
     uint64_t superseded = 0;   ///< mesh updates skipped for newer samples
     uint64_t checkpoints = 0;  ///< background checkpoints written
     uint64_t corrections = 0;  ///< idle remote-field corrections
+    uint64_t retired = 0;      ///< published snapshots not yet freed (a reader may still see them)
 };
 
 /// The live engine. Owned by the application; one per sculpture in progress. Not copyable.

@@ -181,6 +181,24 @@ TEST(Engine, TheSameTrajectoryInLockStepGivesTheSameBits) {
     }
 }
 
+TEST(Engine, RetiredSnapshotsAreFreedWithoutAnotherPublish) {
+    EngineSettings settings = settingsFor();
+    settings.correctAfterIdle = std::chrono::milliseconds(0);  // no idle corrections: nothing publishes after the stroke
+    Engine e(settings);
+    adf::SnapshotStore::Reader reader(e.snapshots());
+    {
+        const auto guard = reader.acquire();  // holds the start snapshot through the stroke
+        for (int i = 0; i < 10; ++i) push(e, held(i, {0.3 + 0.02 * i, 0.5, 0.5}));
+        push(e, held(10, {0.5, 0.5, 0.5}, false));
+        ASSERT_TRUE(e.sync().get().ok);
+        EXPECT_GT(e.stats().retired, 0u) << "a guard from before the stroke keeps its snapshot";
+        EXPECT_GT(guard.adf().domain().maxLevel, 0);
+    }
+    // Nothing is published from here on: the edit thread's timer frees them.
+    for (int i = 0; i < 400 && e.stats().retired > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    EXPECT_EQ(e.stats().retired, 0u);
+}
+
 TEST(Engine, CancelRestoresTheClayAndIgnoresTheRestOfThePress) {
     Engine e(settingsFor());
     const std::vector<std::byte> start = publishedBytes(e);
