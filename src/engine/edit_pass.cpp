@@ -5,7 +5,10 @@
 #include "engine/edit_pass.h"
 
 #include "adf/adf_file.h"
+#include "adf/generate.h"
 #include "mesh/mesh_export.h"
+#include "mesh/mesh_import.h"
+#include "mesh/mesh_source.h"
 #include "util/cpu_set.h"
 #include "util/file_error.h"
 
@@ -224,6 +227,7 @@ void EditPass::runCommand(Command& c) {
         case Command::Kind::Export: deferred = exportMesh(c); break;
         case Command::Kind::New:
         case Command::Kind::Open: r = replaceSession(c); break;
+        case Command::Kind::Import: r = importMesh(c); break;
         case Command::Kind::Sync: break;
         }
     } catch (const std::exception& e) {
@@ -310,15 +314,55 @@ CommandResult EditPass::replaceSession(Command& c) {
         if (!c.path.empty() && sculpt::isSessionDir(c.path)) throw FileError(c.path, "already holds a session (open it instead)");
         next = openOrCreate(c.path, c.script, c.level, &mPool, &warnings);
     }
+    installSession(std::move(next));
+    CommandResult r;
+    for (const std::string& w : warnings) r.message += (r.message.empty() ? "" : "; ") + w;
+    return r;
+}
+
+CommandResult EditPass::importMesh(Command& c) {
+    endStroke(true);
+    // Everything that can be refused cheaply is, before the mesh is read.
+    mesh::LengthUnit unit = mesh::LengthUnit::Millimetre;
+    if (!c.unit.empty()) {
+        const std::optional<mesh::LengthUnit> u = mesh::lengthUnitOf(c.unit);
+        if (!u) throw std::invalid_argument("unknown unit '" + c.unit + "' (mm, cm or m)");
+        unit = *u;
+    }
+    const int level = c.level > 0 ? c.level : mSession->sculptor().current()->domain().maxLevel;
+    if (level < 1 || level > adf::kMaxSupportedLevel)
+        throw std::invalid_argument("level " + std::to_string(level) + " is out of range (1.." +
+                                    std::to_string(adf::kMaxSupportedLevel) + ")");
+    if (!c.dir.empty() && sculpt::isSessionDir(c.dir)) throw FileError(c.dir, "already holds a session (open it instead)");
+    std::vector<std::string> warnings;
+    bool inMetres = false;  // a format that declares its unit (glTF, FBX, COLLADA)
+    mesh::MeshBuffers m = mesh::importMesh(c.path, &warnings, &inMetres);
+    const double factor = inMetres ? 1.0 : mesh::metresPer(unit);
+    if (factor != 1.0)
+        for (glm::vec3& p : m.positions) p = glm::vec3(glm::dvec3(p) * factor);
+    // The domain and generation `kizamu convert` uses, so both give the same clay.
+    adf::AdfPtr clay;
+    {
+        // The source first: it refuses a mesh without triangles, which has no domain.
+        const adf::SourcePtr source = mesh::makeMeshSource(m, &warnings);  // closed parts oriented by nesting
+        const adf::GenerationSettings settings;
+        const adf::Domain d = mesh::domainAround(m, level, settings.bandCells + 2.0);
+        clay = adf::generate(*source, d, settings, &mPool);
+    }
+    installSession(sculpt::Session::createFromClay(c.dir, std::move(clay), &mPool));
+    CommandResult r{true, "imported " + c.path + ": " + std::to_string(m.triangleCount()) + " triangles, level " +
+                              std::to_string(level)};
+    for (const std::string& w : warnings) r.message += "; " + w;
+    return r;
+}
+
+void EditPass::installSession(std::unique_ptr<sculpt::Session> next) {
     finishCheckpoint(true);
     mSession = std::move(next);
     mMesher.build(mSession->sculptor().current());
     publish({}, 0.0);
     mUnmeshed.clear();
     post(mMesher.takeDelta());
-    CommandResult r;
-    for (const std::string& w : warnings) r.message += (r.message.empty() ? "" : "; ") + w;
-    return r;
 }
 
 // ---- publishing and meshing ----

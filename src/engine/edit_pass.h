@@ -29,9 +29,10 @@ namespace kizamu::engine::detail {
 
 /// A command from engine.h's functions, with the promise its result goes to.
 struct Command {
-    enum class Kind : uint8_t { SetTool, Undo, Redo, Cancel, Save, Export, New, Open, Sync } kind = Kind::Sync;
+    enum class Kind : uint8_t { SetTool, Undo, Redo, Cancel, Save, Export, New, Open, Import, Sync } kind = Kind::Sync;
     ToolSettings tool;
     std::string path, unit;
+    std::string dir;  ///< Import: the new session's directory (path is the mesh)
     sculpt::Script script;
     int level = 0;
     std::promise<CommandResult> result;
@@ -99,6 +100,10 @@ private:
     bool save(Command& c);
     bool exportMesh(Command& c);
     CommandResult replaceSession(Command& c);
+    CommandResult importMesh(Command& c);
+    /// Makes `next` the session: waits for a background checkpoint of the old one, rebuilds the
+    /// mesh, publishes and posts a reset delta.
+    void installSession(std::unique_ptr<sculpt::Session> next);
 
     // Publishing and meshing.
     void publish(std::span<const ToolSample> samples, double ms);

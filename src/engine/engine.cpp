@@ -84,6 +84,15 @@ std::future<CommandResult> Engine::openSession(std::string dir) {
     return enqueue(std::move(c));
 }
 
+std::future<CommandResult> Engine::importMesh(std::string meshPath, std::string dir, int level, std::string unit) {
+    detail::Command c{detail::Command::Kind::Import};
+    c.path = std::move(meshPath);
+    c.dir = std::move(dir);
+    c.level = level;
+    c.unit = std::move(unit);
+    return enqueue(std::move(c));
+}
+
 std::optional<mesh::MeshDelta> Engine::takeMeshDelta() {
     std::unique_lock lock(mMailbox->mutex, std::try_to_lock);
     if (!lock.owns_lock() || !mMailbox->delta) return std::nullopt;

@@ -168,6 +168,19 @@ public:
     std::future<CommandResult> newSession(std::string dir, sculpt::Script start, int level = 0);
     /// Ends the current session and reopens the one in `dir`; warnings go into the message.
     std::future<CommandResult> openSession(std::string dir);
+    /// Ends an open stroke, imports the mesh at `meshPath` (OBJ, STL, PLY, OFF, glTF, ...:
+    /// mesh::importMesh) and makes it the clay of a new session in `dir` (empty: in memory;
+    /// sculpt::Session::createFromClay, so it reopens and replays like any other): its ADF is
+    /// generated at `level` (0: the current session's level) in mesh::domainAround with the
+    /// margin `kizamu convert` uses, on the edit pool; then published with a mesh reset, as
+    /// newSession does. The mesh's unit: metres for a format that declares its unit (glTF, FBX,
+    /// COLLADA), else `unit` ("mm", "cm", "m"; empty: mm, as `kizamu convert --in-units`).
+    /// Errors (an unreadable mesh, one without triangles, a bad unit or level, a `dir` that
+    /// already holds a session) leave the current session in place. The message says what was
+    /// imported and carries the import's warnings.
+    /// Complexity: a mesh read and a full generation on the edit thread: no segments are
+    /// applied meanwhile (samples wait in their queues). Cold path.
+    std::future<CommandResult> importMesh(std::string meshPath, std::string dir = {}, int level = 0, std::string unit = {});
     /// Fulfilled once every sample handed over before the call has been applied, an open
     /// stroke's segment published, and the mesh delta of the result posted. A driver's barrier.
     std::future<CommandResult> sync();

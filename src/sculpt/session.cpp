@@ -27,6 +27,7 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kJournal = "journal.jsonl";
+constexpr const char* kStartFile = "start.kza";
 
 std::string journalPath(const std::string& dir) { return (fs::path(dir) / kJournal).string(); }
 
@@ -109,7 +110,10 @@ void Session::openJournalForAppend() {
     if (mFd < 0) throw FileError(path, std::string("cannot open for appending: ") + std::strerror(errno));
 }
 
-std::unique_ptr<Session> Session::create(const std::string& dir, const Script& script, int level, util::ThreadPool* pool) {
+namespace {
+
+/// Creates `dir` (and its parents) and makes a new directory durable.
+void makeSessionDirectory(const std::string& dir) {
     std::error_code ec;
     const bool made = fs::create_directories(dir, ec);
     if (ec) throw FileError(dir, "cannot create the session directory: " + ec.message());
@@ -117,13 +121,42 @@ std::unique_ptr<Session> Session::create(const std::string& dir, const Script& s
         const std::string parent = fs::absolute(fs::path(dir), ec).parent_path().string();
         util::fsyncDirectory(parent.empty() ? "." : parent);  // the new directory itself is durable
     }
+}
+
+}  // namespace
+
+std::unique_ptr<Session> Session::create(const std::string& dir, const Script& script, int level, util::ThreadPool* pool) {
+    // A file start is copied into the session, which then stands alone.
+    if (script.start.kind == Shape::Kind::File) return createFromClay(dir, startAdf(script, level, pool), pool);
+    Script header = script;
+    header.steps.clear();
+    header.version = kScriptVersion;  // the journal may hold records newer than the script's
+    if (level > 0) header.domain.maxLevel = level;
+    makeSessionDirectory(dir);
+    return createWithJournal(dir, std::move(header), pool);
+}
+
+std::unique_ptr<Session> Session::createFromClay(const std::string& dir, adf::AdfPtr clay, util::ThreadPool* pool) {
+    if (!clay) throw std::invalid_argument("createFromClay needs clay");
+    Script header;
+    header.domain = clay->domain();
+    header.start.kind = Shape::Kind::File;
+    header.start.file = kStartFile;
+    header.start.clay = std::move(clay);
+    header.baseDir = dir;
+    if (dir.empty()) return createInMemory(header, 0, pool);
+    // Checked before start.kza is written: never clobber another session's start.
+    if (isSessionDir(dir)) throw FileError(dir, "already holds a session (journal.jsonl); open it instead");
+    makeSessionDirectory(dir);
+    adf::saveAdf(*header.start.clay, (fs::path(dir) / kStartFile).string());  // temporary file, fsync, rename
+    return createWithJournal(dir, std::move(header), pool);
+}
+
+std::unique_ptr<Session> Session::createWithJournal(const std::string& dir, Script header, util::ThreadPool* pool) {
     std::unique_ptr<Session> s(new Session());
     s->mDir = dir;
     s->mPool = pool;
-    s->mJournal = script;
-    s->mJournal.steps.clear();
-    s->mJournal.version = kScriptVersion;  // the journal may hold records newer than the script's
-    if (level > 0) s->mJournal.domain.maxLevel = level;
+    s->mJournal = std::move(header);
     s->mSculptor = makeSculptor(s->mJournal, 0, pool);
     // O_EXCL: never clobber another session, even one created at the same moment.
     const std::string path = journalPath(dir);
@@ -158,6 +191,10 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
     s->mDir = dir;
     s->mPool = pool;
     s->mJournal = parseScript(text, path);
+    s->mJournal.baseDir = dir;
+    // A file start is read once: the reference, a replay from the start and an undo that
+    // rebuilds the history all use this clay.
+    if (s->mJournal.start.kind == Shape::Kind::File) s->mJournal.start.clay = startAdf(s->mJournal, 0, pool);
     const std::size_t total = s->mJournal.steps.size();
     // Newest checkpoint that loads and that the journal covers; otherwise from the start.
     adf::AdfPtr base;
@@ -194,7 +231,11 @@ std::unique_ptr<Session> Session::createInMemory(const Script& script, int level
     s->mJournal = script;
     s->mJournal.steps.clear();
     s->mJournal.version = kScriptVersion;
-    if (level > 0) s->mJournal.domain.maxLevel = level;
+    if (s->mJournal.start.kind == Shape::Kind::File) {
+        s->mJournal.start.clay = startAdf(s->mJournal, level, pool);  // read once
+    } else if (level > 0) {
+        s->mJournal.domain.maxLevel = level;
+    }
     s->mSculptor = makeSculptor(s->mJournal, 0, pool);
     return s;
 }

@@ -5,7 +5,8 @@
 ///
 /// DIR/journal.jsonl is the session's stroke script (docs/STROKE-SCRIPT.md): the header, then
 /// one record per step, each appended and fsynced when the step finishes (the directory is
-/// fsynced when the journal is created). DIR/checkpoint-NNNNNNNN.kza holds the ADF after the
+/// fsynced when the journal is created). A session started from clay (createFromClay: an
+/// imported mesh) keeps that clay in DIR/start.kza, which its header names. DIR/checkpoint-NNNNNNNN.kza holds the ADF after the
 /// first NNNNNNNN journal records: written to a temporary file, fsynced, renamed, directory
 /// fsynced (util::writeFileAtomically); older checkpoints are removed only after that. Opening
 /// loads the newest checkpoint that reads back cleanly and replays the journal after it; a last
@@ -43,9 +44,18 @@ namespace kizamu::sculpt {
 class Session {
 public:
     /// Starts a new session in `dir` (created; must not hold a journal yet) from the header of
-    /// `script` (domain, level, start shape); `level` 0 keeps the script's.
+    /// `script` (domain, level, start shape); `level` 0 keeps the script's. A script that
+    /// starts from a file gives createFromClay of that file's clay (startAdf's rules).
     static std::unique_ptr<Session> create(const std::string& dir, const Script& script, int level,
                                            util::ThreadPool* pool = nullptr);
+    /// Starts a new session in `dir` from `clay` (not null; an imported mesh's ADF, say): writes
+    /// DIR/start.kza atomically, then the journal, whose header starts from that file
+    /// ({"shape": "file", "file": "start.kza"}) in the clay's domain. Reopening (open) reads
+    /// start.kza again. `dir` empty: in memory (the start kept as `clay`, nothing written).
+    /// @throw FileError when `dir` already holds a session (nothing written) or a write fails.
+    /// Complexity: one .kza write and the journal header. Cold path.
+    static std::unique_ptr<Session> createFromClay(const std::string& dir, adf::AdfPtr clay,
+                                                   util::ThreadPool* pool = nullptr);
     /// Reopens `dir`. Problems that lose nothing (a cut-off last record, an unreadable newer
     /// checkpoint) are appended to `warnings`. `readOnly` changes nothing on disk and refuses
     /// record() (what `kizamu info` and `convert` use).
@@ -53,6 +63,7 @@ public:
                                          std::vector<std::string>* warnings = nullptr, bool readOnly = false);
     /// A session kept in memory only: the same journal and sculptor, nothing written (dir() empty;
     /// checkpoint() and the checkpoint functions do nothing). What the live engine uses without a session directory.
+    /// A file start is read once (or taken from Shape::clay).
     static std::unique_ptr<Session> createInMemory(const Script& script, int level, util::ThreadPool* pool = nullptr);
 
     /// Makes a step durable (journal append + fsync), then applies it. A stroke that fails
@@ -110,6 +121,8 @@ public:
 
 private:
     Session() = default;
+    /// A new session in the existing `dir` with the journal header `header`. @throw FileError.
+    static std::unique_ptr<Session> createWithJournal(const std::string& dir, Script header, util::ThreadPool* pool);
     void openJournalForAppend();
     /// @throw FileError unless the session takes steps (in memory, or the journal open).
     void requireWritable() const;

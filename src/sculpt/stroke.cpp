@@ -3,6 +3,7 @@
 /// @brief Validation of strokes and shapes, and a shape's distance source.
 #include "sculpt/stroke.h"
 
+#include "adf/adf_source.h"
 #include "adf/test_part.h"
 #include "sculpt/swept_tool.h"
 
@@ -57,6 +58,7 @@ void Shape::validate() const {
                               !std::isfinite(halfSize.x + halfSize.y + halfSize.z + rounding)))
         throw std::invalid_argument("a box needs positive half sizes and a non-negative rounding");
     if (kind == Kind::Sphere && (!(radius > 0.0) || !std::isfinite(radius))) throw std::invalid_argument("a sphere needs a positive radius");
+    if (kind == Kind::File && file.empty() && !clay) throw std::invalid_argument("a file start needs a \"file\" (a .kza path)");
 }
 
 void validate(const Stroke& s) {
@@ -79,6 +81,13 @@ void validate(const Stroke& s) {
     }
     for (const Shape& m : c.masks) m.validate();
     for (const Shape& k : c.keepOut) k.validate();
+    auto simple = [](const std::vector<Shape>& shapes, const char* what) {
+        for (const Shape& sh : shapes)
+            if (sh.kind == Shape::Kind::File)
+                throw std::invalid_argument(std::string(what) + " are simple solids (box, sphere, test-part): a file is a start shape only");
+    };
+    simple(c.masks, "masks");
+    simple(c.keepOut, "keep-out regions");
     if (s.live) validateLive(s);
 }
 
@@ -88,6 +97,9 @@ adf::SourcePtr Shape::source(const adf::Domain& domain) const {
         return adf::makeTranslated(rounding > 0.0 ? adf::makeRoundedBox(halfSize, rounding) : adf::makeBox(halfSize), centre);
     case Kind::Sphere: return adf::makeTranslated(adf::makeSphere(radius), centre);
     case Kind::TestPart: return adf::makeTestPart(domain);
+    case Kind::File:
+        if (!clay) throw std::logic_error("the clay of the file start '" + file + "' is not loaded (startAdf loads it)");
+        return adf::makeAdfSource(clay);
     }
     return nullptr;
 }

@@ -8,6 +8,7 @@
 /// them as JSON lines. Units: m and s. Plain values; any thread.
 #pragma once
 
+#include "adf/adf.h"
 #include "adf/distance_source.h"
 #include "adf/domain.h"
 #include "sculpt/tool.h"
@@ -15,20 +16,30 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace kizamu::sculpt {
 
 /// A simple solid: what sculpting starts from, and the regions masks and force fields protect.
+/// Kind::File is a start only (a script header's start: clay stored in a .kza file, such as an
+/// imported mesh's ADF); masks and keep-out regions are the simple solids.
 struct Shape {
-    enum class Kind { Box, Sphere, TestPart } kind = Kind::Box;
+    enum class Kind { Box, Sphere, TestPart, File } kind = Kind::Box;
     glm::dvec3 centre{0.5};      ///< m
     glm::dvec3 halfSize{0.3};    ///< m (box)
     double radius = 0.3;         ///< m (sphere)
     double rounding = 0.0;       ///< m (box edges)
-    /// The start shape's distance source for `domain` (the test part scales with it).
+    /// File: the .kza file, relative to the script's directory (Script::baseDir) or absolute.
+    std::string file;
+    /// File: its clay once loaded (startAdf's caller may keep it here so that it is read once;
+    /// a session in memory holds only this). Not written; not compared.
+    adf::AdfPtr clay;
+    /// The shape's distance source for `domain` (the test part scales with it; a file start is
+    /// its loaded clay, std::logic_error when `clay` is not set).
     adf::SourcePtr source(const adf::Domain& domain) const;
-    /// Throws std::invalid_argument unless the sizes are positive and everything is finite.
+    /// Throws std::invalid_argument unless the sizes are positive and everything is finite (a
+    /// file start: its name is not empty).
     void validate() const;
 };
 

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -57,7 +58,8 @@ double number(const json& j, const char* key, double fallback) {
     return j.at(key).get<double>();
 }
 
-Shape shapeOf(const json& st) {
+/// A shape; `fileAllowed`: a header's start, which may also be {"shape": "file", "file": ...}.
+Shape shapeOf(const json& st, bool fileAllowed = false) {
     Shape s;
     const std::string shape = st.at("shape").get<std::string>();
     if (shape == "box") {
@@ -69,8 +71,15 @@ Shape shapeOf(const json& st) {
         s.radius = st.at("radius").get<double>();
     } else if (shape == "test-part") {
         s.kind = Shape::Kind::TestPart;
+    } else if (shape == "file") {
+        if (!fileAllowed)
+            throw std::invalid_argument("a \"file\" shape is a start only (a script header's start); masks and keep-out "
+                                        "regions are box, sphere or test-part");
+        s.kind = Shape::Kind::File;
+        s.file = st.at("file").get<std::string>();
+        if (s.file.empty()) throw std::invalid_argument("a file start needs a \"file\" (a .kza path)");
     } else {
-        throw std::invalid_argument("unknown shape '" + shape + "' (box, sphere, test-part)");
+        throw std::invalid_argument("unknown shape '" + shape + "' (box, sphere, test-part" + (fileAllowed ? ", file)" : ")"));
     }
     if (st.contains("centre")) s.centre = vec3Of(st.at("centre"), "shape centre");
     s.validate();
@@ -86,6 +95,7 @@ json shapeJson(const Shape& s) {
     }
     case Shape::Kind::Sphere: return {{"shape", "sphere"}, {"centre", vecJson(s.centre)}, {"radius", s.radius}};
     case Shape::Kind::TestPart: return {{"shape", "test-part"}};
+    case Shape::Kind::File: return {{"shape", "file"}, {"file", s.file}};
     }
     return {};
 }
@@ -133,7 +143,9 @@ void parseHeader(const json& h, Script& s) {
     s.domain.maxLevel = wholeNumber(d, "level", 10);
     s.domain.tileSpanLevels = wholeNumber(d, "tile_span", adf::Domain{}.tileSpanLevels);
     if (!s.domain.valid()) throw std::invalid_argument("invalid domain (size > 0, level 1..16)");
-    s.start = shapeOf(h.at("start"));
+    s.start = shapeOf(h.at("start"), true);
+    if (s.start.kind == Shape::Kind::File && s.version < 3)
+        throw std::invalid_argument("a start from a file needs version 3 (this script is version " + std::to_string(s.version) + ")");
 }
 
 /// "live": {"cuts": [...], "dwells": [...], "t": [...], "s": [...]} (version 3). Strengths are
@@ -267,7 +279,9 @@ Script parseScript(const std::string& text, const std::string& name) {
 }
 
 Script readScript(const std::string& path) {
-    return parseScript(util::readWholeFile(path), path);
+    Script s = parseScript(util::readWholeFile(path), path);
+    s.baseDir = std::filesystem::path(path).parent_path().string();
+    return s;
 }
 
 std::string headerLine(const Script& s) {

@@ -17,15 +17,20 @@
 namespace kizamu::sculpt {
 
 /// Version 2 added Bezier paths and constraints, version 3 live records (Stroke::live: how a
-/// stroke was applied in segments); version 1 and 2 scripts read unchanged.
+/// stroke was applied in segments) and starts from a file; version 1 and 2 scripts read unchanged.
 inline constexpr int kScriptVersion = 3;
 
 /// A whole script: the header (version, domain, start shape) and the steps after it.
 struct Script {
     int version = kScriptVersion;
     adf::Domain domain;  ///< origin, size and default level
+    /// The clay it starts from: a simple solid, or (version 3) a .kza file whose domain is
+    /// `domain` ({"shape": "file", "file": "start.kza"}).
     Shape start;
     std::vector<Step> steps;
+    /// The directory a file start's relative path is read from: the script's (readScript), the
+    /// session's (Session::open). Not written; empty: the current directory.
+    std::string baseDir;
     void add(const Stroke& s) { steps.push_back({Step::Kind::Stroke, s}); }
 };
 
@@ -39,7 +44,7 @@ Step parseStep(const std::string& line, int version = kScriptVersion);
 /// start from a script's clay read their start with it. @throw std::invalid_argument,
 /// nlohmann::json::exception.
 Script parseHeaderLine(const std::string& line);
-/// Reads and parses a file. @throw kizamu::FileError.
+/// Reads and parses a file; baseDir is the file's directory. @throw kizamu::FileError.
 Script readScript(const std::string& path);
 
 /// The header line and one stroke line (no newline), as the reader expects them.

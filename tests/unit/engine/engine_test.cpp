@@ -8,15 +8,18 @@
 #include "engine/trajectory_player.h"
 
 #include "adf/adf_file.h"
+#include "mesh/mesh_export.h"
 #include "mesh/surface_nets.h"
 #include "sculpt/script_start.h"
 #include "sculpt/session.h"
+#include "tests/util/icosphere.h"
 #include "tests/util/mesh_check.h"
 
 #include <glm/common.hpp>
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -320,6 +323,73 @@ TEST(Engine, NewAndOpenReplaceTheSessionAndResetTheMesh) {
     ASSERT_TRUE(e.newSession({}, sphere).get().ok);
     EXPECT_TRUE(publishedBytes(e) == adf::encodeAdf(*sculpt::startAdf(sphere, 0)));
     EXPECT_FALSE(e.newSession(a.str(), sphere).get().ok) << "a directory with a session is opened, not overwritten";
+}
+
+TEST(Engine, AnImportedMeshBecomesASessionThatReopensBitForBit) {
+    const TempDir dir("import");
+    fs::create_directories(dir.path);
+    // A closed sphere of radius 30 mm about the origin, written as OBJ in millimetres.
+    const std::string obj = (dir.path / "ball.obj").string();
+    mesh::ExportOptions mm;
+    mm.unit = mesh::LengthUnit::Millimetre;
+    mm.meshUnit = mesh::LengthUnit::Millimetre;  // the numbers as they are: 30 (mm)
+    mesh::exportMesh(test::icosphere(30.0f, 3), obj, mm);
+    const std::string sessionDir = (dir.path / "session").string();
+    std::vector<std::byte> live;
+    {
+        EngineSettings settings = settingsFor();
+        settings.correctAfterIdle = std::chrono::milliseconds(0);  // nothing changes after the barrier
+        Engine e(settings);
+        const std::vector<std::byte> before = publishedBytes(e);
+        EXPECT_FALSE(e.importMesh((dir.path / "none.obj").string(), sessionDir, 6).get().ok);
+        EXPECT_FALSE(e.importMesh(obj, sessionDir, 6, "furlong").get().ok);
+        EXPECT_FALSE(e.importMesh(obj, sessionDir, 40).get().ok);
+        EXPECT_TRUE(publishedBytes(e) == before) << "a failed import leaves the session in place";
+        EXPECT_FALSE(fs::exists(sessionDir));
+        (void)e.takeMeshDelta();
+
+        const engine::CommandResult imported = e.importMesh(obj, sessionDir, 6).get();
+        ASSERT_TRUE(imported.ok) << imported.message;
+        EXPECT_NE(imported.message.find("imported"), std::string::npos) << imported.message;
+        std::optional<mesh::MeshDelta> d = e.takeMeshDelta();
+        ASSERT_TRUE(d.has_value());
+        EXPECT_TRUE(d->reset);
+        {
+            adf::SnapshotStore::Reader reader(e.snapshots());
+            const auto guard = reader.acquire();
+            const adf::Adf& clay = guard.adf();
+            EXPECT_EQ(clay.domain().maxLevel, 6);
+            EXPECT_LT(clay.distance({0.0f, 0.0f, 0.0f}), -0.02f) << "the sphere's centre is 30 mm inside";
+            EXPECT_NEAR(clay.distance({0.03f, 0.0f, 0.0f}), 0.0f, 0.002f);
+            const glm::vec3 far = glm::vec3(clay.domain().originWorld) + glm::vec3(float(clay.domain().sizeWorld) * 0.02f);
+            EXPECT_GT(clay.distance(far), 0.005f);
+        }
+        EXPECT_TRUE(fs::exists(fs::path(sessionDir) / "start.kza"));
+        EXPECT_FALSE(e.importMesh(obj, sessionDir, 6).get().ok) << "a directory with a session is not overwritten";
+
+        engine::ToolSettings tool;
+        tool.tool.radius = 0.006;
+        ASSERT_TRUE(e.setTool(tool).get().ok);
+        const std::vector<std::byte> start = publishedBytes(e);
+        for (int i = 0; i < 8; ++i) {
+            const double a = 0.15 * i;
+            push(e, held(i, {0.03 * std::cos(a), 0.03 * std::sin(a), 0.0}));
+        }
+        push(e, held(8, {0.0, 0.03, 0.0}, false));
+        ASSERT_TRUE(e.sync().get().ok);
+        live = publishedBytes(e);
+        EXPECT_FALSE(live == start) << "the stroke carved the imported clay";
+        EXPECT_EQ(e.stats().strokes, 1u);
+    }
+    auto reopened = sculpt::Session::open(sessionDir);
+    EXPECT_EQ(reopened->journal().start.kind, sculpt::Shape::Kind::File);
+    EXPECT_TRUE(adf::encodeAdf(*reopened->sculptor().current()) == live) << "replay gives the live clay bit for bit";
+    // In memory, at the current session's level.
+    Engine e(settingsFor({}, 5));
+    const engine::CommandResult inMemory = e.importMesh(obj).get();
+    ASSERT_TRUE(inMemory.ok) << inMemory.message;
+    adf::SnapshotStore::Reader reader(e.snapshots());
+    EXPECT_EQ(reader.acquire().adf().domain().maxLevel, 5);
 }
 
 TEST(Engine, CheckpointsAreWrittenInTheBackgroundAndReopen) {
