@@ -138,7 +138,8 @@ public:
     explicit Engine(EngineSettings settings);
     /// Stops the edit thread after it has applied every sample already handed over and ended
     /// an open stroke (journaled: a finished stroke is never lost), waits for a background
-    /// checkpoint or save, and fails the commands still queued ("the engine stopped").
+    /// checkpoint or save; commands queued before it run, later ones fail ("the engine stopped").
+    /// Producers must have stopped pushing and every SnapshotStore::Reader must be gone first.
     ~Engine();
     Engine(const Engine&) = delete;
     Engine& operator=(const Engine&) = delete;
