@@ -41,3 +41,26 @@ void operator delete(void* p, std::align_val_t) noexcept { countedFree(p); }
 void operator delete[](void* p, std::align_val_t) noexcept { countedFree(p); }
 void operator delete(void* p, std::size_t, std::align_val_t) noexcept { countedFree(p); }
 void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { countedFree(p); }
+// The nothrow forms too (std::stable_sort's buffer, some of libstdc++'s internals): left to the
+// runtime, their blocks would come back through the delete above, and a sanitizer's allocator
+// reports the mismatch.
+void* operator new(std::size_t n, const std::nothrow_t&) noexcept {
+    try {
+        return countedAlloc(n);
+    } catch (...) {
+        return nullptr;
+    }
+}
+void* operator new[](std::size_t n, const std::nothrow_t& t) noexcept { return operator new(n, t); }
+void* operator new(std::size_t n, std::align_val_t a, const std::nothrow_t&) noexcept {
+    try {
+        return countedAlignedAlloc(n, a);
+    } catch (...) {
+        return nullptr;
+    }
+}
+void* operator new[](std::size_t n, std::align_val_t a, const std::nothrow_t& t) noexcept { return operator new(n, a, t); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { countedFree(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { countedFree(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { countedFree(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { countedFree(p); }
