@@ -4,12 +4,14 @@
 #include "app/commands.h"
 #include "bench/adf_bench.h"
 #include "bench/edit_bench.h"
+#include "bench/haptics_bench.h"
 #include "bench/live_bench.h"
 #include "bench/mesh_bench.h"
 
 #include <CLI/CLI.hpp>
 
 #include <memory>
+#include <stdexcept>
 
 namespace kizamu::app {
 
@@ -104,6 +106,43 @@ void addBenchCommand(CLI::App& app) {
         ->capture_default_str();
     liveCmd->callback([liveOptions] {
         const int rc = bench::runLiveBench(*liveOptions);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+
+    auto* hapticsCmd = bench->add_subcommand(
+        "haptics", "The real-time servo thread, bare and while the live engine carves: rate, period error, force time, missed deadlines");
+    auto hapticsOptions = std::make_shared<bench::HapticsBenchOptions>();
+    hapticsCmd->add_flag("--json", hapticsOptions->json, "One JSON object per figure per line, nothing else on stdout");
+    hapticsCmd->add_option("--seconds", hapticsOptions->seconds, "Length of each run (s)")
+        ->check(CLI::Range(0.05, 3600.0))
+        ->capture_default_str();
+    hapticsCmd->add_option("--rate", hapticsOptions->rateHz, "Servo rate of the main figures (Hz)")
+        ->check(CLI::Range(1.0, 10000.0))
+        ->capture_default_str();
+    hapticsCmd->add_option("--high-rate", hapticsOptions->highRateHz, "Servo rate of the .4k figures (Hz; 0 skips them)")
+        ->check(CLI::Range(0.0, 10000.0))
+        ->capture_default_str();
+    hapticsCmd->add_option("--level", hapticsOptions->level, "Finest level of the carved test part")
+        ->check(CLI::Range(4, 14))
+        ->capture_default_str();
+    hapticsCmd->add_option("--repeats", hapticsOptions->repeats, "Bare and loaded runs per rate, interleaved (figures are medians)")
+        ->check(CLI::Range(1, 99))
+        ->capture_default_str();
+    hapticsCmd->add_option("--spin-us", hapticsOptions->spinUs, "Busy-wait before each deadline (us, at most a quarter period)")
+        ->check(CLI::Range(0, 100))
+        ->capture_default_str();
+    hapticsCmd->add_option("--servo-cpu", hapticsOptions->servoCpu, "Pin the servo thread to this CPU (-1: share them all)")
+        ->capture_default_str();
+    hapticsCmd->add_option("--priority", hapticsOptions->priority, "SCHED_FIFO priority to ask for (0: none)")
+        ->check(CLI::Range(0, 99))
+        ->capture_default_str();
+    hapticsCmd->callback([hapticsOptions] {
+        int rc = 0;
+        try {
+            rc = bench::runHapticsBench(*hapticsOptions);
+        } catch (const std::invalid_argument& e) {  // settings the servo loop refuses (spin too long)
+            throw CLI::ValidationError("bench haptics", e.what());
+        }
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 }

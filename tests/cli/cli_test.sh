@@ -308,4 +308,25 @@ assert not missing, f"missing figures: {missing}"
 assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), "non-positive figure"
 PY
 
+# bench haptics contract (small: 0.3 s runs, one of each, a level-8 engine)
+"$kizamu" bench haptics --json --seconds 0.3 --repeats 1 --level 8 >"$tmp/haptics.json" 2>/dev/null || fail "bench haptics exited non-zero"
+python3 - "$tmp/haptics.json" <<'PY' || failures=$((failures + 1))
+import json, sys
+names = {}
+for line in open(sys.argv[1]):
+    obj = json.loads(line)
+    assert set(obj) == {"figure", "value", "unit"}, obj
+    names[obj["figure"]] = obj["value"]
+positive = ["haptics.rate_hz", "haptics.period_error_us.p50", "haptics.period_error_us.p99", "haptics.period_error_us.p999",
+            "haptics.period_error_us.max", "haptics.force_us.p999", "haptics.bare.period_error_us.p99",
+            "haptics.rate_hz.4k", "haptics.period_error_us.4k.p99"]
+fractions = ["haptics.missed_deadlines", "haptics.realtime_priority"]
+missing = [n for n in positive + fractions if n not in names]
+assert not missing, f"missing figures: {missing}"
+assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in positive), "non-positive figure"
+assert 0 <= names["haptics.missed_deadlines"] <= 1, "missed deadlines is not a fraction"
+assert names["haptics.realtime_priority"] in (0, 1), "realtime_priority is not 0 or 1"
+PY
+"$kizamu" bench haptics --spin-us 100 --rate 4000 --seconds 0.1 >/dev/null 2>&1 && fail "bench haptics accepted a spin longer than a quarter period"
+
 finish
