@@ -14,7 +14,7 @@ struct HapticsBenchOptions {
     double highRateHz = 4000.0;  ///< the rate of the `.4k` figures; 0 skips them
     int level = 12;              ///< finest level of the engine's test part
     int repeats = 3;             ///< bare and loaded runs, interleaved, per rate (figures: medians)
-    int spinUs = 0;              ///< ServoSettings::spinUs
+    int spinUs = 50;             ///< ServoSettings::spinUs
     int servoCpu = -1;           ///< ServoSettings::cpu (-1: not pinned, shares the CPUs)
     int priority = 80;           ///< SCHED_FIFO priority asked for (0: none)
 };

@@ -196,8 +196,7 @@ ServoSettings validated(ServoSettings s) {
         throw std::invalid_argument("servo real-time priority must be 0 (none) .. 99");
     if (s.cpu < -1) throw std::invalid_argument("servo CPU must be -1 (none) or a CPU number");
     const double periodUs = 1e6 / s.rateHz;
-    if (s.spinUs < 0 || s.spinUs > 100 || double(s.spinUs) > periodUs / 4.0)
-        throw std::invalid_argument("servo spin must be 0..100 us and at most a quarter of the period");
+    if (s.spinUs < 0 || s.spinUs > 100) throw std::invalid_argument("servo spin must be 0..100 us");
     if (double(s.watchdogUs) < 2.0 * periodUs || s.watchdogUs > 10'000'000)
         throw std::invalid_argument("servo watchdog limit must be at least two periods and at most 10 s");
     return s;
@@ -290,7 +289,7 @@ void ServoLoop::servoMain(ServoStartReport& report) noexcept {
         mServoReady = true;
     }
     mWake.notify_all();  // `report` belongs to start() again from here on
-    const int64_t spinNs = int64_t(mSettings.spinUs) * 1000;
+    const int64_t spinNs = std::min(int64_t(mSettings.spinUs) * 1000, period / 4);
     while (mRunning.load(std::memory_order_relaxed)) {
         sleepUntilNs(deadline - spinNs);
         int64_t now = monotonicNs();

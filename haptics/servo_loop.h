@@ -14,7 +14,7 @@
 /// Backend checklist:
 ///  [X] absolute deadlines (clock_nanosleep TIMER_ABSTIME, CLOCK_MONOTONIC); a late tick is not
 ///      caught up: more than one period late counts as missed and re-anchors the schedule
-///  [X] optional bounded spin before each deadline (ServoSettings::spinUs, default 0)
+///  [X] a bounded spin before each deadline (ServoSettings::spinUs, 50 µs, at most period / 4)
 ///  [X] SCHED_FIFO, pinning, mlockall, /dev/cpu_dma_latency: each asked for, each refusal a
 ///      warning in ServoStartReport
 ///  [X] non-finite force -> zero, |force| > maxForce -> scaled to maxForce, both counted
@@ -73,11 +73,12 @@ struct ServoSettings {
     double rateHz = 1000.0;       ///< ticks per second, 1..10000
     int realtimePriority = 80;    ///< SCHED_FIFO priority of the servo thread; 0: do not ask
     int cpu = -1;                 ///< pin the servo thread to this CPU; -1: do not pin
-    /// Bounded busy-wait before each deadline (µs, 0..100, and at most a quarter of the period):
-    /// the thread sleeps until deadline - spinUs, then spins to the deadline, which hides the
-    /// timer's wake-up latency when it is shorter than the spin. The default and the measured
-    /// trade-off: docs/decisions/0031-servo-loop.md.
-    int spinUs = 0;
+    /// Bounded busy-wait before each deadline (µs, 0..100; the loop spins at most a quarter of
+    /// the period, so 50 becomes 25 at 10 kHz): the thread sleeps until deadline - spin, then
+    /// spins to the deadline, which hides the timer's wake-up latency (about 40 µs median on the
+    /// project's VMs) at the cost of spin / period of a core (5 % at 1 kHz, 20 % at 4 kHz).
+    /// Measured: docs/decisions/0031-servo-loop.md.
+    int spinUs = 50;
     /// The watchdog zeroes the force when no tick has started for this long (µs, at least two
     /// periods, at most 10 s): above the longest stall measured on the project's machines, so it
     /// trips on a broken loop, not on scheduling noise (docs/decisions/0031-servo-loop.md).

@@ -128,7 +128,7 @@ void addBenchCommand(CLI::App& app) {
     hapticsCmd->add_option("--repeats", hapticsOptions->repeats, "Bare and loaded runs per rate, interleaved (figures are medians)")
         ->check(CLI::Range(1, 99))
         ->capture_default_str();
-    hapticsCmd->add_option("--spin-us", hapticsOptions->spinUs, "Busy-wait before each deadline (us, at most a quarter period)")
+    hapticsCmd->add_option("--spin-us", hapticsOptions->spinUs, "Busy-wait before each deadline (us; the loop spins at most a quarter of the period)")
         ->check(CLI::Range(0, 100))
         ->capture_default_str();
     hapticsCmd->add_option("--servo-cpu", hapticsOptions->servoCpu, "Pin the servo thread to this CPU (-1: share them all)")
@@ -140,7 +140,7 @@ void addBenchCommand(CLI::App& app) {
         int rc = 0;
         try {
             rc = bench::runHapticsBench(*hapticsOptions);
-        } catch (const std::invalid_argument& e) {  // settings the servo loop refuses (spin too long)
+        } catch (const std::invalid_argument& e) {  // settings the servo loop refuses
             throw CLI::ValidationError("bench haptics", e.what());
         }
         if (rc != 0) throw CLI::RuntimeError(rc);

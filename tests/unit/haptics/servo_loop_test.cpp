@@ -353,13 +353,13 @@ TEST(ServoLoop, RejectsSettingsOutOfRange) {
     s.rateHz = 0.5;
     EXPECT_THROW((ServoLoop{dev, client, s}), std::invalid_argument);
     s = testSettings(4000.0);
-    s.spinUs = 100;  // more than a quarter of 250 µs
+    s.spinUs = 101;
     EXPECT_THROW((ServoLoop{dev, client, s}), std::invalid_argument);
     s = testSettings();
     s.watchdogUs = 1500;  // under two periods
     EXPECT_THROW((ServoLoop{dev, client, s}), std::invalid_argument);
     s = testSettings(10'000.0);
-    s.spinUs = 20;
+    s.spinUs = 100;  // spins a quarter of the period: 25 µs
     EXPECT_NO_THROW((ServoLoop{dev, client, s}));
 }
 
