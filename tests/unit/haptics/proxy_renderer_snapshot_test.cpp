@@ -7,6 +7,8 @@
 #include "haptics/proxy_renderer.h"
 #include "tests/unit/haptics/lockstep.h"
 
+#include "adf/guarded_accessor.h"
+#include "adf/snapshot_store.h"
 #include "sculpt/sculptor.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +16,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <optional>
 #include <vector>
 
 namespace kizamu {
@@ -61,6 +64,46 @@ TEST(ProxyRendererSnapshots, ASurfaceMovedUnderARestingProxyChangesTheForceWitho
         EXPECT_TRUE(rig.last.contact);
         EXPECT_NEAR(glm::length(rig.last.proxy), contact + moved, test::surfaceError(*rig.clay) + 1e-5);
     }
+}
+
+TEST(ProxyRendererSnapshots, TheServoLoopShapeReadsPublishedSnapshotsThroughGuards) {
+    // As the servo thread does it: a guard per tick, the GuardedAccessor bound to it, the
+    // snapshot's sequence number as its identity. A publish that moves the surface 2 mm out is
+    // seen on the next tick and the proxy settles onto it gradually.
+    ProxySettings ps;
+    ps.toolRadius = 0.003;
+    const double contact = test::kSphereRadius + ps.toolRadius;
+    sim::SimulatedStylus stylus(test::pressHand({0, 0, contact + 0.01}, {0, 0, contact - 0.003}, 0.3, 0.2, 2.0));
+    haptics::ProxyRenderer renderer(stylus.spec(), kPeriod, ps);
+    adf::SnapshotStore store(test::sphereClay());
+    adf::SnapshotStore::Reader reader(store);
+    std::optional<adf::GuardedAccessor> accessor;
+    haptics::ProxyOutput out;
+    glm::dvec3 previous(0.0);
+    double worst = 0.0;
+    int settling = 0;
+    for (int i = 0; i < 1400; ++i) {
+        if (i == 1000) store.publish(test::sphereClay(test::kSphereRadius + 0.002));
+        haptics::DeviceState state;
+        stylus.read(state);
+        {
+            const auto guard = reader.acquire();
+            if (!accessor) accessor.emplace(guard);
+            out = renderer.update(state, *accessor, guard, kPeriod, false);
+        }
+        stylus.write(out.force);
+        stylus.step(kPeriod);
+        if (i > 1000) {
+            worst = std::max(worst, glm::length(out.force - previous));
+            settling += out.settling ? 1 : 0;
+        }
+        previous = out.force;
+    }
+    EXPECT_EQ(accessor->sequence(), adf::SnapshotStore::kInitialSequence + 1);
+    EXPECT_GT(settling, 10);
+    EXPECT_LT(worst, 0.5);
+    EXPECT_TRUE(out.contact);
+    EXPECT_NEAR(glm::length(out.proxy), contact + 0.002, 2e-4 + 1e-5);
 }
 
 TEST(ProxyRendererCarving, TheProxyAdvancesAtTheRemovalRateAndItsPathIsCarved) {
