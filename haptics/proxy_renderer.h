@@ -51,7 +51,9 @@ struct ProxySettings {
     double softStartForce = 0.5;  ///< N: after a (re)start no force until the computed one is below this
     double softStartTime = 0.25;  ///< s: then the force ramps from 0 to full over this time
     double removalRate = 0.01;    ///< m/s: how fast the carving proxy advances into the material
-    /// m/s: how fast a proxy the surface moved under (a new snapshot) is moved back to it.
+    /// m/s: how fast a proxy the surface moved under (a new snapshot) is moved back to it:
+    /// K settleSpeed T per tick bounds the force step it causes (0.16 N at 3200 N/m, 1 kHz;
+    /// docs/decisions/0031-haptic-proxy-gains.md).
     double settleSpeed = 0.05;
 };
 
@@ -74,7 +76,9 @@ public:
     /// Fraction of the passivity bound the constructor allows: the bound holds for an ideal
     /// zero-order hold at exactly `period`; the servo loop's period error (up to 0.1 ms p99.9 at
     /// 1 kHz, design brief: the bound shrinks by 1/1.1), the device's velocity estimate and the
-    /// ADF's gradient error eat into it, so 0.8 keeps about 10 % beyond the jitter.
+    /// ADF's gradient error eat into it, and exactly at the bound the contact's entry and exit
+    /// still put a little energy in; 0.8 keeps about 10 % beyond the jitter
+    /// (docs/decisions/0031-haptic-proxy-gains.md).
     static constexpr double kPassivitySafety = 0.8;
     /// Bounded work per tick (what keeps update() real-time).
     static constexpr int kMarchSteps = 32;     ///< sphere-tracing steps along the proxy's path
