@@ -51,6 +51,13 @@ public:
         }
     }
 
+    /// The cached accessor, bound to `guard`'s snapshot: for code that takes an AdfAccessor
+    /// (haptics/proxy_renderer.h). Use it only while `guard` is held.
+    AdfAccessor& bound(const Guard& guard) noexcept {
+        bind(guard);
+        return mAccessor;
+    }
+
     /// Sequence number of the snapshot the cache belongs to.
     uint64_t sequence() const noexcept { return mSequence; }
 
