@@ -6,9 +6,11 @@
 /// Where it sits: the servo thread (servo_loop.h) reads a Device once per tick and writes the
 /// force the renderer (proxy_renderer.h) computed. Implementations: sim/simulated_stylus.h now;
 /// the Falcon over libusb and HID PID devices over hidapi later (issue 32). Threading: read()
-/// and write() are called from the servo thread only and must keep its contract: no lock
-/// another thread holds, no allocation, no I/O that can block (a real device's transfers are
-/// asynchronous and preallocated, or run on a device thread behind a lock-free mailbox).
+/// and write() are called from the servo thread, and write() of a zero force also from the
+/// servo loop's watchdog thread, never at the same time as another call (servo_loop.h, the
+/// gate); both keep the servo thread's contract: no lock another thread holds, no allocation,
+/// no I/O that can block (a real device's transfers are asynchronous and preallocated, or run on
+/// a device thread behind a lock-free mailbox).
 #pragma once
 
 #include <glm/gtc/quaternion.hpp>
@@ -49,7 +51,8 @@ public:
     /// Servo thread only; never blocks, never allocates.
     virtual bool read(DeviceState& out) noexcept = 0;
     /// The force to render now (N, device frame). Callers never pass non-finite values and keep
-    /// |force| <= spec().maxForce (the servo loop checks both). Servo thread only.
+    /// |force| <= spec().maxForce (the servo loop checks both). The servo thread, or the
+    /// watchdog's zero (never two calls at once).
     virtual void write(const glm::dvec3& force) noexcept = 0;
 };
 
