@@ -3,7 +3,7 @@
 /// @brief The live engine: tool samples and commands in; the published clay (the haptic
 /// thread's view) and mesh deltas (the render thread's) out. Read this first.
 ///
-/// One Engine owns the session (journal, checkpoints, sculptor), the snapshot store, the mesher
+/// One Engine owns a sculpt::Session (journal, checkpoints, sculptor), the snapshot store, the mesher
 /// and the edit thread; front ends (haptic loop, desktop window, headset) talk only to it
 /// (docs/ARCHITECTURE.md, "The live engine"):
 ///
@@ -31,7 +31,7 @@
 /// Determinism: segment cuts depend on timing, and the journal records them. Replaying the
 /// journal (Session::open) gives the live clay bit for bit; sync() lets a driver cut segments
 /// deterministically (kizamu live --rate 0).
-/// Threads: the edit thread runs every sculptor, mesher and session call; the pool it owns does
+/// Threads: the edit thread runs every sculptor, mesher and Session call; the pool it owns does
 /// their parallel loops. It sleeps on a condition variable between passes (commands wake it at
 /// once, samples are seen within EngineSettings::pollEvery); it never spins.
 #pragma once
@@ -86,11 +86,11 @@ struct EngineEvent {
 };
 
 struct EngineSettings {
-    /// The session directory: reopened when it holds a journal, else created from `start`.
-    /// Empty: a session in memory (nothing written; save() and exportMesh() still write files).
+    /// The journal directory (sculpt::Session): reopened when it holds a journal, else created from `start`.
+    /// Empty: kept in memory (nothing written; save() and exportMesh() still write files).
     std::string sessionDir;
-    sculpt::Script start;  ///< domain, level and start shape of a new session (its steps are replayed too)
-    int level = 0;         ///< finest level of a new session; 0 keeps the script's
+    sculpt::Script start;  ///< domain, level and start shape when none exists yet (its steps are replayed too)
+    int level = 0;         ///< finest level when created; 0 keeps the script's
     unsigned threads = 0;  ///< edit pool size; 0: the CPUs in the process's affinity mask
     std::vector<int> poolCpus;  ///< CPUs the pool's workers may run on; empty: all allowed
     std::size_t producers = 1;  ///< sample queues (samples(0) .. samples(producers - 1))
@@ -131,8 +131,8 @@ struct EngineStats {
 /// Thread-safe as documented per function; destruction from the thread that created it.
 class Engine {
 public:
-    /// Opens or creates the session, meshes it, and starts the edit thread.
-    /// @throw kizamu::FileError for a session that cannot be opened or created;
+    /// Opens or creates the sculpt::Session, meshes it, and starts the edit thread.
+    /// @throw kizamu::FileError when the sculpt::Session cannot be opened or created;
     ///        std::invalid_argument for bad settings (no producers, a bad queue setting)
     /// Complexity: a full generation (new) or replay (open) and a full mesh. Cold path.
     explicit Engine(EngineSettings settings);
@@ -157,27 +157,27 @@ public:
     /// Cancels the open stroke: the clay returns to its start and nothing is recorded; the
     /// rest of that press is ignored.
     std::future<CommandResult> cancelStroke();
-    /// Writes a checkpoint now, in the background (no session directory: an error); with a
+    /// Writes a checkpoint now, in the background (kept in memory: an error); with a
     /// `path`, writes the clay (every pending correction made) to that .kza file instead.
     std::future<CommandResult> save(std::string path = {});
     /// Meshes the clay (every pending correction made) in the background and writes it
     /// (mesh::exportMesh, untangled), in `unit` ("mm", "cm", "m"; empty: the format's default).
     std::future<CommandResult> exportMesh(std::string path, std::string unit = {});
-    /// Ends the current session (its journal is already durable) and starts a new one in `dir`
+    /// Closes the sculpt::Session in use (its journal is already durable) and starts another in `dir`
     /// (empty: in memory) from `start`'s header at `level` (0: its own); publishes and resets
     /// the mesh.
     std::future<CommandResult> newSession(std::string dir, sculpt::Script start, int level = 0);
-    /// Ends the current session and reopens the one in `dir`; warnings go into the message.
+    /// Closes the sculpt::Session in use and reopens the one in `dir`; warnings go into the message.
     std::future<CommandResult> openSession(std::string dir);
     /// Ends an open stroke, imports the mesh at `meshPath` (OBJ, STL, PLY, OFF, glTF, ...:
-    /// mesh::importMesh) and makes it the clay of a new session in `dir` (empty: in memory;
+    /// mesh::importMesh) and makes it the clay of another sculpt::Session in `dir` (empty: in memory;
     /// sculpt::Session::createFromClay, so it reopens and replays like any other): its ADF is
-    /// generated at `level` (0: the current session's level) in mesh::domainAround with the
+    /// generated at `level` (0: the level of the clay in use) in mesh::domainAround with the
     /// margin `kizamu convert` uses, on the edit pool; then published with a mesh reset, as
     /// newSession does. The mesh's unit: metres for a format that declares its unit (glTF, FBX,
     /// COLLADA), else `unit` ("mm", "cm", "m"; empty: mm, as `kizamu convert --in-units`).
     /// Errors (an unreadable mesh, one without triangles, a bad unit or level, a `dir` that
-    /// already holds a session) leave the current session in place. The message says what was
+    /// already holds a journal) leave the sculpt::Session in use in place. The message says what was
     /// imported and carries the import's warnings.
     /// Complexity: a mesh read and a full generation on the edit thread: no segments are
     /// applied meanwhile (samples wait in their queues). Cold path.

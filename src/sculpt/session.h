@@ -1,18 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
-/// @file session.h
-/// @brief A sculpting session on disk: its stroke journal plus checkpoints. Never loses a
+/// @file Session.h
+/// @brief A sculpting Session on disk: its stroke journal plus checkpoints. Never loses a
 /// finished stroke.
 ///
-/// DIR/journal.jsonl is the session's stroke script (docs/STROKE-SCRIPT.md): the header, then
+/// DIR/journal.jsonl is the Session's stroke script (docs/STROKE-SCRIPT.md): the header, then
 /// one record per step, each appended and fsynced when the step finishes (the directory is
-/// fsynced when the journal is created). A session started from clay (createFromClay: an
+/// fsynced when the journal is created). A Session started from clay (createFromClay: an
 /// imported mesh) keeps that clay in DIR/start.kza, which its header names. DIR/checkpoint-NNNNNNNN.kza holds the ADF after the
 /// first NNNNNNNN journal records: written to a temporary file, fsynced, renamed, directory
 /// fsynced (util::writeFileAtomically); older checkpoints are removed only after that. Opening
 /// loads the newest checkpoint that reads back cleanly and replays the journal after it; a last
 /// record cut short (a killed process mid-write) is dropped with a warning and cut from the
-/// file, so the session continues from every finished step. Replay is deterministic, so
-/// reopening gives the same ADF bit for bit as the live session had.
+/// file, so the Session continues from every finished step. Replay is deterministic, so
+/// reopening gives the same ADF bit for bit as the live Session had.
 ///
 /// A live stroke (beginStroke ... endStroke) is journaled as one record when it ends, with its
 /// live record (where the segments were cut, their dwells, the producer's time stamps and
@@ -21,7 +21,7 @@
 /// (rewritten atomically, records kept byte for byte) before its first live record.
 /// Checkpoints can be written off the edit thread: prepareCheckpoint, writeCheckpoint (any
 /// thread; it reads only an immutable snapshot), checkpointWritten.
-/// A session made by createInMemory has the same journal and sculptor and writes nothing.
+/// A Session made by createInMemory has the same journal and sculptor and writes nothing.
 /// Owned by the edit thread; not thread-safe. Errors: kizamu::FileError, one line.
 #pragma once
 
@@ -43,16 +43,16 @@ namespace kizamu::sculpt {
 
 class Session {
 public:
-    /// Starts a new session in `dir` (created; must not hold a journal yet) from the header of
+    /// Starts a Session in `dir` (created; must not hold a journal yet) from the header of
     /// `script` (domain, level, start shape); `level` 0 keeps the script's. A script that
     /// starts from a file gives createFromClay of that file's clay (startAdf's rules).
     static std::unique_ptr<Session> create(const std::string& dir, const Script& script, int level,
                                            util::ThreadPool* pool = nullptr);
-    /// Starts a new session in `dir` from `clay` (not null; an imported mesh's ADF, say): writes
+    /// Starts a Session in `dir` from `clay` (not null; an imported mesh's ADF, say): writes
     /// DIR/start.kza atomically, then the journal, whose header starts from that file
     /// ({"shape": "file", "file": "start.kza"}) in the clay's domain. Reopening (open) reads
     /// start.kza again. `dir` empty: in memory (the start kept as `clay`, nothing written).
-    /// @throw FileError when `dir` already holds a session (nothing written) or a write fails.
+    /// @throw FileError when `dir` already holds a Session (nothing written) or a write fails.
     /// Complexity: one .kza write and the journal header. Cold path.
     static std::unique_ptr<Session> createFromClay(const std::string& dir, adf::AdfPtr clay,
                                                    util::ThreadPool* pool = nullptr);
@@ -61,14 +61,14 @@ public:
     /// record() (what `kizamu info` and `convert` use).
     static std::unique_ptr<Session> open(const std::string& dir, util::ThreadPool* pool = nullptr,
                                          std::vector<std::string>* warnings = nullptr, bool readOnly = false);
-    /// A session kept in memory only: the same journal and sculptor, nothing written (dir() empty;
-    /// checkpoint() and the checkpoint functions do nothing). What the live engine uses without a session directory.
+    /// A Session kept in memory only: the same journal and sculptor, nothing written (dir() empty;
+    /// checkpoint() and the checkpoint functions do nothing). What the live engine uses without a journal directory.
     /// A file start is read once (or taken from Shape::clay).
     static std::unique_ptr<Session> createInMemory(const Script& script, int level, util::ThreadPool* pool = nullptr);
 
     /// Makes a step durable (journal append + fsync), then applies it. A stroke that fails
     /// validation is not journaled. @throw FileError if the journal cannot be written (the
-    /// session then refuses further steps); std::invalid_argument for a bad stroke;
+    /// Session then refuses further steps); std::invalid_argument for a bad stroke;
     /// std::logic_error while a live stroke is open (nothing journaled).
     void record(const Step& step);
     /// Writes a checkpoint of the current state (atomic, fsynced) and removes older ones. Pending
@@ -77,8 +77,8 @@ public:
     /// stroke is open.
     void checkpoint();
 
-    /// Live strokes through the session: forward to the sculptor (same contracts as Sculptor's).
-    /// beginStroke also throws FileError when the session refuses steps (read-only, or after a
+    /// Live strokes through the Session: forward to the sculptor (same contracts as Sculptor's).
+    /// beginStroke also throws FileError when the Session refuses steps (read-only, or after a
     /// failed write).
     void beginStroke(const Stroke& header);
     void extendStroke(std::span<const ToolSample> samples, double dwell = 0.0);
@@ -86,7 +86,7 @@ public:
     /// ends it in the sculptor: one journal record, one undo record. A stroke that changed nothing is cancelled and not journaled (returns false).
     /// @param timesNs    per sample: the producer's time stamps, ns (non-decreasing), or empty
     /// @param strengths  per sample: 0..1, or empty
-    /// @throw FileError if the journal cannot be written: the stroke is then cancelled (the clay returns to the stroke's start, as on disk) and the session refuses further steps, as record() does.
+    /// @throw FileError if the journal cannot be written: the stroke is then cancelled (the clay returns to the stroke's start, as on disk) and the Session refuses further steps, as record() does.
     ///        std::invalid_argument when `timesNs` or `strengths` break LiveRecord's rules: nothing is journaled and the stroke stays open.
     ///        std::logic_error without an open stroke.
     /// Complexity: O(poses) to format the record, one fsync, then Sculptor::endStroke.
@@ -94,7 +94,7 @@ public:
     void cancelStroke();
     bool stroking() const { return mSculptor->stroking(); }
 
-    /// Background checkpoints: prepareCheckpoint (edit thread) makes pending corrections (journaled, as checkpoint() does) and returns what to write; writeCheckpoint (any thread, touches no session state) writes it atomically; checkpointWritten (edit thread) removes older checkpoints and records it. checkpoint() = the three in a row.
+    /// Background checkpoints: prepareCheckpoint (edit thread) makes pending corrections (journaled, as checkpoint() does) and returns what to write; writeCheckpoint (any thread, touches no Session state) writes it atomically; checkpointWritten (edit thread) removes older checkpoints and records it. checkpoint() = the three in a row.
     /// In memory, prepareCheckpoint returns an empty job (no path) and the other two do nothing.
     struct CheckpointJob {
         std::size_t steps = 0;  ///< journal records the checkpoint covers
@@ -106,7 +106,7 @@ public:
     /// @throw FileError. Threading: any thread; reads only `job`.
     static void writeCheckpoint(const CheckpointJob& job);
     /// Removes the checkpoints older than `job.steps` (never a newer one) and records it as the
-    /// session's checkpoint. Call only after writeCheckpoint(job) returned.
+    /// Session's checkpoint. Call only after writeCheckpoint(job) returned.
     void checkpointWritten(const CheckpointJob& job);
 
     const Sculptor& sculptor() const { return *mSculptor; }
@@ -116,21 +116,22 @@ public:
     const std::string& dir() const { return mDir; }
 
     ~Session();
-    Session(const Session&) = delete;
-    Session& operator=(const Session&) = delete;
+    // Not copyable or movable: declaring the moves deleted deletes the copies too.
+    Session(Session&&) = delete;
+    Session& operator=(Session&&) = delete;
 
 private:
     Session() = default;
-    /// A new session in the existing `dir` with the journal header `header`. @throw FileError.
+    /// A Session started in the existing `dir` with the journal header `header`. @throw FileError.
     static std::unique_ptr<Session> createWithJournal(const std::string& dir, Script header, util::ThreadPool* pool);
     void openJournalForAppend();
-    /// @throw FileError unless the session takes steps (in memory, or the journal open).
+    /// @throw FileError unless the Session takes steps (in memory, or the journal open).
     void requireWritable() const;
     /// Appends `step` to the journal and fsyncs it (nothing in memory). On failure the write is
-    /// cut back off and the session refuses further steps. @throw FileError.
+    /// cut back off and the Session refuses further steps. @throw FileError.
     void append(const Step& step);
     /// Gives a journal older than version 3 a version 3 header before its first live record.
-    /// @throw FileError (then the session refuses further steps).
+    /// @throw FileError (then the Session refuses further steps).
     void upgradeJournal();
 
     std::string mDir;
@@ -143,7 +144,7 @@ private:
     bool mInMemory = false;               ///< createInMemory: nothing is written
 };
 
-/// True when `path` is a directory holding a session journal.
+/// True when `path` is a directory holding a Session journal.
 bool isSessionDir(const std::string& path);
 
 }  // namespace kizamu::sculpt
