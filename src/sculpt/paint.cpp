@@ -103,35 +103,25 @@ adf::ColourTilePtr merged(const adf::ColourTile* old, const std::vector<std::pai
     return std::make_shared<const adf::ColourTile>(std::move(points), std::move(colours));
 }
 
-/// What paintStroke and paintLiveSegment both derive from a paint stroke's tool and masks.
-struct PaintSetup {
-    Tool shape;  ///< the tool at full size: the strength is the paint's opacity, not a smaller tool
-    std::vector<adf::SourcePtr> masks;  ///< like masking tape: no paint inside, a sharp edge at theirs
-    double h, core, opacity;
-    float band;
-    adf::Rgb8 paint;
-    glm::dvec3 centre;  ///< the domain's centre, which mirrored copies reflect about
-    uint32_t span;
-};
-
-PaintSetup paintSetup(const adf::Domain& d, const Tool& tool, const StrokeConstraints& constraints) {
-    Tool shape = tool;
-    shape.strength = 1.0;
-    std::vector<adf::SourcePtr> masks;
-    for (const Shape& m : constraints.masks) masks.push_back(m.source(d));
-    const double h = d.finestCellSize();
-    const double core = 0.5 * (shape.shape == ToolShape::Cylinder ? std::min(shape.radius, shape.halfLength) : shape.radius);
-    return {shape, std::move(masks), h, core, tool.strength, float(kPaintBandCells * h), tool.colour,
-            d.originWorld + glm::dvec3(0.5 * d.sizeWorld), uint32_t(d.tileSpan())};
-}
-
 }  // namespace
 
 adf::ColourLayerPtr paintStroke(const adf::Adf& adf, const Stroke& stroke, util::ThreadPool* pool, PaintStats* stats) {
     if (stroke.tool.op != ToolOp::Paint) throw std::invalid_argument("paintStroke needs a paint stroke");
-    const adf::Domain& d = adf.domain();
-    const auto [shape, masks, h, core, opacity, band, paint, centre, span] = paintSetup(d, stroke.tool, stroke.constraints);
+    // The strength is the paint's opacity, not a smaller tool.
+    Tool shape = stroke.tool;
+    shape.strength = 1.0;
     const auto swept = makeSweptTool(shape, stroke.samples);
+    const adf::Domain& d = adf.domain();
+    // Masks work like masking tape: no paint inside them, a sharp edge at theirs.
+    std::vector<adf::SourcePtr> masks;
+    for (const Shape& m : stroke.constraints.masks) masks.push_back(m.source(d));
+    const double h = d.finestCellSize();
+    const double core = 0.5 * (shape.shape == ToolShape::Cylinder ? std::min(shape.radius, shape.halfLength) : shape.radius);
+    const double opacity = stroke.tool.strength;
+    const float band = float(kPaintBandCells * h);
+    const adf::Rgb8 paint = stroke.tool.colour;
+    const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
+    const uint32_t span = uint32_t(d.tileSpan());
 
     adf::ColourLayerPtr layer = adf.colours() ? adf.colours() : std::make_shared<const adf::ColourLayer>(d);
     const adf::Rgb8 base = layer->baseColour();
@@ -198,11 +188,21 @@ adf::ColourLayerPtr paintLiveSegment(const adf::Adf& adf, const Stroke& header, 
                                      std::span<const ToolSample> before, std::span<const ToolSample> segment,
                                      util::ThreadPool* pool, PaintStats* stats) {
     if (header.tool.op != ToolOp::Paint) throw std::invalid_argument("paintLiveSegment needs a paint stroke");
-    const adf::Domain& d = adf.domain();
-    const auto [shape, masks, h, core, opacity, band, paint, centre, span] = paintSetup(d, header.tool, header.constraints);
+    Tool shape = header.tool;
+    shape.strength = 1.0;  // the opacity, as in paintStroke
     const auto segTool = makeSweptTool(shape, std::vector<ToolSample>(segment.begin(), segment.end()));
     const std::shared_ptr<const SweptTool> beforeTool =
         before.empty() ? nullptr : makeSweptTool(shape, std::vector<ToolSample>(before.begin(), before.end()));
+    const adf::Domain& d = adf.domain();
+    std::vector<adf::SourcePtr> masks;
+    for (const Shape& m : header.constraints.masks) masks.push_back(m.source(d));
+    const double h = d.finestCellSize();
+    const double core = 0.5 * (shape.shape == ToolShape::Cylinder ? std::min(shape.radius, shape.halfLength) : shape.radius);
+    const double opacity = header.tool.strength;
+    const float band = float(kPaintBandCells * h);
+    const adf::Rgb8 paint = header.tool.colour;
+    const glm::dvec3 centre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
+    const uint32_t span = uint32_t(d.tileSpan());
 
     const adf::ColourLayerPtr layer = adf.colours() ? adf.colours() : std::make_shared<const adf::ColourLayer>(d);
     const adf::Rgb8 base = layer->baseColour();
