@@ -9,8 +9,9 @@
 /// carving sends the proxy's pose, not the device's, to the engine. Papers: the god-object of
 /// Zilles and Salisbury 1995 (here on a distance field: contact where the distance equals the
 /// tool radius plus the depth-constraint offset, Kizamu 4.x); the passivity bound of Colgate and
-/// Schenkel 1997 (b > K·T/2 + |B|, device.h). Units SI (m, s, N, kg). Frame: the device frame is
-/// the clay's world frame (the workspace mapping is the servo loop's business).
+/// Schenkel 1997 (b > K·T/2 + |B|, device.h). Units SI (m, s, N, kg). Frame: the clay's world
+/// frame; the caller maps the device into it (workspace.h) and builds the renderer on the mapped
+/// spec, so "device" below means the device's state in the world.
 ///
 /// Features:
 ///  [X] proxy in free space = device; stops on the contact surface (march + bisection, bounded)
@@ -23,7 +24,8 @@
 ///  [X] carving: the proxy advances into the material at the removal rate
 ///  [X] non-finite or disconnected device: zero force, proxy held
 ///  [ ] 6-DOF tools (orientation, torque), tool shapes other than the sphere
-///  [ ] workspace mapping (scale, rotation) between device and clay
+///  [X] workspace mapping (scale, rotation) between device and clay: the renderer runs in the
+///      world on WorkspaceMapping::worldSpec() (workspace.h), which keeps it passive on the device
 /// Changes: none yet (first version, issue 32).
 #pragma once
 
@@ -117,6 +119,15 @@ public:
 
     /// Forgets the proxy (it starts again at the device) and restarts the soft start.
     void reset() noexcept;
+
+    /// The fraction t in [0, 1] of the segment from `from` to `to` the tool travels before it
+    /// touches the clay (1: the whole segment is free; 0: `from` is already inside). Used to
+    /// project a 2-DOF tool onto the surface (engine_client.h). Same bounded march as the proxy's
+    /// own moves: material thinner than |to − from| / kMarchSteps may be stepped over.
+    /// Complexity: O(kMarchSteps + kBisectSteps) samples. Memory: none. Servo thread.
+    double contactFraction(adf::AdfAccessor& clay, const glm::dvec3& from, const glm::dvec3& to) const noexcept {
+        return freeFraction(clay, from, to);
+    }
 
     // ---- what was chosen ----
     struct Gains {

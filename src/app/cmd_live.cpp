@@ -1,8 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file cmd_live.cpp
 /// @brief `kizamu live --trajectory FILE`: a recorded trajectory through the live engine,
-/// headless, and the result written.
+/// headless, and the result written; `kizamu live --device sim --hand FILE`: the servo thread
+/// and the simulated stylus carving through the live engine (live_device.h).
 #include "app/commands.h"
+#include "app/live_device.h"
 #include "engine/engine.h"
 #include "engine/trajectory.h"
 #include "engine/trajectory_player.h"
@@ -24,9 +26,23 @@ struct LiveOptions {
     double rate = 1000.0;
     int level = 0;
     unsigned threads = 0;
+    DeviceLiveOptions device;  ///< used when --hand is given (the device's own fields)
 };
 
 void runLive(const LiveOptions& o) {
+    if (!o.device.hand.empty()) {
+        if (!o.trajectory.empty()) throw std::runtime_error("give --trajectory or --device with --hand, not both");
+        DeviceLiveOptions d = o.device;
+        d.rate = o.rate;
+        d.session = o.session;
+        d.out = o.out;
+        d.units = o.units;
+        d.level = o.level;
+        d.threads = o.threads;
+        runDeviceLive(d);
+        return;
+    }
+    if (o.trajectory.empty()) throw std::runtime_error("give --trajectory FILE, or --device sim --hand FILE");
     std::vector<std::string> warnings;
     const engine::Trajectory t = engine::readTrajectory(o.trajectory, &warnings);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
@@ -65,12 +81,30 @@ void runLive(const LiveOptions& o) {
 }  // namespace
 
 void addLiveCommand(CLI::App& app) {
-    auto* cmd = app.add_subcommand("live", "Feed a recorded tool trajectory (docs/TRAJECTORY.md) through the live engine and write the result");
+    auto* cmd = app.add_subcommand("live",
+                                   "Feed a recorded tool trajectory (docs/TRAJECTORY.md), or a haptic device with the servo "
+                                   "thread, through the live engine and write the result");
     auto o = std::make_shared<LiveOptions>();
-    cmd->add_option("--trajectory", o->trajectory, "Tool trajectory (.trajectory.jsonl)")->required();
+    cmd->add_option("--trajectory", o->trajectory, "Tool trajectory (.trajectory.jsonl)");
+    cmd->add_option("--device", o->device.device, "Haptic device driving the tool: sim (the simulated stylus, with --hand)")
+        ->check(CLI::IsMember({"sim"}))
+        ->capture_default_str();
+    cmd->add_option("--hand", o->device.hand, "Hand file scripting the simulated stylus (docs/HAND.md, examples/*hand*)");
+    cmd->add_option("--record", o->device.record, "With --hand: write every servo tick to this trace (docs/HAPTIC-TRACE.md)");
+    cmd->add_option("--record-trajectory", o->device.recordTrajectory,
+                    "With --hand: write the tool samples the engine got as a trajectory (docs/TRAJECTORY.md)");
+    cmd->add_option("--tool-radius", o->device.toolRadius, "With --hand: the carving sphere's radius, m")
+        ->check(CLI::Range(1e-5, 1.0))
+        ->capture_default_str();
+    cmd->add_option("--stiffness", o->device.stiffness, "With --hand: wall stiffness asked for, N/m (0: the stiffest passive)")
+        ->check(CLI::Range(0.0, 1e7))
+        ->capture_default_str();
+    cmd->add_option("--force-scale", o->device.forceScale, "With --hand: force scale, 0..1 (0: haptics off)")
+        ->check(CLI::Range(0.0, 1.0))
+        ->capture_default_str();
     cmd->add_option("--rate", o->rate,
-                    "Producer rate in Hz, in real time; 0: lock step, as fast as the engine goes (the same file "
-                    "gives the same bits)")
+                    "Producer (with --hand: servo) rate in Hz, in real time; 0: lock step, as fast as the engine goes "
+                    "(the same file gives the same bits)")
         ->check(CLI::Range(0.0, 100000.0))
         ->capture_default_str();
     cmd->add_option("--level", o->level, "Finest level of a new session (0: the trajectory's own)")->check(CLI::Range(0, 16));
