@@ -4,10 +4,9 @@
 /// and missed deadlines, bare and under the live engine's load.
 ///
 /// Each run starts a ServoLoop (SCHED_FIFO where the process may, /dev/cpu_dma_latency held)
-/// for `seconds` and reads its ServoStats. The device is a stand-in that answers at once; the
-/// client is the force-computation stand-in until the proxy renderer (haptics/proxy_renderer.h)
-/// is merged: per tick it acquires a guard on the published clay, queries distance and gradient
-/// under the device point through an adf::GuardedAccessor and returns a penalty spring force.
+/// for `seconds` and reads its ServoStats. The device is a stand-in that answers at once (a
+/// Falcon-class spec); the client is the application's: EngineHapticClient running the proxy
+/// renderer (haptics/proxy_renderer.h) on the published clay through a GuardedAccessor.
 ///  - bare: the test part in a SnapshotStore nobody writes, the point walking along its top;
 ///    no other thread of ours runs, so the period error is the machine's own timer floor.
 ///  - load: an engine::Engine on the test part while a producer thread pushes 1 kHz tool samples
@@ -23,8 +22,11 @@
 #include "bench/figures.h"
 #include "bench/timing.h"
 #include "engine/engine.h"
+#include "haptics/engine_client.h"
+#include "haptics/proxy_renderer.h"
 #include "haptics/servo_loop.h"
 #include "sculpt/script_start.h"
+#include "sim/simulated_stylus.h"
 
 #include <glm/geometric.hpp>
 
@@ -71,12 +73,12 @@ std::vector<glm::dvec3> surfaceLine(const adf::Adf& clay, double y, std::size_t 
 }
 
 /// Answers at once; its point walks along `path` (bare) or follows the producer's tool (load).
+/// Its spec is the simulated stylus's (a Falcon-class device), so the renderer's gains are the
+/// ones the application uses.
 class StandInDevice : public haptics::Device {
 public:
-    explicit StandInDevice(const std::vector<glm::dvec3>* path) : mPath(path) {
+    explicit StandInDevice(const std::vector<glm::dvec3>* path) : mSpec(sim::SimulatedStylus(sim::Hand{}).spec()), mPath(path) {
         mSpec.name = "bench stand-in";
-        mSpec.maxForce = 8.0;
-        mSpec.rate = 1000.0;
     }
     const haptics::DeviceSpec& spec() const noexcept override { return mSpec; }
     bool read(haptics::DeviceState& out) noexcept override {
@@ -100,22 +102,21 @@ private:
     glm::dvec3 mForce{0.0};
 };
 
-/// The force-computation stand-in: one guarded distance + gradient query, a penalty spring.
-class ClayClient : public haptics::ServoClient {
-public:
-    explicit ClayClient(adf::SnapshotStore& store) : mReader(store) {
-        const auto g = mReader.acquire();
-        mAccessor.emplace(g);
+/// The application's force computation: the proxy renderer on the published clay through
+/// EngineHapticClient (a 1 cm tool sphere, the device's point on or below the surface, so
+/// every tick is a contact: march, bisection and slide), pushing the proxy to `samples`.
+struct Rendering {
+    haptics::ProxyRenderer renderer;
+    haptics::EngineHapticClient client;
+    Rendering(adf::SnapshotStore& store, engine::SampleQueue& samples, const haptics::Device& device, double rateHz)
+        : renderer(device.spec(), 1.0 / rateHz, proxySettings()), client(store, samples, renderer) {}
+    static haptics::ProxySettings proxySettings() {
+        haptics::ProxySettings ps;
+        ps.toolRadius = 0.01;
+        ps.kineticFriction = 0.2;
+        ps.staticFriction = 0.3;
+        return ps;
     }
-    void tick(const haptics::DeviceState& state, double, glm::dvec3& force) noexcept override {
-        const auto g = mReader.acquire();
-        const adf::Sample s = mAccessor->sample(g, glm::vec3(state.position));
-        force = s.distance < 0.0f ? -2000.0 * double(s.distance) * glm::dvec3(s.gradient) : glm::dvec3(0.0);
-    }
-
-private:
-    adf::SnapshotStore::Reader mReader;
-    std::optional<adf::GuardedAccessor> mAccessor;
 };
 
 struct Run {
@@ -144,14 +145,16 @@ Run runServo(haptics::Device& device, haptics::ServoClient& client, const Haptic
 
 Run bareRun(adf::SnapshotStore& store, const std::vector<glm::dvec3>& path, const HapticsBenchOptions& opt, double rateHz) {
     StandInDevice device(&path);
-    ClayClient client(store);
-    return runServo(device, client, opt, rateHz);
+    engine::SampleQueue nobody;  // the proxies pushed go nowhere: no engine runs
+    Rendering rendering(store, nobody, device, rateHz);
+    return runServo(device, rendering.client, opt, rateHz);
 }
 
 Run loadRun(const HapticsBenchOptions& opt, double rateHz) {
     engine::EngineSettings settings;
     settings.start = testPartScript(opt.level);
     settings.correctAfterIdle = std::chrono::milliseconds(0);
+    settings.producers = 2;  // 0: the carving producer, 1: the servo thread's proxies (no button: it feels only)
     engine::Engine engine(std::move(settings));
     engine::ToolSettings tool;
     tool.tool.radius = 0.01;  // 1 % of the 1 m domain
@@ -169,7 +172,7 @@ Run loadRun(const HapticsBenchOptions& opt, double rateHz) {
     for (int a = 0; a < 3; ++a) device.tool[a].store(start[a]);
     Run r;
     {
-        ClayClient client(engine.snapshots());  // its Reader goes before the engine
+        Rendering rendering(engine.snapshots(), engine.samples(1), device, rateHz);  // its Reader goes before the engine
         std::atomic<bool> stop{false};
         std::thread producer([&] {
             engine::SampleQueue& q = engine.samples();
@@ -194,7 +197,7 @@ Run loadRun(const HapticsBenchOptions& opt, double rateHz) {
             q.push(up);
             while (!q.flush()) std::this_thread::yield();
         });
-        r = runServo(device, client, opt, rateHz);
+        r = runServo(device, rendering.client, opt, rateHz);
         stop.store(true);
         producer.join();
     }
@@ -246,8 +249,8 @@ int runHapticsBench(const HapticsBenchOptions& opt) {
         std::printf(
             "kizamu bench haptics: the servo thread bare and while the live engine carves a level-%d test part; %d runs "
             "of %.3g s each, interleaved; figures are medians over the runs (max: the largest)\n"
-            "force computation: a guarded distance+gradient query under the tool and a penalty spring, the stand-in "
-            "until the proxy renderer is merged\n",
+            "force computation: the proxy renderer (1 cm tool, in contact every tick) on the published clay, "
+            "the proxy pushed to the engine\n",
             opt.level, opt.repeats, opt.seconds);
     // The bare runs' clay: the same test part, in a store nobody writes.
     adf::SnapshotStore bareStore(sculpt::startAdf(testPartScript(opt.level), 0));

@@ -165,6 +165,52 @@ grep -q "strokes" "$tmp/out" || fail "live printed no summary: $(cat "$tmp/out")
 printf '{"kizamu_trajectory": 1, "units": "m"}\n{"t": "x"}\n' >"$tmp/bad.trajectory.jsonl"
 "$kizamu" live --trajectory "$tmp/bad.trajectory.jsonl" >/dev/null 2>"$tmp/err" && fail "a bad trajectory was accepted"
 [ "$(wc -l <"$tmp/err")" -eq 1 ] || fail "a bad trajectory's error is not one line: $(cat "$tmp/err")"
+# live with the simulated stylus: the servo thread, the stylus and the engine in lock step; the
+# trace is checked from outside (docs/HAPTIC-TRACE.md); the samples recorded as a trajectory play
+# back to the same clay byte for byte; two lock-step runs give the same trace
+hand=(live --device sim --hand "$repo/examples/slide_and_carve.hand.jsonl" --level 7 --rate 0)
+"$kizamu" "${hand[@]}" --record "$tmp/h.trace.jsonl" --record-trajectory "$tmp/h.trajectory.jsonl" --out "$tmp/h.kza" \
+    >"$tmp/out" || fail "live --device sim"
+grep -q "in contact" "$tmp/out" || fail "live --device sim printed no summary: $(cat "$tmp/out")"
+"$kizamu" "${hand[@]}" --record "$tmp/h2.trace.jsonl" >/dev/null || fail "live --device sim (again)"
+cmp -s "$tmp/h.trace.jsonl" "$tmp/h2.trace.jsonl" || fail "two lock-step haptic runs gave different traces"
+"$kizamu" live --trajectory "$tmp/h.trajectory.jsonl" --rate 0 --out "$tmp/h3.kza" >/dev/null || fail "play back a recorded device"
+cmp -s "$tmp/h.kza" "$tmp/h3.kza" || fail "the recorded device's trajectory does not play back to the same clay"
+python3 - "$tmp/h.trace.jsonl" <<'PY' || failures=$((failures + 1))
+import json, math, sys
+lines = open(sys.argv[1]).read().splitlines()
+head = json.loads(lines[0])
+for k in ("device", "max_force", "stiffness", "damping", "rate"):
+    assert k in head, f"trace header lacks {k}: {head}"
+ticks = [json.loads(l) for l in lines[1:]]
+assert len(ticks) > 2000, len(ticks)
+period = 1.0 / head["rate"]
+contact = 0
+for i, t in enumerate(ticks):
+    for k in ("t", "device", "velocity", "proxy", "force", "contact"):
+        assert k in t, f"tick {i} lacks {k}"
+    assert abs(t["t"] - i * period) < 1e-9, f"tick {i} at {t['t']}"
+    f = math.sqrt(sum(c * c for c in t["force"]))
+    assert f <= head["max_force"] + 1e-9, f"tick {i}: |force| {f} above the maximum"
+    contact += t["contact"]
+    if not t["contact"] and not (t["buttons"] & 1):
+        assert f < 1e-12, f"tick {i}: force {f} N out of contact"
+assert contact > 500, f"only {contact} ticks in contact"
+# Physics from outside: in contact the force is the stiffness times the device-proxy distance
+# (no virtual damping here, no friction), up to the clamp and the soft start's ramp.
+k = head["stiffness"]
+checked = 0
+for t in ticks[500:]:
+    if t["contact"] and t["t"] > 1.0:
+        d = math.sqrt(sum((p - q) ** 2 for p, q in zip(t["proxy"], t["device"])))
+        f = math.sqrt(sum(c * c for c in t["force"]))
+        if f < head["max_force"] - 1e-6:
+            assert abs(f - k * d) < 1e-6 * max(1.0, f), f"t={t['t']}: |force| {f} != K d {k * d}"
+            checked += 1
+assert checked > 100, checked
+PY
+"$kizamu" live --device sim >/dev/null 2>"$tmp/err" && fail "live --device sim without --hand was accepted"
+grep -q -- "--hand" "$tmp/err" || fail "live --device sim without --hand: unclear error $(cat "$tmp/err")"
 # progress: a line rewritten with \r on a terminal (script(1) gives the command one), nothing
 # when stderr is no terminal or with --quiet; 300 slab strokes at level 7 on one thread take
 # about a second, several times the 0.25 s before the first line
