@@ -90,6 +90,7 @@ bool ServoTicker::tryGate() noexcept {
 glm::dvec3 ServoTicker::checked(const glm::dvec3& f) noexcept {
     if (!std::isfinite(f.x) || !std::isfinite(f.y) || !std::isfinite(f.z)) {
         mStats.countNonFinite();
+        mStats.events().record(ServoEventKind::NonFiniteForce, mHeartbeatNs.load(std::memory_order_relaxed));
         return glm::dvec3(0.0);
     }
     const double a = std::max({std::abs(f.x), std::abs(f.y), std::abs(f.z)});
@@ -116,7 +117,9 @@ int64_t ServoTicker::step(int64_t nowNs) noexcept {
     if (trips != mSeenTrips) {
         mSeenTrips = trips;
         mNeedRestart = true;
+        mStats.events().record(ServoEventKind::WatchdogRestart, nowNs);
     }
+    if (missed) mStats.events().record(ServoEventKind::MissedDeadline, nowNs, errorNs);
 
     int64_t forceNs = -1;
     glm::dvec3 force(0.0);
@@ -132,10 +135,12 @@ int64_t ServoTicker::step(int64_t nowNs) noexcept {
             if (mConnected.load(std::memory_order_relaxed)) {
                 mConnected.store(false, std::memory_order_relaxed);
                 mStats.countDisconnect();
+                mStats.events().record(ServoEventKind::Disconnected, nowNs);
             }
             mStats.countDisconnectedTick();
             mNeedRestart = true;
         } else {
+            if (!mConnected.load(std::memory_order_relaxed)) mStats.events().record(ServoEventKind::Reconnected, nowNs);
             mConnected.store(true, std::memory_order_relaxed);
             if (mNeedRestart) {
                 mClient.restart(state);

@@ -21,7 +21,8 @@
 ///  [X] device not answering -> force zero, loop keeps ticking, resumes when it answers again
 ///  [X] watchdog thread; force zero on stop(), on destruction and when the thread exits
 ///  [X] statistics in preallocated histograms (servo_stats.h), readable without locks
-///  [ ] a preallocated event log ring (time stamped missed deadlines, trips) for the app
+///  [X] a preallocated event log ring (time-stamped missed deadlines, disconnects, reconnects,
+///      restarts after a trip, non-finite forces: ServoStats::events(), servo_stats.h)
 ///
 /// Changes (breaking):
 ///  2026-12-06 first version (issue 32).

@@ -115,6 +115,53 @@ void ServoStats::clear() noexcept {
     mLastTickNs.store(0, std::memory_order_relaxed);
     mPeriodError.clear();
     mForceTime.clear();
+    mEvents.clear();
+}
+
+const char* servoEventName(ServoEventKind kind) noexcept {
+    switch (kind) {
+    case ServoEventKind::MissedDeadline: return "missed deadline";
+    case ServoEventKind::Disconnected: return "device disconnected";
+    case ServoEventKind::Reconnected: return "device reconnected";
+    case ServoEventKind::WatchdogRestart: return "restart after a watchdog trip";
+    case ServoEventKind::NonFiniteForce: return "non-finite force";
+    }
+    return "?";
+}
+
+void ServoEventLog::record(ServoEventKind kind, int64_t timeNs, int64_t valueNs) noexcept {
+    const uint64_t i = mNext.load(std::memory_order_relaxed);
+    Slot& slot = mSlots[i % kCapacity];
+    slot.sequence.store(2 * i + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);  // the odd mark is seen before the fields change
+    slot.timeNs.store(timeNs, std::memory_order_relaxed);
+    slot.valueNs.store(valueNs, std::memory_order_relaxed);
+    slot.kind.store(uint8_t(kind), std::memory_order_relaxed);
+    slot.sequence.store(2 * i + 2, std::memory_order_release);
+    mNext.store(i + 1, std::memory_order_release);
+}
+
+uint64_t ServoEventLog::read(uint64_t since, std::vector<ServoEvent>& out) const {
+    const uint64_t next = mNext.load(std::memory_order_acquire);
+    const uint64_t first = std::max(since, next > kCapacity ? next - kCapacity : uint64_t(0));
+    for (uint64_t i = first; i < next; ++i) {
+        const Slot& slot = mSlots[i % kCapacity];
+        ServoEvent e;
+        e.index = i;
+        if (slot.sequence.load(std::memory_order_acquire) != 2 * i + 2) continue;  // overwritten or being written
+        e.timeNs = slot.timeNs.load(std::memory_order_relaxed);
+        e.valueNs = slot.valueNs.load(std::memory_order_relaxed);
+        e.kind = ServoEventKind(slot.kind.load(std::memory_order_relaxed));
+        std::atomic_thread_fence(std::memory_order_acquire);  // the fields are read before the check
+        if (slot.sequence.load(std::memory_order_relaxed) != 2 * i + 2) continue;
+        out.push_back(e);
+    }
+    return next;
+}
+
+void ServoEventLog::clear() noexcept {
+    for (Slot& slot : mSlots) slot.sequence.store(0, std::memory_order_relaxed);
+    mNext.store(0, std::memory_order_release);
 }
 
 }  // namespace kizamu::haptics

@@ -101,6 +101,51 @@ private:
     std::atomic<uint64_t> mMax{0};
 };
 
+/// What the servo log records, one event each, time stamped (servo clock).
+enum class ServoEventKind : uint8_t {
+    MissedDeadline,   ///< a tick started more than a period late; value: how late (ns)
+    Disconnected,     ///< the device stopped answering (force zero until it answers)
+    Reconnected,      ///< it answers again (the client restarts: soft start)
+    WatchdogRestart,  ///< the first tick after a watchdog trip (force was zeroed behind its back)
+    NonFiniteForce,   ///< the client returned a NaN or infinite force (replaced by zero)
+};
+
+const char* servoEventName(ServoEventKind kind) noexcept;
+
+struct ServoEvent {
+    uint64_t index = 0;  ///< 0, 1, 2, ... in the order recorded
+    int64_t timeNs = 0;  ///< servo clock
+    ServoEventKind kind = ServoEventKind::MissedDeadline;
+    int64_t valueNs = 0;
+};
+
+/// The newest kCapacity events in a preallocated ring: one writer (the servo thread) that never
+/// waits, readers on any thread (the app's status line, the benchmark) that copy events out and
+/// skip any the writer overwrote while they read (a per-slot sequence check; every field is an
+/// atomic, so it is also race-free under ThreadSanitizer).
+class ServoEventLog {
+public:
+    static constexpr std::size_t kCapacity = 256;
+    /// Writer. O(1), no allocation.
+    void record(ServoEventKind kind, int64_t timeNs, int64_t valueNs = 0) noexcept;
+    /// Events recorded so far (also those the ring no longer holds). Any thread.
+    uint64_t recorded() const noexcept { return mNext.load(std::memory_order_acquire); }
+    /// Appends to `out` the events with index >= `since` that the ring still holds, oldest
+    /// first; returns the index to pass next time. Any thread. Allocates (out).
+    uint64_t read(uint64_t since, std::vector<ServoEvent>& out) const;
+    /// Only while no tick runs.
+    void clear() noexcept;
+
+private:
+    struct Slot {
+        std::atomic<uint64_t> sequence{0};  ///< 2 i + 1 while event i is written, 2 i + 2 once written
+        std::atomic<int64_t> timeNs{0}, valueNs{0};
+        std::atomic<uint8_t> kind{0};
+    };
+    std::array<Slot, kCapacity> mSlots{};
+    std::atomic<uint64_t> mNext{0};
+};
+
 /// Statistics of one servo loop. Owned by its ServoTicker (one per loop); one writer thread
 /// (the servo thread, or the test driving a ticker in lock-step), readers on any thread.
 class ServoStats {
@@ -130,6 +175,9 @@ public:
     ServoSummary summary() const;
     const LatencyHistogram& periodError() const noexcept { return mPeriodError; }
     const LatencyHistogram& forceTime() const noexcept { return mForceTime; }
+    /// The time-stamped log of missed deadlines, disconnects and restarts (servo thread writes).
+    ServoEventLog& events() noexcept { return mEvents; }
+    const ServoEventLog& events() const noexcept { return mEvents; }
 
     /// Zeroes everything. Only while no tick runs (before start, after stop).
     void clear() noexcept;
@@ -144,6 +192,7 @@ private:
     std::atomic<int64_t> mFirstTickNs{0}, mLastTickNs{0};
     LatencyHistogram mPeriodError;
     LatencyHistogram mForceTime;
+    ServoEventLog mEvents;
 };
 
 }  // namespace kizamu::haptics

@@ -90,6 +90,7 @@ TEST(ServoTicker, NonFiniteForceNeverReachesTheDevice) {
     for (int i = 1; i <= 3; ++i) EXPECT_EQ(dev.writes[std::size_t(i)], glm::dvec3(0.0)) << i;
     EXPECT_EQ(dev.writes[4], glm::dvec3(0.5, 0.5, 0));
     EXPECT_EQ(t.stats().counts().nonFinite, 3u);
+    EXPECT_EQ(t.stats().events().recorded(), 3u) << "each non-finite force is logged";
     EXPECT_EQ(t.stats().counts().ticks, 5u);
     EXPECT_EQ(client.restarts, 1);  // before the first tick only
 }
@@ -143,6 +144,14 @@ TEST(ServoTicker, DisconnectMidContactZeroesForceAndResumes) {
     EXPECT_EQ(c.disconnectedTicks, 3u);
     EXPECT_EQ(client.ticks, 9);     // the client is not asked while the device is away
     EXPECT_EQ(client.restarts, 2);  // at the start and on reconnection
+    // The event log has both, time stamped.
+    std::vector<haptics::ServoEvent> events;
+    EXPECT_EQ(t.stats().events().read(0, events), 2u);
+    ASSERT_EQ(events.size(), 2u);
+    EXPECT_EQ(events[0].kind, haptics::ServoEventKind::Disconnected);
+    EXPECT_EQ(events[0].timeNs, 5 * kMs);
+    EXPECT_EQ(events[1].kind, haptics::ServoEventKind::Reconnected);
+    EXPECT_EQ(events[1].timeNs, 8 * kMs);
 }
 
 TEST(ServoTicker, DeviceThatReportsDisconnectedCountsAsAway) {
@@ -176,6 +185,31 @@ TEST(ServoTicker, MissedDeadlineReanchorsInsteadOfBursting) {
     EXPECT_EQ(c.ticks, 4u);
     EXPECT_EQ(c.missed, 1u);
     EXPECT_NEAR(t.stats().periodError().maxNs(), 3.5e6, 1.0);
+    std::vector<haptics::ServoEvent> events;
+    t.stats().events().read(0, events);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, haptics::ServoEventKind::MissedDeadline);
+    EXPECT_EQ(events[0].timeNs, late);
+    EXPECT_EQ(events[0].valueNs, 3'500'000);
+}
+
+TEST(ServoEventLog, KeepsTheNewestAndSaysWhereToGoOn) {
+    haptics::ServoEventLog log;
+    const std::size_t n = haptics::ServoEventLog::kCapacity + 10;
+    for (std::size_t i = 0; i < n; ++i) log.record(haptics::ServoEventKind::MissedDeadline, int64_t(i), int64_t(2 * i));
+    std::vector<haptics::ServoEvent> events;
+    const uint64_t next = log.read(0, events);
+    EXPECT_EQ(next, n);
+    ASSERT_EQ(events.size(), haptics::ServoEventLog::kCapacity) << "the oldest 10 were overwritten";
+    EXPECT_EQ(events.front().index, 10u);
+    EXPECT_EQ(events.front().timeNs, 10);
+    EXPECT_EQ(events.back().valueNs, int64_t(2 * (n - 1)));
+    log.record(haptics::ServoEventKind::Disconnected, 1000);
+    events.clear();
+    EXPECT_EQ(log.read(next, events), n + 1);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, haptics::ServoEventKind::Disconnected);
+    EXPECT_STREQ(haptics::servoEventName(events[0].kind), "device disconnected");
 }
 
 TEST(ServoTicker, WatchdogTripZeroesAndRestartsTheClient) {
@@ -191,6 +225,10 @@ TEST(ServoTicker, WatchdogTripZeroesAndRestartsTheClient) {
     t.step(t.deadline());
     EXPECT_EQ(client.restarts, 2);
     EXPECT_EQ(t.stats().counts().watchdogTrips, 1u);
+    std::vector<haptics::ServoEvent> events;
+    t.stats().events().read(0, events);
+    ASSERT_EQ(events.size(), 1u);
+    EXPECT_EQ(events[0].kind, haptics::ServoEventKind::WatchdogRestart);
 }
 
 // ---- real threads ----
