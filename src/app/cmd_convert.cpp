@@ -49,13 +49,6 @@ mesh::ExportOptions exportOptions(const ConvertOptions& o,
     return e;
 }
 
-/// `m`'s positions from `unit` to metres, as the ADF and the clay hold them.
-void scaleToMetres(mesh::MeshBuffers& m, mesh::LengthUnit unit) {
-    const double factor = mesh::metresPer(unit);
-    if (factor == 1.0) return;
-    for (glm::vec3& p : m.positions) p = glm::vec3(glm::dvec3(p) * factor);
-}
-
 double msSince(std::chrono::steady_clock::time_point t0) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -120,7 +113,7 @@ void runConvert(const ConvertOptions& o) {
         std::printf("wrote %s\n", o.out.c_str());
         return;
     }
-    scaleToMetres(m, inUnit);
+    mesh::scaleToMetres(m, inUnit);
     adf::GenerationSettings settings;
     settings.epsilonCells = o.error;
     const adf::Domain d = mesh::domainAround(m, o.level, settings.bandCells + 2.0);

@@ -337,9 +337,7 @@ CommandResult EditPass::importMesh(Command& c) {
     std::vector<std::string> warnings;
     bool inMetres = false;  // a format that declares its unit (glTF, FBX, COLLADA)
     mesh::MeshBuffers m = mesh::importMesh(c.path, &warnings, &inMetres);
-    const double factor = inMetres ? 1.0 : mesh::metresPer(unit);
-    if (factor != 1.0)
-        for (glm::vec3& p : m.positions) p = glm::vec3(glm::dvec3(p) * factor);
+    if (!inMetres) mesh::scaleToMetres(m, unit);
     // The domain and generation `kizamu convert` uses, so both give the same clay.
     adf::AdfPtr clay;
     {

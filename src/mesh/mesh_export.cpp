@@ -216,6 +216,12 @@ double metresPer(LengthUnit unit) {
     return 1.0;
 }
 
+void scaleToMetres(MeshBuffers& m, LengthUnit unit) {
+    const double factor = metresPer(unit);
+    if (factor == 1.0) return;
+    for (glm::vec3& p : m.positions) p = glm::vec3(glm::dvec3(p) * factor);
+}
+
 const char* unitSymbol(LengthUnit unit) {
     switch (unit) {
         case LengthUnit::Millimetre: return "mm";

@@ -35,6 +35,9 @@ enum class LengthUnit { Millimetre, Centimetre, Metre };
 
 /// Metres in one `unit` (0.001, 0.01, 1).
 double metresPer(LengthUnit unit);
+/// Scales `m`'s positions from `unit` to metres, as the ADF and the clay hold them (nothing to
+/// do for metres). Complexity: O(vertices).
+void scaleToMetres(MeshBuffers& m, LengthUnit unit);
 /// The unit's symbol: "mm", "cm" or "m".
 const char* unitSymbol(LengthUnit unit);
 /// The unit a symbol names ("mm", "cm", "m"); empty for anything else.
