@@ -132,11 +132,12 @@ const char* servoEventName(ServoEventKind kind) noexcept {
 void ServoEventLog::record(ServoEventKind kind, int64_t timeNs, int64_t valueNs) noexcept {
     const uint64_t i = mNext.load(std::memory_order_relaxed);
     Slot& slot = mSlots[i % kCapacity];
+    // Each field is a release store after the odd mark: a reader that sees any new field value
+    // (an acquire load) then sees the odd mark, or later, when it checks the sequence again.
     slot.sequence.store(2 * i + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);  // the odd mark is seen before the fields change
-    slot.timeNs.store(timeNs, std::memory_order_relaxed);
-    slot.valueNs.store(valueNs, std::memory_order_relaxed);
-    slot.kind.store(uint8_t(kind), std::memory_order_relaxed);
+    slot.timeNs.store(timeNs, std::memory_order_release);
+    slot.valueNs.store(valueNs, std::memory_order_release);
+    slot.kind.store(uint8_t(kind), std::memory_order_release);
     slot.sequence.store(2 * i + 2, std::memory_order_release);
     mNext.store(i + 1, std::memory_order_release);
 }
@@ -149,10 +150,9 @@ uint64_t ServoEventLog::read(uint64_t since, std::vector<ServoEvent>& out) const
         ServoEvent e;
         e.index = i;
         if (slot.sequence.load(std::memory_order_acquire) != 2 * i + 2) continue;  // overwritten or being written
-        e.timeNs = slot.timeNs.load(std::memory_order_relaxed);
-        e.valueNs = slot.valueNs.load(std::memory_order_relaxed);
-        e.kind = ServoEventKind(slot.kind.load(std::memory_order_relaxed));
-        std::atomic_thread_fence(std::memory_order_acquire);  // the fields are read before the check
+        e.timeNs = slot.timeNs.load(std::memory_order_acquire);
+        e.valueNs = slot.valueNs.load(std::memory_order_acquire);
+        e.kind = ServoEventKind(slot.kind.load(std::memory_order_acquire));
         if (slot.sequence.load(std::memory_order_relaxed) != 2 * i + 2) continue;
         out.push_back(e);
     }

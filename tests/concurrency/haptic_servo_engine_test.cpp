@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <thread>
+#include <vector>
 
 namespace kizamu {
 namespace {
@@ -61,7 +62,8 @@ TEST(HapticServoEngine, TheServoThreadFeelsAndCarvesWhileTheEngineEditsAndTheApp
     ss.watchdogUs = 200'000;  // sanitizers slow the servo thread; the watchdog is not what is tested here
     haptics::ServoLoop loop(device, client, ss);
     loop.start();
-    uint64_t records = 0, contacts = 0, deltas = 0;
+    uint64_t records = 0, contacts = 0, deltas = 0, eventsSeen = 0;
+    std::vector<haptics::ServoEvent> events;
     double maxForce = 0.0;
     const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(1400);
     while (std::chrono::steady_clock::now() < end) {
@@ -72,6 +74,8 @@ TEST(HapticServoEngine, TheServoThreadFeelsAndCarvesWhileTheEngineEditsAndTheApp
             maxForce = std::max(maxForce, glm::length(r.force));
         }
         if (e.takeMeshDelta()) ++deltas;
+        events.clear();
+        eventsSeen = loop.stats().events().read(eventsSeen, events);  // what a status line does
         std::this_thread::sleep_for(std::chrono::milliseconds(2));
     }
     loop.stop();
