@@ -1,0 +1,230 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file input_script.cpp
+/// @brief Reading and writing input scripts (docs/INPUT.md) with nlohmann::json, a line at a time.
+#include "interact/input_script.h"
+
+#include "util/file_error.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace kizamu::interact {
+
+namespace {
+
+using json = nlohmann::json;
+
+double finiteNumber(const json& j, const char* what) {
+    if (!j.is_number()) throw std::invalid_argument(std::string("\"") + what + "\" must be a number");
+    const double v = j.get<double>();
+    if (!std::isfinite(v)) throw std::invalid_argument(std::string("\"") + what + "\" is not finite");
+    return v;
+}
+
+std::string oneLine(std::string s) {
+    std::replace(s.begin(), s.end(), '\n', ' ');
+    std::replace(s.begin(), s.end(), '\r', ' ');
+    return s;
+}
+
+const char* buttonName(MouseButton b) {
+    switch (b) {
+    case MouseButton::Left: return "left";
+    case MouseButton::Right: return "right";
+    case MouseButton::Middle: return "middle";
+    }
+    return "left";
+}
+
+MouseButton parseButton(const json& j) {
+    if (j.is_string()) {
+        const std::string s = j.get<std::string>();
+        if (s == "left") return MouseButton::Left;
+        if (s == "right") return MouseButton::Right;
+        if (s == "middle") return MouseButton::Middle;
+    }
+    throw std::invalid_argument("a button is \"left\", \"right\" or \"middle\"");
+}
+
+bool validKey(const std::string& k) {
+    if (k.size() == 1) return (k[0] >= 'a' && k[0] <= 'z') || (k[0] >= '0' && k[0] <= '9');
+    const auto& names = keyNames();
+    return std::find(names.begin(), names.end(), k) != names.end();
+}
+
+uint32_t parseMods(const json& j) {
+    if (!j.is_array()) throw std::invalid_argument("\"mods\" must be a list of \"ctrl\", \"shift\", \"alt\"");
+    uint32_t mods = 0;
+    for (const json& m : j) {
+        const std::string s = m.is_string() ? m.get<std::string>() : std::string();
+        if (s == "ctrl") mods |= kModCtrl;
+        else if (s == "shift") mods |= kModShift;
+        else if (s == "alt") mods |= kModAlt;
+        else throw std::invalid_argument("unknown modifier " + m.dump() + " (ctrl, shift, alt)");
+    }
+    return mods;
+}
+
+json modsJson(uint32_t mods) {
+    json a = json::array();
+    if (mods & kModCtrl) a.push_back("ctrl");
+    if (mods & kModShift) a.push_back("shift");
+    if (mods & kModAlt) a.push_back("alt");
+    return a;
+}
+
+void readHeader(const json& j, InputScript& s) {
+    if (!j.is_object() || !j.contains("kizamu_input"))
+        throw std::invalid_argument("not a Kizamu input script (the first record must be {\"kizamu_input\": 1, ...})");
+    const json& v = j["kizamu_input"];
+    if (!v.is_number_integer() || v.get<int64_t>() != kInputScriptVersion)
+        throw std::invalid_argument("input script version " + v.dump() + " is not supported (this build reads " +
+                                    std::to_string(kInputScriptVersion) + ")");
+    if (j.contains("size")) {
+        const json& size = j["size"];
+        if (!size.is_array() || size.size() != 2 || !size[0].is_number_integer() || !size[1].is_number_integer())
+            throw std::invalid_argument("\"size\" must be [width, height] in pixels");
+        s.width = size[0].get<int>();
+        s.height = size[1].get<int>();
+        if (s.width < 16 || s.height < 16 || s.width > 16384 || s.height > 16384)
+            throw std::invalid_argument("\"size\" must be 16 to 16384 pixels each way");
+    }
+}
+
+InputEvent readEvent(const json& j, const InputScript& s) {
+    if (!j.is_object()) throw std::invalid_argument("an event must be an object");
+    InputEvent e;
+    if (!j.contains("frame") || !j["frame"].is_number_integer()) throw std::invalid_argument("an event needs an integer \"frame\"");
+    e.frame = j["frame"].get<int64_t>();
+    if (e.frame < 0) throw std::invalid_argument("\"frame\" is negative");
+    if (!s.events.empty() && e.frame < s.events.back().frame)
+        throw std::invalid_argument("frame " + std::to_string(e.frame) + " comes after frame " + std::to_string(s.events.back().frame));
+    int kinds = 0;
+    for (const char* k : {"move", "press", "release", "wheel", "key", "drop"}) kinds += j.contains(k) ? 1 : 0;
+    if (kinds != 1) throw std::invalid_argument("an event is exactly one of \"move\", \"press\", \"release\", \"wheel\", \"key\", \"drop\"");
+    for (const auto& [key, value] : j.items())
+        if (key != "frame" && key != "move" && key != "press" && key != "release" && key != "wheel" && key != "key" &&
+            key != "drop" && key != "mods" && key != "pressure")
+            throw std::invalid_argument("unknown key \"" + key + "\"");
+    if (j.contains("mods")) {
+        if (j.contains("move") || j.contains("drop")) throw std::invalid_argument("\"mods\" belong to a press, release, key or wheel");
+        e.mods = parseMods(j["mods"]);
+    }
+    if (j.contains("move")) {
+        const json& p = j["move"];
+        if (!p.is_array() || p.size() != 2) throw std::invalid_argument("\"move\" must be [x, y] in pixels");
+        e.kind = InputEventKind::Move;
+        e.x = finiteNumber(p[0], "move");
+        e.y = finiteNumber(p[1], "move");
+        if (j.contains("pressure")) {
+            const double pr = finiteNumber(j["pressure"], "pressure");
+            if (pr < 0.0 || pr > 1.0) throw std::invalid_argument("\"pressure\" must be in [0, 1]");
+            e.pressure = float(pr);
+        }
+    } else if (j.contains("pressure")) {
+        throw std::invalid_argument("\"pressure\" belongs to a move");
+    } else if (j.contains("press")) {
+        e.kind = InputEventKind::Press;
+        e.button = parseButton(j["press"]);
+    } else if (j.contains("release")) {
+        e.kind = InputEventKind::Release;
+        e.button = parseButton(j["release"]);
+    } else if (j.contains("wheel")) {
+        e.kind = InputEventKind::Wheel;
+        e.wheel = finiteNumber(j["wheel"], "wheel");
+    } else if (j.contains("key")) {
+        e.kind = InputEventKind::Key;
+        if (!j["key"].is_string() || !validKey(j["key"].get<std::string>()))
+            throw std::invalid_argument("unknown key " + j["key"].dump() + " (a-z, 0-9 or a name in docs/INPUT.md)");
+        e.key = j["key"].get<std::string>();
+    } else {
+        e.kind = InputEventKind::Drop;
+        if (!j["drop"].is_string() || j["drop"].get<std::string>().empty())
+            throw std::invalid_argument("\"drop\" must be a file path");
+        e.path = j["drop"].get<std::string>();
+    }
+    return e;
+}
+
+}  // namespace
+
+const std::vector<std::string>& keyNames() {
+    static const std::vector<std::string> names = {"escape", "enter", "space", "tab", "backspace", "delete", "left", "right",
+                                                   "up", "down", "home", "end", "pageup", "pagedown", "f1", "f2", "f3", "f4",
+                                                   "f5", "f6", "f7", "f8", "f9", "f10", "f11", "f12", "kp0", "kp1", "kp2",
+                                                   "kp3", "kp4", "kp5", "kp6", "kp7", "kp8", "kp9", "kpdecimal", "[", "]",
+                                                   "minus", "equal"};
+    return names;
+}
+
+InputScript parseInputScript(const std::string& text, const std::string& name) {
+    InputScript s;
+    std::istringstream in(text);
+    std::string line;
+    int lineNo = 0;
+    bool header = false;
+    while (std::getline(in, line)) {
+        ++lineNo;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        const auto first = line.find_first_not_of(" \t");
+        if (first == std::string::npos || line[first] == '#') continue;
+        try {
+            json j;
+            try {
+                j = json::parse(line);
+            } catch (const json::exception& e) {
+                throw std::invalid_argument(oneLine(e.what()));
+            }
+            if (!header) {
+                readHeader(j, s);
+                header = true;
+            } else {
+                s.events.push_back(readEvent(j, s));
+            }
+        } catch (const std::invalid_argument& e) {
+            throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
+        }
+    }
+    if (!header) throw FileError(name, "not a Kizamu input script (empty)");
+    return s;
+}
+
+InputScript readInputScript(const std::string& path) {
+    std::ifstream f(path, std::ios::binary);
+    if (!f) throw FileError(path, "cannot be read");
+    std::ostringstream text;
+    text << f.rdbuf();
+    InputScript s = parseInputScript(text.str(), path);
+    s.baseDir = std::filesystem::path(path).parent_path().string();
+    return s;
+}
+
+std::string formatInputScript(const InputScript& s) {
+    std::string out = json{{"kizamu_input", kInputScriptVersion}, {"size", {s.width, s.height}}}.dump() + "\n";
+    for (const InputEvent& e : s.events) {
+        json j;
+        j["frame"] = e.frame;
+        switch (e.kind) {
+        case InputEventKind::Move:
+            j["move"] = {e.x, e.y};
+            if (e.pressure != 1.0f) j["pressure"] = double(e.pressure);
+            break;
+        case InputEventKind::Press: j["press"] = buttonName(e.button); break;
+        case InputEventKind::Release: j["release"] = buttonName(e.button); break;
+        case InputEventKind::Wheel: j["wheel"] = e.wheel; break;
+        case InputEventKind::Key: j["key"] = e.key; break;
+        case InputEventKind::Drop: j["drop"] = e.path; break;
+        }
+        if (e.mods != 0 && e.kind != InputEventKind::Move && e.kind != InputEventKind::Drop) j["mods"] = modsJson(e.mods);
+        out += j.dump() + "\n";
+    }
+    return out;
+}
+
+}  // namespace kizamu::interact
