@@ -17,6 +17,8 @@ bool RealtimeStylus::read(haptics::DeviceState& out) noexcept {
         mSkippedNs += int64_t((behind - kMaxStep) * 1e9);
         behind = kMaxStep;
     }
+    // Stylus time t is servo time mStartNs + mSkippedNs + t: where the live hand's targets are.
+    if (mLive) mStylus.setLiveHand(mLive, mStartNs + mSkippedNs);
     while (behind > 1e-9) {
         const double step = std::min(behind, kMaxStep);
         mStylus.step(step);

@@ -31,6 +31,9 @@ public:
     static constexpr double kMaxStep = 1e-3;    ///< s
     static constexpr double kMaxCatchUp = 1.0;  ///< s
 
+    /// Drives the stylus with `live` (the mouse), on the servo clock. Before the loop starts.
+    void setLiveHand(LiveHand* live) noexcept { mLive = live; }
+
     /// Whether the hand has finished its script (time past its last waypoint). Servo thread.
     bool handFinished() const noexcept { return mStylus.time() >= mStylus.hand().duration(); }
 
@@ -39,6 +42,7 @@ private:
     int64_t (*mClock)() noexcept;
     int64_t mStartNs = -1;
     int64_t mSkippedNs = 0;  ///< wall time not integrated (gaps beyond kMaxCatchUp)
+    LiveHand* mLive = nullptr;
 };
 
 }  // namespace kizamu::sim

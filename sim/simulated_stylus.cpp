@@ -31,7 +31,7 @@ bool SimulatedStylus::read(haptics::DeviceState& out) noexcept {
     out.position = mPosition;
     out.orientation = glm::dquat(1.0, 0.0, 0.0, 0.0);
     out.velocity = mVelocity;
-    out.buttons = mHand.at(time()).buttons;
+    out.buttons = handAt(time()).buttons;
     out.connected = true;
     return true;
 }
@@ -49,7 +49,7 @@ void SimulatedStylus::step(double dt) noexcept {
     const bool forced = mForce != glm::dvec3(0.0);
     const double t0 = time();
     for (int i = 0; i < n; ++i) {
-        const HandPose hand = mHand.at(t0 + double(i + 1) * h);
+        const HandPose hand = handAt(t0 + double(i + 1) * h);
         // m (v' - v) / h = kh (xh - x) + bh (vh - v') - b v' + f
         const glm::dvec3 springH = kh * (hand.position - mPosition);
         const glm::dvec3 v = (m * mVelocity + h * (springH + bh * hand.velocity + mForce)) / (m + h * (bh + b));

@@ -28,12 +28,14 @@
 ///  [X] hand impedance following a Hand (hand.h, hand files: hand_file.h)
 ///  [X] energy bookkeeping: work of the rendered force, dissipation of the physical damping
 ///  [ ] workspace stops (the workspace is reported, not enforced)
-///  [ ] orientation, button bounce, sensor quantisation, real-time mode on a wall clock
+///  [X] a live hand (the mouse: live_hand.h) instead of the script, on the servo clock
+///  [ ] orientation, button bounce, sensor quantisation
 /// Changes: none yet (first version, issue 32).
 #pragma once
 
 #include "haptics/device.h"
 #include "sim/hand.h"
+#include "sim/live_hand.h"
 
 #include <glm/vec3.hpp>
 
@@ -83,6 +85,13 @@ public:
     /// Complexity: O(substeps). Memory: none.
     void step(double dt) noexcept;
 
+    /// Drives the stylus with `live` instead of the scripted hand (null: the script again): the
+    /// hand at stylus time t is live->at(clockOffsetNs + t). The servo thread, between steps.
+    void setLiveHand(LiveHand* live, int64_t clockOffsetNs = 0) noexcept {
+        mLive = live;
+        mLiveOffsetNs = clockOffsetNs;
+    }
+
     double time() const noexcept { return double(mTimeNs) / 1e9; }  ///< s (exact at whole ns)
     const glm::dvec3& position() const noexcept { return mPosition; }
     const glm::dvec3& velocity() const noexcept { return mVelocity; }
@@ -92,7 +101,14 @@ public:
     const StylusSettings& settings() const noexcept { return mSettings; }
 
 private:
+    /// The hand at stylus time t (s): the live hand's, or the script's.
+    HandPose handAt(double t) noexcept {
+        return mLive ? mLive->at(mLiveOffsetNs + int64_t(t * 1e9)) : mHand.at(t);
+    }
+
     Hand mHand;
+    LiveHand* mLive = nullptr;
+    int64_t mLiveOffsetNs = 0;
     StylusSettings mSettings;
     haptics::DeviceSpec mSpec;
     int64_t mTimeNs = 0;  ///< the virtual clock, integer ns: 1000 steps of 1 ms land exactly on 1 s
