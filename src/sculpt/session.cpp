@@ -133,7 +133,8 @@ std::unique_ptr<Session> Session::create(const std::string& dir, const Script& s
     header.version = kScriptVersion;  // the journal may hold records newer than the script's
     if (level > 0) header.domain.maxLevel = level;
     makeSessionDirectory(dir);
-    return createWithJournal(dir, std::move(header), pool);
+    auto lock = std::make_unique<SessionLock>(dir);
+    return createWithJournal(dir, std::move(header), pool, std::move(lock));
 }
 
 std::unique_ptr<Session> Session::createFromClay(const std::string& dir, adf::AdfPtr clay, util::ThreadPool* pool) {
@@ -148,12 +149,15 @@ std::unique_ptr<Session> Session::createFromClay(const std::string& dir, adf::Ad
     // Checked before start.kza is written: never clobber another session's start.
     if (isSessionDir(dir)) throw FileError(dir, "already holds a session (journal.jsonl); open it instead");
     makeSessionDirectory(dir);
+    auto lock = std::make_unique<SessionLock>(dir);
     adf::saveAdf(*header.start.clay, (fs::path(dir) / kStartFile).string());  // temporary file, fsync, rename
-    return createWithJournal(dir, std::move(header), pool);
+    return createWithJournal(dir, std::move(header), pool, std::move(lock));
 }
 
-std::unique_ptr<Session> Session::createWithJournal(const std::string& dir, Script header, util::ThreadPool* pool) {
+std::unique_ptr<Session> Session::createWithJournal(const std::string& dir, Script header, util::ThreadPool* pool,
+                                                    std::unique_ptr<SessionLock> lock) {
     std::unique_ptr<Session> s(new Session());
+    s->mLock = std::move(lock);
     s->mDir = dir;
     s->mPool = pool;
     s->mJournal = std::move(header);
@@ -174,6 +178,9 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
                                        bool readOnly) {
     const std::string path = journalPath(dir);
     if (!isSessionDir(dir)) throw FileError(dir, "not a Kizamu session (no journal.jsonl)");
+    // One writer: taken before anything is read, so a record another process is appending is
+    // never taken for one cut short.
+    std::unique_ptr<SessionLock> lock = readOnly ? nullptr : std::make_unique<SessionLock>(dir);
     std::string text = util::readWholeFile(path);
     // A record is finished when its line ends: cut a last line without its newline (a process
     // killed mid-append) and keep every step before it.
@@ -188,6 +195,7 @@ std::unique_ptr<Session> Session::open(const std::string& dir, util::ThreadPool*
         text.resize(keep);
     }
     std::unique_ptr<Session> s(new Session());
+    s->mLock = std::move(lock);
     s->mDir = dir;
     s->mPool = pool;
     s->mJournal = parseScript(text, path);

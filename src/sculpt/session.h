@@ -22,10 +22,14 @@
 /// Checkpoints can be written off the edit thread: prepareCheckpoint, writeCheckpoint (any
 /// thread; it reads only an immutable snapshot), checkpointWritten.
 /// A Session made by createInMemory has the same journal and sculptor and writes nothing.
+/// One writer per directory: a Session that writes holds DIR/lock (session_lock.h) from before it
+/// reads or writes anything until it is destroyed; opening one another Session (in any process)
+/// holds is an error, and a lock file nobody holds marks a session a crash left open.
 /// Owned by the edit thread; not thread-safe. Errors: kizamu::FileError, one line.
 #pragma once
 
 #include "sculpt/sculptor.h"
+#include "sculpt/session_lock.h"
 #include "sculpt/stroke_script.h"
 
 #include <cstddef>
@@ -123,7 +127,8 @@ public:
 private:
     Session() = default;
     /// A Session started in the existing `dir` with the journal header `header`. @throw FileError.
-    static std::unique_ptr<Session> createWithJournal(const std::string& dir, Script header, util::ThreadPool* pool);
+    static std::unique_ptr<Session> createWithJournal(const std::string& dir, Script header, util::ThreadPool* pool,
+                                                      std::unique_ptr<SessionLock> lock);
     void openJournalForAppend();
     /// @throw FileError unless the Session takes steps (in memory, or the journal open).
     void requireWritable() const;
@@ -134,6 +139,7 @@ private:
     /// @throw FileError (then the Session refuses further steps).
     void upgradeJournal();
 
+    std::unique_ptr<SessionLock> mLock;  ///< first: released after everything else is closed
     std::string mDir;
     Script mJournal;
     std::unique_ptr<Sculptor> mSculptor;

@@ -3,6 +3,7 @@
 // SIGKILL mid-run reopens with every finished stroke; a journal cut mid-record opens with the
 // strokes before it and a warning; a damaged checkpoint falls back to an older one or the journal.
 #include "sculpt/session.h"
+#include "sculpt/session_lock.h"
 
 #include "adf/adf_file.h"
 #include "sculpt/script_start.h"
@@ -91,7 +92,7 @@ TEST_F(SessionTest, ReopensToTheSameClayWithUndoAndCheckpoints) {
             if (i == 2 || i == 7) live->checkpoint();
         }
         std::vector<std::string> warnings;
-        auto again = Session::open(mDir.string(), nullptr, &warnings);
+        auto again = Session::open(mDir.string(), nullptr, &warnings, /*readOnly=*/true);  // a second reader
         EXPECT_TRUE(warnings.empty());
         // The journal holds the script's steps, plus a correction before each checkpoint; the
         // clay is the journal's replay bit for bit.
@@ -243,8 +244,13 @@ TEST_F(SessionTest, SigkillMidRunLosesNoFinishedStroke) {
     int status = 0;
     ::waitpid(child, &status, 0);
     ASSERT_TRUE(WIFSIGNALED(status)) << "the child finished before it could be killed";
+    // The killed process left its lock file behind, held by nobody: the session was interrupted
+    // (what the app offers to restore).
+    EXPECT_TRUE(sculpt::SessionLock::interrupted(mDir.string()));
+    EXPECT_FALSE(sculpt::SessionLock::holder(mDir.string()));
     std::vector<std::string> warnings;
     auto reopened = Session::open(mDir.string(), nullptr, &warnings);
+    EXPECT_FALSE(sculpt::SessionLock::interrupted(mDir.string())) << "held again";
     const std::vector<std::string> edits = editLines(reopened->journal());
     const std::size_t k = edits.size();
     EXPECT_GE(k, 11u);
@@ -253,6 +259,31 @@ TEST_F(SessionTest, SigkillMidRunLosesNoFinishedStroke) {
     // replay (strokes and the corrections made at checkpoints) bit for bit.
     EXPECT_EQ(edits, editLines(s, k));
     EXPECT_TRUE(test::sameAdf(*reopened->sculptor().current(), *replay(reopened->journal(), reopened->steps())));
+}
+
+TEST_F(SessionTest, OneWriterPerSessionAndACleanCloseLeavesNoTrace) {
+    const Script s = slab(6, 3, 1);
+    {
+        auto live = Session::create(mDir.string(), s, 0);
+        EXPECT_EQ(sculpt::SessionLock::holder(mDir.string()), std::optional<pid_t>(::getpid()));
+        EXPECT_FALSE(sculpt::SessionLock::interrupted(mDir.string())) << "held: open, not interrupted";
+        try {
+            Session::open(mDir.string());
+            ADD_FAILURE() << "a second writer opened the session";
+        } catch (const FileError& e) {
+            EXPECT_NE(std::string(e.what()).find("open in another Kizamu (pid " + std::to_string(::getpid()) + ")"),
+                      std::string::npos)
+                << e.what();
+        }
+        // A reader is welcome, and changes nothing.
+        EXPECT_NO_THROW(Session::open(mDir.string(), nullptr, nullptr, /*readOnly=*/true));
+        live->record(s.steps[0]);
+    }
+    EXPECT_FALSE(fs::exists(mDir / "lock")) << "a clean close removes the lock file";
+    EXPECT_FALSE(sculpt::SessionLock::interrupted(mDir.string()));
+    EXPECT_FALSE(sculpt::SessionLock::holder(mDir.string()));
+    auto again = Session::open(mDir.string());
+    EXPECT_EQ(again->steps(), 1u);
 }
 
 }  // namespace
