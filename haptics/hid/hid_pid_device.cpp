@@ -43,8 +43,8 @@ HidPidDevice::HidPidDevice(std::unique_ptr<HidTransport> transport, const PidLay
         throw std::invalid_argument("HidPidDevice: maxForce must be > 0 N");
     if (!std::isfinite(settings.depth)) throw std::invalid_argument("HidPidDevice: depth must be finite");
     if (!(settings.velocityCutoffHz > 0.0)) throw std::invalid_argument("HidPidDevice: velocityCutoffHz must be > 0");
-    if (settings.readTimeoutMs < 0 || settings.readTimeoutMs > 1000)
-        throw std::invalid_argument("HidPidDevice: readTimeoutMs must be within 0..1000");
+    if (settings.readTimeoutMs < 1 || settings.readTimeoutMs > 1000)
+        throw std::invalid_argument("HidPidDevice: readTimeoutMs must be within 1..1000");
     mForceAxes = mCodec.forceAxes();
     const double hw = settings.workspaceHalfWidth;
     mSpec.name = settings.name;

@@ -37,7 +37,8 @@
 ///  [X] disconnect -> connected false, zero force; non-finite -> zero; stop -> zero and stop
 ///  [ ] reconnection (open a new HidPidDevice), PID State input (safety switch) not read
 ///  [ ] measured damping and stiffness per device (HidPidSettings carries assumed figures)
-/// Changes (breaking): none yet (first version, issue 32).
+/// Changes (breaking):
+///  2026-12-06 first version (issue 32).
 #pragma once
 
 #include "haptics/device.h"
@@ -95,7 +96,9 @@ struct HidPidSettings {
     double damping = 0.5;
     double maxStiffness = 0.0;         ///< N/m; 0: the renderer's passivity bound decides
     double velocityCutoffHz = 30.0;    ///< Hz, the velocity filter's cutoff
-    int readTimeoutMs = 2;             ///< ms the device thread waits for an input report
+    /// ms the device thread waits for an input report (1..1000): the longest a posted force
+    /// waits to be sent when the device reports nothing.
+    int readTimeoutMs = 2;
     std::array<double, 2> axisSign{1.0, 1.0};  ///< ±1: flips an axis (position and force)
     CodecSettings codec;
 };
@@ -112,7 +115,8 @@ class HidPidDevice final : public Device {
 public:
     /// Takes the transport; sends nothing until start().
     /// @throw std::invalid_argument for a layout without axes or settings out of range
-    ///        (workspaceHalfWidth, maxForce <= 0, non-finite depth).
+    ///        (workspaceHalfWidth or maxForce <= 0, non-finite depth, velocityCutoffHz <= 0,
+    ///        readTimeoutMs outside 1..1000).
     HidPidDevice(std::unique_ptr<HidTransport> transport, const PidLayout& layout,
                  const HidPidSettings& settings = {});
     /// stop().

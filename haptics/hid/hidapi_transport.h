@@ -7,6 +7,9 @@
 /// hidapi. hidapi 0.13 (Debian's libhidapi-dev) has no hid_get_report_descriptor, so the
 /// descriptor comes from sysfs: /sys/class/hidraw/hidrawN/device/report_descriptor (the Linux
 /// hidraw documentation, Documentation/hid/hidraw.rst, and the HID core's sysfs attribute).
+/// Report buffers go to hidraw as they are: its write() takes the report ID as the first byte,
+/// 0 for a device without numbered reports, and read() returns a numbered report with its ID
+/// first (Documentation/hid/hidraw.rst), which hidapi's hidraw backend passes through.
 /// Threading: one HidapiTransport per device, used by one thread at a time (HidTransport's
 /// contract). hid_init() runs once per process (std::call_once); hid_exit() is never called.
 ///
