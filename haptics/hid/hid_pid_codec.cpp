@@ -54,7 +54,12 @@ int64_t unpackField(std::span<const uint8_t> data, const FieldLocation& f) noexc
 PidCodec::PidCodec(const PidLayout& layout, const CodecSettings& settings)
     : mLayout(layout), mSettings(settings) {}
 
-int PidCodec::forceAxes() const noexcept { return int(std::min<std::size_t>(mLayout.axisCount, 2)); }
+int PidCodec::forceAxes() const noexcept {
+    const auto& enable = mLayout.setEffect.axisEnable;
+    const int enabled = int(enable[0].present()) + int(enable[1].present());
+    if (enabled > 0) return enabled;
+    return int(std::min<std::size_t>(mLayout.axisCount, 2));
+}
 
 std::span<uint8_t> PidCodec::begin(const ReportLocation& report, ReportBuffer& out) const noexcept {
     out.bytes.fill(0);

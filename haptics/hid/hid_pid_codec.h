@@ -96,7 +96,10 @@ public:
     explicit PidCodec(const PidLayout& layout, const CodecSettings& settings = {});
 
     const PidLayout& layout() const noexcept { return mLayout; }
-    /// Force axes the device can take a constant force on: min(input axes, 2).
+    /// Force axes the device can take a constant force on (1 or 2): the X and Y bits its Set
+    /// Effect report's Axes Enable has (a wheel's input report may list more axes than it
+    /// drives: OpenFFBoard's has eight, its wheel mode one force axis); without Axes Enable,
+    /// min(input axes, 2).
     int forceAxes() const noexcept;
     /// Whether effects are created through Create New Effect / Block Load (device-managed
     /// block indices) rather than picked by the host (1, 2, ...).

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -148,6 +149,30 @@ TEST(DeviceTable, OpenFfboard) {
     EXPECT_TRUE(isPidUsagePage(0x0F));
     EXPECT_FALSE(isPidUsagePage(0x01));
     EXPECT_FALSE(knownDevices().empty());
+}
+
+}  // namespace
+}  // namespace kizamu::haptics::hid
+
+namespace kizamu::haptics::hid {
+namespace {
+
+TEST(HidPidCodec, ForceAxesFollowAxesEnable) {
+    EXPECT_EQ(fixtureCodec().forceAxes(), 2);
+    // The same joystick whose Axes Enable lists X only (a wheel's single force axis): the
+    // two-bit X, Y run becomes one X bit.
+    const std::vector<uint8_t> twoAxes = {0x09, 0x30, 0x09, 0x31, 0x15, 0x00, 0x25, 0x01, 0x75, 0x01, 0x95, 0x02};
+    const std::vector<uint8_t> oneAxis = {0x09, 0x30, 0x15, 0x00, 0x25, 0x01, 0x75, 0x01, 0x95, 0x01};
+    std::vector<uint8_t> bytes = fixture::joystick();
+    const auto at = std::search(bytes.begin(), bytes.end(), twoAxes.begin(), twoAxes.end());
+    ASSERT_NE(at, bytes.end());
+    bytes.erase(at, at + long(twoAxes.size()));
+    bytes.insert(bytes.begin() + (at - bytes.begin()), oneAxis.begin(), oneAxis.end());
+    const PidCodec c(findPidLayout(parseReportDescriptor(bytes)));
+    EXPECT_EQ(c.layout().axisCount, 2u);  // the input report still has X and Y
+    EXPECT_EQ(c.forceAxes(), 1);
+    EXPECT_TRUE(c.layout().setEffect.axisEnable[0].present());
+    EXPECT_FALSE(c.layout().setEffect.axisEnable[1].present());
 }
 
 }  // namespace
