@@ -4,6 +4,7 @@
 /// force -> reports, non-finite -> zero, unplug -> disconnected, stop -> zero and stop.
 #include "haptics/hid/device_list.h"
 #include "haptics/hid/hid_pid_device.h"
+#include "haptics/servo_loop.h"
 #include "unit/haptics/hid/pid_fixture.h"
 
 #include <gtest/gtest.h>
@@ -255,6 +256,38 @@ TEST(HidPidDevice, RejectsBadSettings) {
     EXPECT_THROW(HidPidDevice(std::make_unique<ScriptedTransport>(std::make_shared<Script>()),
                               findPidLayout(parseReportDescriptor(fixture::joystick())), s),
                  std::invalid_argument);
+}
+
+/// A client pushing a fixed force, recording the state it saw.
+class FixedForceClient final : public ServoClient {
+public:
+    glm::dvec3 force{0.0};
+    DeviceState seen;
+    void tick(const DeviceState& state, double, glm::dvec3& out) noexcept override {
+        seen = state;
+        out = force;
+    }
+};
+
+TEST(HidPidDevice, DrivenByTheServoTicker) {
+    Rig rig;
+    rig.device->start();
+    {
+        std::lock_guard lock(rig.script->mutex);
+        rig.script->inputs.push_back(inputReport(-32767, 0));
+    }
+    ASSERT_TRUE(eventually([&] { return rig.device->counters().inputReports >= 1; }));
+    FixedForceClient client;
+    client.force = {-1.5, 0.75, 0.0};  // -16384 on X, round(0.25 * 32767) = 8192 = 0x2000 on Y
+    ServoTicker ticker(*rig.device, client, 1000.0);
+    ticker.begin(1'000'000);
+    for (int i = 1; i <= 5; ++i) ticker.step(int64_t(i) * 1'000'000);
+    EXPECT_TRUE(ticker.connected());
+    EXPECT_NEAR(client.seen.position.x, -0.05, 1e-12);
+    ASSERT_TRUE(eventually([&] {
+        const auto w = rig.script->writesSnapshot();
+        return contains(w, Bytes{0x05, 0x03, 0x00, 0xC0}) && contains(w, Bytes{0x05, 0x04, 0x00, 0x20});
+    }));
 }
 
 TEST(DeviceList, SimulatedStylusAlwaysListed) {
