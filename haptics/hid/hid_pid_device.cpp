@@ -183,15 +183,18 @@ void HidPidDevice::publish(const InputSample& sample, int64_t timeNs) noexcept {
     mPrevPos = pos;
     mPrevTimeNs = timeNs;
 
+    // Seqlock without fences (ThreadSanitizer does not model them): the data stores are
+    // releases, so a reader that sees any of them also sees the odd sequence stored before
+    // them (H.-J. Boehm, "Can seqlocks get along with programming language memory models?",
+    // MSPC 2012, the release-store / acquire-load variant).
     const uint32_t s = mSeq.load(std::memory_order_relaxed);
     mSeq.store(s + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    mPosX.store(bitsOf(pos.x), std::memory_order_relaxed);
-    mPosY.store(bitsOf(pos.y), std::memory_order_relaxed);
-    mVelX.store(bitsOf(mVel.x), std::memory_order_relaxed);
-    mVelY.store(bitsOf(mVel.y), std::memory_order_relaxed);
-    mTimeNs.store(timeNs, std::memory_order_relaxed);
-    mButtons.store(sample.buttons, std::memory_order_relaxed);
+    mPosX.store(bitsOf(pos.x), std::memory_order_release);
+    mPosY.store(bitsOf(pos.y), std::memory_order_release);
+    mVelX.store(bitsOf(mVel.x), std::memory_order_release);
+    mVelY.store(bitsOf(mVel.y), std::memory_order_release);
+    mTimeNs.store(timeNs, std::memory_order_release);
+    mButtons.store(sample.buttons, std::memory_order_release);
     mSeq.store(s + 2, std::memory_order_release);
 }
 
@@ -199,13 +202,13 @@ bool HidPidDevice::read(DeviceState& out) noexcept {
     for (int tries = 0; tries < kSeqlockTries; ++tries) {
         const uint32_t s1 = mSeq.load(std::memory_order_acquire);
         if (s1 & 1u) continue;
-        const double px = doubleOf(mPosX.load(std::memory_order_relaxed));
-        const double py = doubleOf(mPosY.load(std::memory_order_relaxed));
-        const double vx = doubleOf(mVelX.load(std::memory_order_relaxed));
-        const double vy = doubleOf(mVelY.load(std::memory_order_relaxed));
-        const int64_t t = mTimeNs.load(std::memory_order_relaxed);
-        const uint32_t b = mButtons.load(std::memory_order_relaxed);
-        std::atomic_thread_fence(std::memory_order_acquire);
+        // Acquire loads keep the second sequence load after them (see publish()).
+        const double px = doubleOf(mPosX.load(std::memory_order_acquire));
+        const double py = doubleOf(mPosY.load(std::memory_order_acquire));
+        const double vx = doubleOf(mVelX.load(std::memory_order_acquire));
+        const double vy = doubleOf(mVelY.load(std::memory_order_acquire));
+        const int64_t t = mTimeNs.load(std::memory_order_acquire);
+        const uint32_t b = mButtons.load(std::memory_order_acquire);
         if (mSeq.load(std::memory_order_relaxed) != s1) continue;
         if (s1 == 0) break;  // nothing published yet (before start())
         mLastRead.position = {px, py, mSettings.depth};

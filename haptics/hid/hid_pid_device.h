@@ -153,7 +153,8 @@ private:
     /// Device thread: encodes and sends the posted force when a magnitude changed. False on a
     /// transport error.
     bool sendForce() noexcept;
-    /// Device thread: decodes one input report into the published state.
+    /// Device thread: turns one decoded input report into position, velocity and buttons and
+    /// publishes them through the seqlock.
     void publish(const InputSample& sample, int64_t timeNs) noexcept;
     /// Sends zero force, stops the effects, disables the actuators; ignores errors.
     void shutdownEffects() noexcept;
