@@ -15,7 +15,8 @@
 ///
 /// Mapping (1-2 axis devices; the device frame of DeviceState, m and N):
 ///  - axis 1 -> tool x, axis 2 -> tool y; position = axisSign × (normalised axis value, -1..1)
-///    × workspaceHalfWidth. A one-axis device (a wheel) keeps y = 0.
+///    × workspaceHalfWidth. The axes used are the force axes (PidCodec::forceAxes(): the
+///    Set Effect report's Axes Enable bits), so a one-axis device (a wheel) keeps y = 0.
 ///  - z = HidPidSettings::depth, fixed: the plane sits at a fixed depth in the clay and depth is
 ///    left to the application's surface following (the device has no third axis to render it).
 ///  - force x, y (N) -> each axis' constant-force magnitude = axisSign × F / maxForce of full
