@@ -32,6 +32,8 @@ void addConvertCommand(CLI::App& app);
 void addRunCommand(CLI::App& app);
 /// Registers `live`: a tool trajectory through the live engine.
 void addLiveCommand(CLI::App& app);
+/// Registers `devices`: the haptic devices found, and the simulated stylus.
+void addDevicesCommand(CLI::App& app);
 /// Registers `bench` with its areas (`bench adf`, `bench mesh`, `bench edit`). Defined only
 /// where the benchmark library is built (KIZAMU_HAVE_BENCH, from KIZAMU_BUILD_BENCH).
 void addBenchCommand(CLI::App& app);

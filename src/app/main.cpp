@@ -30,6 +30,7 @@ int runCommand(int argc, char** argv) {
         kizamu::app::addConvertCommand(app);
         kizamu::app::addRunCommand(app);
         kizamu::app::addLiveCommand(app);
+        kizamu::app::addDevicesCommand(app);
 #if KIZAMU_HAVE_BENCH
         kizamu::app::addBenchCommand(app);
 #endif

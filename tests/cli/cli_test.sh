@@ -375,4 +375,16 @@ assert names["haptics.realtime_priority"] in (0, 1), "realtime_priority is not 0
 PY
 "$kizamu" bench haptics --spin-us 101 --seconds 0.1 >/dev/null 2>&1 && fail "bench haptics accepted a spin above 100 us"
 
+# devices: exits 0 with or without hardware, always lists the simulated stylus; --json parses
+devices=$("$kizamu" devices) || fail "devices exited non-zero"
+grep -q "^  sim " <<<"$devices" || fail "devices does not list the simulated stylus: $devices"
+"$kizamu" devices --json >"$tmp/devices.json" || fail "devices --json exited non-zero"
+python3 - "$tmp/devices.json" <<'PY' || fail "devices --json: not the expected JSON"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["devices"][0]["id"] == "sim" and d["devices"][0]["available"] is True, d
+assert isinstance(d["real_devices"], bool) and isinstance(d["notes"], list), d
+for dev in d["devices"]:
+    assert set(dev) >= {"id", "kind", "name", "available", "status", "axes", "max_force_n"}, dev
+PY
 finish
