@@ -19,16 +19,9 @@ int64_t steadyNowNs() noexcept {
         .count();
 }
 
-uint64_t bitsOf(double v) noexcept { return std::bit_cast<uint64_t>(v); }
-double doubleOf(uint64_t v) noexcept { return std::bit_cast<double>(v); }
-
 uint64_t packForce(float x, float y) noexcept {
     return uint64_t(std::bit_cast<uint32_t>(x)) | (uint64_t(std::bit_cast<uint32_t>(y)) << 32);
 }
-
-/// The seqlock's reader gives up after this many torn reads and returns the previous state:
-/// the writer holds the sequence odd for a few stores only, so two tries almost always do.
-constexpr int kSeqlockTries = 4;
 
 }  // namespace
 
@@ -183,39 +176,23 @@ void HidPidDevice::publish(const InputSample& sample, int64_t timeNs) noexcept {
     mPrevPos = pos;
     mPrevTimeNs = timeNs;
 
-    // Seqlock without fences (ThreadSanitizer does not model them): the data stores are
-    // releases, so a reader that sees any of them also sees the odd sequence stored before
-    // them (H.-J. Boehm, "Can seqlocks get along with programming language memory models?",
-    // MSPC 2012, the release-store / acquire-load variant).
-    const uint32_t s = mSeq.load(std::memory_order_relaxed);
-    mSeq.store(s + 1, std::memory_order_relaxed);
-    mPosX.store(bitsOf(pos.x), std::memory_order_release);
-    mPosY.store(bitsOf(pos.y), std::memory_order_release);
-    mVelX.store(bitsOf(mVel.x), std::memory_order_release);
-    mVelY.store(bitsOf(mVel.y), std::memory_order_release);
-    mTimeNs.store(timeNs, std::memory_order_release);
-    mButtons.store(sample.buttons, std::memory_order_release);
-    mSeq.store(s + 2, std::memory_order_release);
+    Published p;
+    p.position = pos;
+    p.velocity = glm::dvec3(mVel.x, mVel.y, 0.0);
+    p.timeNs = timeNs;
+    p.buttons = sample.buttons;
+    p.valid = true;
+    mState.write(p);
 }
 
 bool HidPidDevice::read(DeviceState& out) noexcept {
-    for (int tries = 0; tries < kSeqlockTries; ++tries) {
-        const uint32_t s1 = mSeq.load(std::memory_order_acquire);
-        if (s1 & 1u) continue;
-        // Acquire loads keep the second sequence load after them (see publish()).
-        const double px = doubleOf(mPosX.load(std::memory_order_acquire));
-        const double py = doubleOf(mPosY.load(std::memory_order_acquire));
-        const double vx = doubleOf(mVelX.load(std::memory_order_acquire));
-        const double vy = doubleOf(mVelY.load(std::memory_order_acquire));
-        const int64_t t = mTimeNs.load(std::memory_order_acquire);
-        const uint32_t b = mButtons.load(std::memory_order_acquire);
-        if (mSeq.load(std::memory_order_relaxed) != s1) continue;
-        if (s1 == 0) break;  // nothing published yet (before start())
-        mLastRead.position = {px, py, mSettings.depth};
-        mLastRead.velocity = {vx, vy, 0.0};
-        mLastRead.timeNs = t;
-        mLastRead.buttons = b;
-        break;
+    mState.take();
+    const Published& p = mState.read();
+    if (p.valid) {  // nothing published before start()
+        mLastRead.position = p.position;
+        mLastRead.velocity = p.velocity;
+        mLastRead.timeNs = p.timeNs;
+        mLastRead.buttons = p.buttons;
     }
     const bool ok = mConnected.load(std::memory_order_acquire);
     mLastRead.connected = ok;

@@ -9,9 +9,9 @@
 /// exchanges the HID reports through a HidTransport (hidapi_transport.h on Linux hidraw, a
 /// scripted one in tests). Threads and why: USB transfers block for up to a frame, so they
 /// never run on the servo thread. The device thread publishes each decoded input report through
-/// a seqlock (read() retries a bounded number of times, then returns the previous state: it
-/// never waits) and takes the newest force from a single atomic word (two floats), so the servo
-/// thread neither blocks, allocates nor does I/O.
+/// a wait-free mailbox (util::TripleBuffer: read() takes the newest whole state, never waits)
+/// and takes the newest force from a single atomic word (two floats), so the servo thread
+/// neither blocks, allocates nor does I/O.
 ///
 /// Mapping (1-2 axis devices; the device frame of DeviceState, m and N):
 ///  - axis 1 -> tool x, axis 2 -> tool y; position = axisSign × (normalised axis value, -1..1)
@@ -43,6 +43,7 @@
 #pragma once
 
 #include "haptics/device.h"
+#include "util/triple_buffer.h"
 #include "haptics/hid/hid_pid_codec.h"
 
 #include <glm/vec3.hpp>
@@ -155,7 +156,7 @@ private:
     /// transport error.
     bool sendForce() noexcept;
     /// Device thread: turns one decoded input report into position, velocity and buttons and
-    /// publishes them through the seqlock.
+    /// publishes them through the mailbox.
     void publish(const InputSample& sample, int64_t timeNs) noexcept;
     /// Sends zero force, stops the effects, disables the actuators; ignores errors.
     void shutdownEffects() noexcept;
@@ -175,12 +176,15 @@ private:
     // Force mailbox: x and y as two floats in one word (written by the servo side).
     std::atomic<uint64_t> mForceWord{0};
 
-    // Seqlock-published state (written by the device thread only).
-    std::atomic<uint32_t> mSeq{0};
-    std::atomic<uint64_t> mPosX{0}, mPosY{0}, mVelX{0}, mVelY{0};  ///< double bits
-    std::atomic<int64_t> mTimeNs{0};
-    std::atomic<uint32_t> mButtons{0};
-    DeviceState mLastRead;       ///< servo thread: the state returned when the seqlock is busy
+    /// What the device thread publishes for the servo thread (its one writer and one reader).
+    struct Published {
+        glm::dvec3 position{0.0}, velocity{0.0};
+        int64_t timeNs = 0;
+        uint32_t buttons = 0;
+        bool valid = false;  ///< false until the first report (or start())
+    };
+    util::TripleBuffer<Published> mState;
+    DeviceState mLastRead;       ///< servo thread: the state read() returns
 
     // Device-thread state.
     ReportBuffer mIn, mOut;
