@@ -4,8 +4,9 @@
 /// force-feedback devices): state in, force out, and the device's specification. SI units.
 ///
 /// Where it sits: the servo thread (servo_loop.h) reads a Device once per tick and writes the
-/// force the renderer (proxy_renderer.h) computed. Implementations: sim/simulated_stylus.h now;
-/// the Falcon over libusb and HID PID devices over hidapi later (issue 32). Threading: read()
+/// force the renderer (proxy_renderer.h) computed. Implementations: sim/simulated_stylus.h and
+/// the Novint Falcon over libusb (haptics/falcon/falcon_device.h); HID PID devices over hidapi
+/// are planned (issue 32). Threading: read()
 /// and write() are called from the servo thread, and write() of a zero force also from the
 /// servo loop's watchdog thread, never at the same time as another call (servo_loop.h, the
 /// gate); both keep the servo thread's contract: no lock another thread holds, no allocation,

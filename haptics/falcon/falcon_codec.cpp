@@ -30,14 +30,17 @@ std::array<int16_t, 3> getValues(std::span<const uint8_t, kPacketSize> bytes) no
     for (std::size_t axis = 0; axis < 3; ++axis) {
         uint16_t bits = 0;
         for (std::size_t n = 0; n < 4; ++n) {
-            bits = static_cast<uint16_t>(bits | ((bytes[1 + 4 * axis + n] - kNibbleBias) & 0xF) << (4 * n));
+            const unsigned nibble = unsigned(bytes[1 + 4 * axis + n] - kNibbleBias) & 0xFU;
+            bits = static_cast<uint16_t>(bits | (nibble << (4 * n)));
         }
         values[axis] = static_cast<int16_t>(bits);
     }
     return values;
 }
 
-bool isNibbleByte(uint8_t b) noexcept { return b >= kNibbleBias && b <= kNibbleBias + 0xF; }
+bool isNibbleByte(uint8_t b) noexcept {
+    return b >= kNibbleBias && b <= kNibbleBias + 0xF;
+}
 
 /// Whether `b` can stand at `position` of a frame whose byte 13 carries values up to `flagsMax`.
 bool validAt(std::size_t position, uint8_t b, uint8_t flagsMax) noexcept {
@@ -68,7 +71,8 @@ PacketBytes frame() noexcept {
 PacketBytes encodeHostPacket(const HostPacket& packet) noexcept {
     PacketBytes out = frame();
     putValues(packet.motor, out);
-    const uint8_t flags = static_cast<uint8_t>((packet.leds & kLedMask) | (packet.homing ? kHomingModeBit : 0));
+    const uint8_t flags =
+        static_cast<uint8_t>((packet.leds & kLedMask) | (packet.homing ? kHomingModeBit : 0));
     out[kFlagsByte] = static_cast<uint8_t>(kNibbleBias + flags);
     return out;
 }
@@ -76,7 +80,8 @@ PacketBytes encodeHostPacket(const HostPacket& packet) noexcept {
 PacketBytes encodeDevicePacket(const DevicePacket& packet) noexcept {
     PacketBytes out = frame();
     putValues(packet.encoder, out);
-    const uint8_t flags = static_cast<uint8_t>(((packet.homedAxes & kAllAxesHomed) << 4) | (packet.buttons & kButtonMask));
+    const uint8_t flags = static_cast<uint8_t>(((packet.homedAxes & kAllAxesHomed) << 4) |
+                                               (packet.buttons & kButtonMask));
     out[kFlagsByte] = static_cast<uint8_t>(kNibbleBias + flags);
     return out;
 }

@@ -21,9 +21,13 @@ namespace kizamu::haptics::falcon {
 
 namespace {
 
-bool finite(const glm::dvec3& v) noexcept { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::dvec3& v) noexcept {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
-[[noreturn]] void fail(const std::string& message) { throw std::runtime_error("Novint Falcon: " + message); }
+[[noreturn]] void fail(const std::string& message) {
+    throw std::runtime_error("Novint Falcon: " + message);
+}
 
 }  // namespace
 
@@ -64,28 +68,33 @@ DeviceSpec FalconDevice::falconSpec() {
     return spec;
 }
 
-FalconDevice::FalconDevice(std::unique_ptr<FalconTransport> transport, std::filesystem::path firmwareFile,
-                           const FalconSettings& settings)
+FalconDevice::FalconDevice(std::unique_ptr<FalconTransport> transport,
+                           std::filesystem::path firmwareFile, const FalconSettings& settings)
     : mTransport(std::move(transport)),
       mFirmwareFile(std::move(firmwareFile)),
       mSettings(settings),
       mSpec(falconSpec()),
       mVelocity(settings.velocityCutoffHz) {
     if (!mTransport) throw std::invalid_argument("FalconDevice: the transport is null");
-    if (settings.probeTries < 1 || settings.replyTimeoutMs < 1 || !(settings.velocityCutoffHz > 0.0) ||
-        settings.homingTimeout.count() <= 0 || settings.silenceTimeout.count() <= 0) {
+    if (settings.probeTries < 1 || settings.replyTimeoutMs < 1 ||
+        !(settings.velocityCutoffHz > 0.0) || settings.homingTimeout.count() <= 0 ||
+        settings.silenceTimeout.count() <= 0) {
         throw std::invalid_argument("FalconDevice: settings out of range");
     }
     if (!mTransport->isOpen()) mTransport->open(settings.deviceIndex);
     if (!probeFirmware()) {
         if (mFirmwareFile.empty()) {
-            fail("the device answers without firmware and no firmware file was given. Kizamu cannot "
-                 "ship Novint's firmware: pass the path to the firmware file from Novint's Falcon "
-                 "driver package.");
+            fail(
+                "the device runs no firmware (it does not answer packets) and no firmware file was "
+                "given. Kizamu cannot "
+                "ship Novint's firmware: pass the path to the firmware file from Novint's Falcon "
+                "driver package.");
         }
         loadFirmwareFile();
         mLoadedFirmware = true;
-        if (!probeFirmware()) fail("the firmware from '" + mFirmwareFile.string() + "' loaded but the device does not answer with it");
+        if (!probeFirmware())
+            fail("the firmware from '" + mFirmwareFile.string() +
+                 "' loaded but the device does not answer with it");
     }
     home();
     mThread = std::thread([this] { deviceMain(); });
@@ -104,14 +113,18 @@ int FalconDevice::exchange(const HostPacket& packet, DevicePacket& reply, int ti
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeoutMs);
     std::array<uint8_t, 64> buffer{};
     for (;;) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                              deadline - std::chrono::steady_clock::now())
+                              .count();
         const std::ptrdiff_t n = mTransport->read(buffer, int(std::max<int64_t>(0, left)));
         if (n < 0) return -1;
         const ParserCounts before = mParser.counts();
-        const int got = mParser.feed(std::span<const uint8_t>(buffer.data(), std::size_t(n)), reply);
+        const int got =
+            mParser.feed(std::span<const uint8_t>(buffer.data(), std::size_t(n)), reply);
         const ParserCounts& after = mParser.counts();
         mPackets.fetch_add(after.packets - before.packets, std::memory_order_relaxed);
-        mSkippedBytes.fetch_add(after.skippedBytes - before.skippedBytes, std::memory_order_relaxed);
+        mSkippedBytes.fetch_add(after.skippedBytes - before.skippedBytes,
+                                std::memory_order_relaxed);
         mBadFrames.fetch_add(after.badFrames - before.badFrames, std::memory_order_relaxed);
         if (got > 0) return 1;
         if (left <= 0) return 0;
@@ -133,7 +146,8 @@ bool FalconDevice::probeFirmware() {
 void FalconDevice::loadFirmwareFile() {
     std::ifstream in(mFirmwareFile, std::ios::binary);
     if (!in) fail("cannot read the firmware file '" + mFirmwareFile.string() + "'");
-    std::vector<uint8_t> image((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::vector<uint8_t> image((std::istreambuf_iterator<char>(in)),
+                               std::istreambuf_iterator<char>());
     if (image.empty()) fail("the firmware file '" + mFirmwareFile.string() + "' is empty");
     mTransport->loadFirmware(image);
     mParser.reset();
@@ -151,7 +165,8 @@ void FalconDevice::home() {
         if (rc > 0 && reply.allHomed()) break;
         if (std::chrono::steady_clock::now() >= deadline) {
             fail("homing did not finish within " + std::to_string(mSettings.homingTimeout.count()) +
-                 " ms: move the grip all the way out and back in, slowly, until the LED turns green");
+                 " ms: move the grip all the way out and back in, slowly, until the LED turns "
+                 "green");
         }
     }
     accept(reply, ServoLoop::clockNs());
@@ -191,7 +206,8 @@ void FalconDevice::publishDisconnected() noexcept {
 }
 
 void FalconDevice::deviceMain() noexcept {
-    const int64_t silenceNs = int64_t(std::chrono::duration_cast<std::chrono::nanoseconds>(mSettings.silenceTimeout).count());
+    const int64_t silenceNs = int64_t(
+        std::chrono::duration_cast<std::chrono::nanoseconds>(mSettings.silenceTimeout).count());
     bool silent = false;
     DevicePacket reply;
     while (!mStop.load(std::memory_order_acquire)) {
@@ -202,7 +218,8 @@ void FalconDevice::deviceMain() noexcept {
             const glm::dvec3 force(held.force[0], held.force[1], held.force[2]);
             glm::dvec3 torque;
             // The device frame is the kinematic frame translated: forces are the same vectors.
-            if (jointTorques(mPosKinematic, force, torque)) packet.motor = firmwareMotorUnits(torque);
+            if (jointTorques(mPosKinematic, force, torque))
+                packet.motor = firmwareMotorUnits(torque);
         }
         const int rc = exchange(packet, reply, mSettings.replyTimeoutMs);
         const int64_t now = ServoLoop::clockNs();

@@ -54,12 +54,12 @@ namespace kizamu::haptics::falcon {
 
 /// What a FalconDevice is built with. Defaults suit a real Falcon.
 struct FalconSettings {
-    unsigned deviceIndex = 0;   ///< which Falcon the transport opens when it is not open yet
-    int probeTries = 10;        ///< packets sent to detect firmware (libnifalcon tries 10)
-    int replyTimeoutMs = 20;    ///< how long one exchange waits for the answer (ms)
+    unsigned deviceIndex = 0;  ///< which Falcon the transport opens when it is not open yet
+    int probeTries = 10;       ///< packets sent to detect firmware (libnifalcon tries 10)
+    int replyTimeoutMs = 20;   ///< how long one exchange waits for the answer (ms)
     std::chrono::milliseconds homingTimeout{30'000};  ///< homing must finish within this
     std::chrono::milliseconds silenceTimeout{100};    ///< no packet for this long: disconnected
-    double velocityCutoffHz = 40.0;  ///< the velocity low-pass (Hz, > 0)
+    double velocityCutoffHz = 40.0;                   ///< the velocity low-pass (Hz, > 0)
 };
 
 /// The filtered finite-difference velocity: v += alpha (dp/dt - v), alpha = dt / (dt + tau),
@@ -74,7 +74,10 @@ public:
     /// velocity (m/s). dt <= 0 keeps the estimate; dt > kMaxGap or NaN restarts it at rest; a
     /// non-finite position is ignored. Complexity O(1). Memory: none.
     glm::dvec3 update(const glm::dvec3& pos, double dt) noexcept;
-    void reset() noexcept { mHave = false; mVelocity = glm::dvec3(0.0); }
+    void reset() noexcept {
+        mHave = false;
+        mVelocity = glm::dvec3(0.0);
+    }
     const glm::dvec3& velocity() const noexcept { return mVelocity; }
 
 private:
@@ -113,7 +116,8 @@ public:
         const uint64_t seq = mSeq.load(std::memory_order_relaxed);
         mSeq.store(seq + 1, std::memory_order_relaxed);
         std::atomic_thread_fence(std::memory_order_release);
-        for (std::size_t i = 0; i < kWords; ++i) mWords[i].store(words[i], std::memory_order_relaxed);
+        for (std::size_t i = 0; i < kWords; ++i)
+            mWords[i].store(words[i], std::memory_order_relaxed);
         mSeq.store(seq + 2, std::memory_order_release);
     }
     /// A consistent copy into `out`; false (and `out` untouched) when every one of `tries`
@@ -123,7 +127,8 @@ public:
             const uint64_t before = mSeq.load(std::memory_order_acquire);
             if (before & 1U) continue;
             std::array<uint64_t, kWords> words{};
-            for (std::size_t i = 0; i < kWords; ++i) words[i] = mWords[i].load(std::memory_order_relaxed);
+            for (std::size_t i = 0; i < kWords; ++i)
+                words[i] = mWords[i].load(std::memory_order_relaxed);
             std::atomic_thread_fence(std::memory_order_acquire);
             if (mSeq.load(std::memory_order_relaxed) == before) {
                 std::memcpy(static_cast<void*>(&out), words.data(), sizeof(T));
@@ -191,7 +196,9 @@ public:
     /// Whether this constructor uploaded firmware (false: the Falcon already had it).
     bool loadedFirmware() const noexcept { return mLoadedFirmware; }
     /// Whether the device thread ended because the transport failed. Any thread.
-    bool transportFailed() const noexcept { return mTransportFailed.load(std::memory_order_acquire); }
+    bool transportFailed() const noexcept {
+        return mTransportFailed.load(std::memory_order_acquire);
+    }
     FalconCounts counts() const noexcept;
 
     /// The Falcon's specification: Novint's published 2 lb (8.9 N) force and 4 x 4 x 4 in
@@ -235,7 +242,8 @@ private:
     detail::Seqlock<detail::PublishedForce> mForce;
     std::atomic<bool> mStop{false};
     std::atomic<bool> mTransportFailed{false};
-    std::atomic<uint64_t> mExchanges{0}, mPackets{0}, mSkippedBytes{0}, mBadFrames{0}, mKinematicFailures{0};
+    std::atomic<uint64_t> mExchanges{0}, mPackets{0}, mSkippedBytes{0}, mBadFrames{0},
+        mKinematicFailures{0};
 
     std::thread mThread;
 };

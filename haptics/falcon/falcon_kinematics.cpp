@@ -27,9 +27,9 @@ constexpr int kMaxHalvings = 8;
 /// One leg's view of the end effector: the leg frame coordinates and the angles it implies.
 struct Leg {
     double u = 0.0, v = 0.0, w = 0.0;
-    double theta1 = 0.0;    ///< arm angle (rad)
+    double theta1 = 0.0;  ///< arm angle (rad)
     double sinTheta3 = 0.0;
-    double reach = 0.0;     ///< d + e + b sin theta3 (m): the knee-to-effector span
+    double reach = 0.0;  ///< d + e + b sin theta3 (m): the knee-to-effector span
 };
 
 /// The leg frame coordinates of `p` for leg `i`: q = Rz(-phi_i) p + (-r, -s, 0).
@@ -89,11 +89,15 @@ bool legGradient(const Leg& leg, int i, glm::dvec3& row) noexcept {
     return std::isfinite(row.x) && std::isfinite(row.y) && std::isfinite(row.z);
 }
 
-double maxAbs(const glm::dvec3& v) noexcept { return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)}); }
+double maxAbs(const glm::dvec3& v) noexcept {
+    return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+}
 
 }  // namespace
 
-double encoderAngle(int16_t count) noexcept { return kAngleAtZeroCount + kRadPerCount * double(count); }
+double encoderAngle(int16_t count) noexcept {
+    return kAngleAtZeroCount + kRadPerCount * double(count);
+}
 
 glm::dvec3 encoderAngles(const std::array<int16_t, 3>& counts) noexcept {
     return {encoderAngle(counts[0]), encoderAngle(counts[1]), encoderAngle(counts[2])};
@@ -103,7 +107,7 @@ int16_t angleToEncoder(double angle) noexcept {
     if (!std::isfinite(angle)) return 0;
     const double count = std::round((angle - kAngleAtZeroCount) / kRadPerCount);
     return static_cast<int16_t>(std::clamp(count, double(std::numeric_limits<int16_t>::min()),
-                                            double(std::numeric_limits<int16_t>::max())));
+                                           double(std::numeric_limits<int16_t>::max())));
 }
 
 bool inverseKinematics(const glm::dvec3& posKinematic, glm::dvec3& angles) noexcept {
@@ -125,7 +129,8 @@ bool angleJacobian(const glm::dvec3& posKinematic, glm::dmat3& dThetaDp) noexcep
     return true;
 }
 
-ForwardResult forwardKinematics(const glm::dvec3& angles, const glm::dvec3& guess, const ForwardSettings& settings) noexcept {
+ForwardResult forwardKinematics(const glm::dvec3& angles, const glm::dvec3& guess,
+                                const ForwardSettings& settings) noexcept {
     ForwardResult result;
     glm::dvec3 p = guess;
     glm::dvec3 theta;
@@ -162,10 +167,12 @@ ForwardResult forwardKinematics(const glm::dvec3& angles, const glm::dvec3& gues
     return result;
 }
 
-bool jointTorques(const glm::dvec3& posKinematic, const glm::dvec3& force, glm::dvec3& torque) noexcept {
+bool jointTorques(const glm::dvec3& posKinematic, const glm::dvec3& force,
+                  glm::dvec3& torque) noexcept {
     torque = glm::dvec3(0.0);
     glm::dmat3 jac;
-    if (!angleJacobian(posKinematic, jac) || std::abs(glm::determinant(jac)) < kMinDeterminant) return false;
+    if (!angleJacobian(posKinematic, jac) || std::abs(glm::determinant(jac)) < kMinDeterminant)
+        return false;
     // tau = J_p^T F = (d theta / dp)^-T F
     const glm::dvec3 tau = glm::transpose(glm::inverse(jac)) * force;
     if (!(std::isfinite(tau.x) && std::isfinite(tau.y) && std::isfinite(tau.z))) return false;
@@ -175,14 +182,16 @@ bool jointTorques(const glm::dvec3& posKinematic, const glm::dvec3& force, glm::
 
 std::array<int16_t, 3> firmwareMotorUnits(const glm::dvec3& torque, double maxTorque) noexcept {
     std::array<int16_t, 3> units{0, 0, 0};
-    if (!(std::isfinite(torque.x) && std::isfinite(torque.y) && std::isfinite(torque.z))) return units;
+    if (!(std::isfinite(torque.x) && std::isfinite(torque.y) && std::isfinite(torque.z)))
+        return units;
     if (!(maxTorque > 0.0)) return units;
     const double largest = maxAbs(torque);
     const double scale = largest > maxTorque ? maxTorque / largest : 1.0;
     for (int i = 0; i < 3; ++i) {
         const double value = std::round(kUnitsPerNewtonMetre * scale * torque[i]);
-        units[i] = static_cast<int16_t>(std::clamp(value, double(std::numeric_limits<int16_t>::min()),
-                                                   double(std::numeric_limits<int16_t>::max())));
+        units[i] =
+            static_cast<int16_t>(std::clamp(value, double(std::numeric_limits<int16_t>::min()),
+                                            double(std::numeric_limits<int16_t>::max())));
     }
     return units;
 }

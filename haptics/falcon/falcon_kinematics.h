@@ -44,14 +44,14 @@
 namespace kizamu::haptics::falcon {
 
 // ---- geometry (m), libnifalcon FalconGeometry.h, after Stamper's diagram (thesis p. 30) ----
-inline constexpr double kArmA = 0.060;         ///< leg base to knee (the motor arm)
-inline constexpr double kShinB = 0.1025;       ///< shin parallelogram side
-inline constexpr double kEffectorC = 0.014;    ///< shin joint to effector centre, u component
-inline constexpr double kJointD = 0.01125;     ///< shin to effector joint
-inline constexpr double kJointE = 0.01125;     ///< knee to shin joint
-inline constexpr double kEffectorF = -0.025;   ///< shin joint to effector centre, v component
-inline constexpr double kBaseR = 0.037233758;  ///< frame origin to leg base, u component
-inline constexpr double kBaseS = -0.027330909; ///< frame origin to leg base, v component
+inline constexpr double kArmA = 0.060;          ///< leg base to knee (the motor arm)
+inline constexpr double kShinB = 0.1025;        ///< shin parallelogram side
+inline constexpr double kEffectorC = 0.014;     ///< shin joint to effector centre, u component
+inline constexpr double kJointD = 0.01125;      ///< shin to effector joint
+inline constexpr double kJointE = 0.01125;      ///< knee to shin joint
+inline constexpr double kEffectorF = -0.025;    ///< shin joint to effector centre, v component
+inline constexpr double kBaseR = 0.037233758;   ///< frame origin to leg base, u component
+inline constexpr double kBaseS = -0.027330909;  ///< frame origin to leg base, v component
 /// Leg directions about z (rad): 90, -30 and -150 degrees, each turned by the 15 degree tilt
 /// of the Falcon's axes from the desk plane (libnifalcon FalconGeometry.h, phy and OFFSET_ANGLE).
 inline constexpr std::array<double, 3> kLegAngle{
@@ -61,9 +61,9 @@ inline constexpr std::array<double, 3> kLegAngle{
 };
 
 // ---- encoders (libnifalcon FalconKinematic::getTheta and FalconGeometry.h) ----
-inline constexpr double kWheelSlots = 320.0;      ///< slots on the encoder wheel; x4 quadrature
-inline constexpr double kShaftDiameter = 0.01425; ///< m, motor shaft (the capstan)
-inline constexpr double kArmDrumDiameter = 0.110; ///< m, the arm's drum the cable wraps
+inline constexpr double kWheelSlots = 320.0;       ///< slots on the encoder wheel; x4 quadrature
+inline constexpr double kShaftDiameter = 0.01425;  ///< m, motor shaft (the capstan)
+inline constexpr double kArmDrumDiameter = 0.110;  ///< m, the arm's drum the cable wraps
 /// Arm angle per encoder count: one count is pi * shaft / (4 * slots) of cable, which turns the
 /// drum by that length over its radius. About 0.0364 degrees.
 inline constexpr double kRadPerCount =
@@ -129,12 +129,14 @@ ForwardResult forwardKinematics(const glm::dvec3& angles, const glm::dvec3& gues
 /// `posKinematic`: tau = J_p^T F with J_p = (d theta / dp)^-1 (virtual work: tau · dtheta =
 /// F · dp). False (and `torque` zero) at an unreachable or singular position.
 /// Complexity O(1). Threading: pure. Memory: none.
-bool jointTorques(const glm::dvec3& posKinematic, const glm::dvec3& force, glm::dvec3& torque) noexcept;
+bool jointTorques(const glm::dvec3& posKinematic, const glm::dvec3& force,
+                  glm::dvec3& torque) noexcept;
 
 /// The firmware motor commands of three arm torques (N·m): scaled down together when one
 /// exceeds `maxTorque` (so the force keeps its direction), times kUnitsPerNewtonMetre, rounded,
 /// clamped to int16. Non-finite torques give zero commands.
 /// Complexity O(1). Threading: pure. Memory: none.
-std::array<int16_t, 3> firmwareMotorUnits(const glm::dvec3& torque, double maxTorque = kMaxArmTorque) noexcept;
+std::array<int16_t, 3> firmwareMotorUnits(const glm::dvec3& torque,
+                                          double maxTorque = kMaxArmTorque) noexcept;
 
 }  // namespace kizamu::haptics::falcon

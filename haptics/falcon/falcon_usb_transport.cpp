@@ -19,11 +19,11 @@ namespace {
 // FTDI vendor requests ("SIO" requests, libftdi's numbering, as libnifalcon's FalconCommLibUSB
 // restates it). All are host-to-device vendor requests (bmRequestType 0x40) with no data stage.
 constexpr uint8_t kRequestTypeOut = 0x40;
-constexpr uint8_t kSioReset = 0;          ///< value: 0 reset, 1 purge RX, 2 purge TX
-constexpr uint8_t kSioModemCtrl = 1;      ///< value: line levels in the low byte, mask in the high
-constexpr uint8_t kSioSetFlowCtrl = 2;    ///< value 0: no flow control
-constexpr uint8_t kSioSetBaudRate = 3;    ///< value: the FTDI baud divisor encoding
-constexpr uint8_t kSioSetData = 4;        ///< value: bits | parity << 8 | stop bits << 11
+constexpr uint8_t kSioReset = 0;        ///< value: 0 reset, 1 purge RX, 2 purge TX
+constexpr uint8_t kSioModemCtrl = 1;    ///< value: line levels in the low byte, mask in the high
+constexpr uint8_t kSioSetFlowCtrl = 2;  ///< value 0: no flow control
+constexpr uint8_t kSioSetBaudRate = 3;  ///< value: the FTDI baud divisor encoding
+constexpr uint8_t kSioSetData = 4;      ///< value: bits | parity << 8 | stop bits << 11
 constexpr uint8_t kSioSetLatencyTimer = 9;  ///< value: ms
 constexpr uint16_t kPurgeRx = 1, kPurgeTx = 2;
 constexpr uint16_t kDtrHigh = 0x0101, kDtrLow = 0x0100, kRtsLow = 0x0200;
@@ -32,15 +32,15 @@ constexpr uint16_t kData8N1 = 8;
 constexpr uint16_t kFtdiIndex = 0;
 
 // Line settings (libnifalcon FalconCommLibUSB::setFirmwareMode and setNormalMode).
-constexpr uint16_t kBaud9600 = 0x4138;         ///< boot loader hand-shake
-constexpr uint16_t kBaudFirmwareLoad = 0x0015; ///< about 140 kbaud, the upload
-constexpr uint16_t kBaudNormal = 0x0002;       ///< the firmware's packet exchange
-constexpr uint16_t kLatencyFirmwareMs = 16;    ///< shorter timers make the hand-shake fail
+constexpr uint16_t kBaud9600 = 0x4138;          ///< boot loader hand-shake
+constexpr uint16_t kBaudFirmwareLoad = 0x0015;  ///< about 140 kbaud, the upload
+constexpr uint16_t kBaudNormal = 0x0002;        ///< the firmware's packet exchange
+constexpr uint16_t kLatencyFirmwareMs = 16;     ///< shorter timers make the hand-shake fail
 constexpr uint16_t kLatencyNormalMs = 1;
 
 constexpr unsigned char kEndpointIn = 0x81;
 constexpr unsigned char kEndpointOut = 0x02;
-constexpr std::size_t kUsbPacket = 64;  ///< full-speed bulk packet
+constexpr std::size_t kUsbPacket = 64;        ///< full-speed bulk packet
 constexpr std::size_t kModemStatusBytes = 2;  ///< FTDI status at the start of every packet in
 constexpr unsigned kControlTimeoutMs = 1000;
 constexpr unsigned kBulkTimeoutMs = 1000;
@@ -49,9 +49,14 @@ constexpr unsigned kBulkTimeoutMs = 1000;
 constexpr std::size_t kFirmwareChunk = 62;
 constexpr int kHandshakeTries = 100;
 
-std::string usbError(int code) { return std::string(libusb_error_name(code)) + ": " + libusb_strerror(static_cast<libusb_error>(code)); }
+std::string usbError(int code) {
+    return std::string(libusb_error_name(code)) + ": " +
+           libusb_strerror(static_cast<libusb_error>(code));
+}
 
-[[noreturn]] void fail(const std::string& message) { throw std::runtime_error("Novint Falcon (USB 0403:cb48): " + message); }
+[[noreturn]] void fail(const std::string& message) {
+    throw std::runtime_error("Novint Falcon (USB 0403:cb48): " + message);
+}
 
 std::string accessHint() {
     return " Permission denied: install the udev rule in docs/DEVICES.md (then unplug and "
@@ -64,7 +69,8 @@ FalconUsbTransport::FalconUsbTransport() {
     const int rc = libusb_init(&mContext);
     if (rc < 0) {
         mContext = nullptr;
-        fail("libusb could not start (" + usbError(rc) + "); is /dev/bus/usb available to this process?");
+        fail("libusb could not start (" + usbError(rc) +
+             "); is /dev/bus/usb available to this process?");
     }
 }
 
@@ -111,7 +117,8 @@ void FalconUsbTransport::open(unsigned index) {
     }
     if (rc < 0) {
         mHandle = nullptr;
-        fail("cannot open the device (" + usbError(rc) + ")." + (rc == LIBUSB_ERROR_ACCESS ? accessHint() : std::string()));
+        fail("cannot open the device (" + usbError(rc) + ")." +
+             (rc == LIBUSB_ERROR_ACCESS ? accessHint() : std::string()));
     }
     // The kernel's ftdi_sio driver binds to FTDI chips; let libusb detach it while we hold the
     // interface (unsupported on some platforms, where there is nothing to detach).
@@ -121,7 +128,8 @@ void FalconUsbTransport::open(unsigned index) {
         libusb_close(mHandle);
         mHandle = nullptr;
         std::string hint;
-        if (rc == LIBUSB_ERROR_BUSY) hint = " Another program (or driver) holds it; close it and try again.";
+        if (rc == LIBUSB_ERROR_BUSY)
+            hint = " Another program (or driver) holds it; close it and try again.";
         if (rc == LIBUSB_ERROR_ACCESS) hint = accessHint();
         fail("cannot claim interface 0 (" + usbError(rc) + ")." + hint);
     }
@@ -143,7 +151,8 @@ void FalconUsbTransport::close() noexcept {
 
 void FalconUsbTransport::control(uint8_t request, uint16_t value, const char* what) {
     if (!mHandle) fail(std::string(what) + ": the device is not open");
-    const int rc = libusb_control_transfer(mHandle, kRequestTypeOut, request, value, kFtdiIndex, nullptr, 0, kControlTimeoutMs);
+    const int rc = libusb_control_transfer(mHandle, kRequestTypeOut, request, value, kFtdiIndex,
+                                           nullptr, 0, kControlTimeoutMs);
     if (rc < 0) fail(std::string(what) + " failed (" + usbError(rc) + ")");
 }
 
@@ -177,15 +186,22 @@ void FalconUsbTransport::loadFirmware(const std::vector<uint8_t>& image) {
     bool answered = false;
     for (int i = 0; i < kHandshakeTries && !answered; ++i) {
         int sent = 0;
-        int rc = libusb_bulk_transfer(mHandle, kEndpointOut, query, sizeof query, &sent, kBulkTimeoutMs);
+        int rc =
+            libusb_bulk_transfer(mHandle, kEndpointOut, query, sizeof query, &sent, kBulkTimeoutMs);
         if (rc < 0) fail("boot loader hand-shake: write failed (" + usbError(rc) + ")");
-        rc = libusb_bulk_transfer(mHandle, kEndpointIn, in.data(), int(in.size()), &got, kBulkTimeoutMs);
-        if (rc < 0 && rc != LIBUSB_ERROR_TIMEOUT) fail("boot loader hand-shake: read failed (" + usbError(rc) + ")");
+        rc = libusb_bulk_transfer(mHandle, kEndpointIn, in.data(), int(in.size()), &got,
+                                  kBulkTimeoutMs);
+        if (rc < 0 && rc != LIBUSB_ERROR_TIMEOUT)
+            fail("boot loader hand-shake: read failed (" + usbError(rc) + ")");
         const unsigned char* payload = in.data() + kModemStatusBytes;
         if (got == 6 && std::memcmp(payload, answer, 4) == 0) answered = true;
-        if (got == 7 && payload[0] == 0x00 && std::memcmp(payload + 1, answer, 4) == 0) answered = true;
+        if (got == 7 && payload[0] == 0x00 && std::memcmp(payload + 1, answer, 4) == 0)
+            answered = true;
     }
-    if (!answered) fail("the boot loader did not answer; unplug the Falcon's USB and power, plug them back, and try again");
+    if (!answered)
+        fail(
+            "the boot loader did not answer; unplug the Falcon's USB and power, plug them back, "
+            "and try again");
 
     control(kSioModemCtrl, kDtrLow, "lowering DTR");
     control(kSioSetBaudRate, kBaudFirmwareLoad, "setting the upload rate");
@@ -196,23 +212,32 @@ void FalconUsbTransport::loadFirmware(const std::vector<uint8_t>& image) {
     rc = libusb_bulk_transfer(mHandle, kEndpointIn, in.data(), 3, &got, kBulkTimeoutMs);
     if (rc < 0 || got != 3 || in[2] != 0x41) fail("the boot loader did not echo its check byte");
 
-    // Upload, chunk by chunk, each echoed back byte for byte (libnifalcon FalconFirmware::loadFirmware).
+    // Upload, chunk by chunk, each echoed back byte for byte (libnifalcon
+    // FalconFirmware::loadFirmware).
     std::array<unsigned char, kFirmwareChunk> chunk{};
     for (std::size_t offset = 0; offset < image.size();) {
         const std::size_t size = std::min(kFirmwareChunk, image.size() - offset);
         std::memcpy(chunk.data(), image.data() + offset, size);
-        rc = libusb_bulk_transfer(mHandle, kEndpointOut, chunk.data(), int(size), &sent, kBulkTimeoutMs);
-        if (rc < 0 || std::size_t(sent) != size) fail("firmware upload: write failed at byte " + std::to_string(offset));
+        rc = libusb_bulk_transfer(mHandle, kEndpointOut, chunk.data(), int(size), &sent,
+                                  kBulkTimeoutMs);
+        if (rc < 0 || std::size_t(sent) != size)
+            fail("firmware upload: write failed at byte " + std::to_string(offset));
         std::size_t echoed = 0;
         while (echoed < size) {
-            rc = libusb_bulk_transfer(mHandle, kEndpointIn, in.data(), int(kUsbPacket), &got, kBulkTimeoutMs);
+            rc = libusb_bulk_transfer(mHandle, kEndpointIn, in.data(), int(kUsbPacket), &got,
+                                      kBulkTimeoutMs);
             if (rc < 0 && !(rc == LIBUSB_ERROR_TIMEOUT && got > 0)) {
-                fail("firmware upload: no echo at byte " + std::to_string(offset + echoed) + " (" + usbError(rc) + ")");
+                fail("firmware upload: no echo at byte " + std::to_string(offset + echoed) + " (" +
+                     usbError(rc) + ")");
             }
-            const std::size_t payload = got > int(kModemStatusBytes) ? std::size_t(got) - kModemStatusBytes : 0;
-            if (echoed + payload > size) fail("firmware upload: more echo than sent at byte " + std::to_string(offset));
-            if (std::memcmp(in.data() + kModemStatusBytes, image.data() + offset + echoed, payload) != 0) {
-                fail("firmware upload: echo mismatch at byte " + std::to_string(offset + echoed) + "; is this Novint's firmware file?");
+            const std::size_t payload =
+                got > int(kModemStatusBytes) ? std::size_t(got) - kModemStatusBytes : 0;
+            if (echoed + payload > size)
+                fail("firmware upload: more echo than sent at byte " + std::to_string(offset));
+            if (std::memcmp(in.data() + kModemStatusBytes, image.data() + offset + echoed,
+                            payload) != 0) {
+                fail("firmware upload: echo mismatch at byte " + std::to_string(offset + echoed) +
+                     "; is this Novint's firmware file?");
             }
             echoed += payload;
         }
@@ -228,7 +253,8 @@ bool FalconUsbTransport::write(std::span<const uint8_t> bytes) noexcept {
         int sent = 0;
         // libusb takes a non-const buffer for both directions; an OUT transfer only reads it.
         auto* data = const_cast<unsigned char*>(bytes.data() + done);
-        const int rc = libusb_bulk_transfer(mHandle, kEndpointOut, data, int(bytes.size() - done), &sent, kBulkTimeoutMs);
+        const int rc = libusb_bulk_transfer(mHandle, kEndpointOut, data, int(bytes.size() - done),
+                                            &sent, kBulkTimeoutMs);
         if (rc < 0 || sent <= 0) return false;
         done += std::size_t(sent);
     }
@@ -238,7 +264,8 @@ bool FalconUsbTransport::write(std::span<const uint8_t> bytes) noexcept {
 std::ptrdiff_t FalconUsbTransport::fillPending(int timeoutMs) noexcept {
     std::array<unsigned char, kUsbPacket> packet{};
     int got = 0;
-    const int rc = libusb_bulk_transfer(mHandle, kEndpointIn, packet.data(), int(packet.size()), &got, unsigned(std::max(1, timeoutMs)));
+    const int rc = libusb_bulk_transfer(mHandle, kEndpointIn, packet.data(), int(packet.size()),
+                                        &got, unsigned(std::max(1, timeoutMs)));
     if (rc < 0 && rc != LIBUSB_ERROR_TIMEOUT) return -1;
     mPendingBegin = mPendingEnd = 0;
     if (got > int(kModemStatusBytes)) {
@@ -252,11 +279,14 @@ std::ptrdiff_t FalconUsbTransport::fillPending(int timeoutMs) noexcept {
 std::ptrdiff_t FalconUsbTransport::read(std::span<uint8_t> out, int timeoutMs) noexcept {
     if (!mHandle) return -1;
     if (out.empty()) return 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(std::max(0, timeoutMs));
+    const auto deadline =
+        std::chrono::steady_clock::now() + std::chrono::milliseconds(std::max(0, timeoutMs));
     // The FTDI chip sends a status-only packet every latency period, so an empty read returns
     // after about 1 ms; keep asking until payload arrives or the time is up.
     while (mPendingBegin == mPendingEnd) {
-        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now()).count();
+        const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
+                              deadline - std::chrono::steady_clock::now())
+                              .count();
         if (fillPending(int(std::max<int64_t>(1, left))) < 0) return -1;
         if (mPendingBegin == mPendingEnd && std::chrono::steady_clock::now() >= deadline) return 0;
     }

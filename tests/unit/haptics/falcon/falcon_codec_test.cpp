@@ -17,15 +17,19 @@ using namespace kizamu::haptics::falcon;
 // Novint SDK firmware driver): motor 0x1234 -> nibbles 4,3,2,1 -> 'E','D','C','B';
 // motor -1 = 0xFFFF -> 'P' x4; motor 0 -> 'A' x4; flags green LED 0x02 | homing 0x01 = 0x03 ->
 // 0x41 + 3 = 'D'; byte 14 'A'; framed by '<' and '>'.
-constexpr PacketBytes kHostFixture{'<', 'E', 'D', 'C', 'B', 'P', 'P', 'P', 'P', 'A', 'A', 'A', 'A', 'D', 'A', '>'};
+constexpr PacketBytes kHostFixture{'<', 'E', 'D', 'C', 'B', 'P', 'P', 'P',
+                                   'P', 'A', 'A', 'A', 'A', 'D', 'A', '>'};
 
 // Fixture 2, device -> host: encoder -2 = 0xFFFE -> nibbles E,F,F,F -> 'O','P','P','P';
 // encoder 256 = 0x0100 -> 0,0,1,0 -> 'A','A','B','A'; encoder 0x7FFF -> F,F,F,7 ->
 // 'P','P','P','H'; flags homed axes 0b111 << 4 | buttons 0b0101 = 0x75 -> 0x41 + 0x75 = 0xB6.
-constexpr PacketBytes kDeviceFixture{'<', 'O', 'P', 'P', 'P', 'A', 'A', 'B', 'A', 'P', 'P', 'P', 'H', 0xB6, 'A', '>'};
+constexpr PacketBytes kDeviceFixture{'<', 'O', 'P', 'P', 'P', 'A',  'A', 'B',
+                                     'A', 'P', 'P', 'P', 'H', 0xB6, 'A', '>'};
 
-// Fixture 3: the all-zero host packet (zero motors, no LEDs, homing off): 14 'A' between '<' and '>'.
-constexpr PacketBytes kZeroHostFixture{'<', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', '>'};
+// Fixture 3: the all-zero host packet (zero motors, no LEDs, homing off): 14 'A' between '<' and
+// '>'.
+constexpr PacketBytes kZeroHostFixture{'<', 'A', 'A', 'A', 'A', 'A', 'A', 'A',
+                                       'A', 'A', 'A', 'A', 'A', 'A', 'A', '>'};
 
 DevicePacket fixtureDevicePacket() {
     DevicePacket p;
@@ -75,7 +79,8 @@ TEST(FalconCodec, RoundTripsExtremesAndRandomValues) {
     std::mt19937 rng(20261206);
     std::uniform_int_distribution<int> value(-32768, 32767), nibble(0, 15), axes(0, 7);
     std::vector<std::array<int16_t, 3>> cases{{-32768, 32767, 0}, {-1, 1, -2}, {0, 0, 0}};
-    for (int i = 0; i < 500; ++i) cases.push_back({int16_t(value(rng)), int16_t(value(rng)), int16_t(value(rng))});
+    for (int i = 0; i < 500; ++i)
+        cases.push_back({int16_t(value(rng)), int16_t(value(rng)), int16_t(value(rng))});
     for (const auto& c : cases) {
         HostPacket h;
         h.motor = c;
@@ -188,7 +193,8 @@ TEST(FalconCodec, ParserSkipsAndCountsGarbageAndResyncs) {
     DevicePacketParser noisy;
     noisy.feed(noise, latest);
     // Every byte is accounted for: skipped, in a packet, or in the frame still open.
-    EXPECT_EQ(noisy.counts().skippedBytes + 16 * noisy.counts().packets + noisy.pending(), noise.size());
+    EXPECT_EQ(noisy.counts().skippedBytes + 16 * noisy.counts().packets + noisy.pending(),
+              noise.size());
 }
 
 }  // namespace

@@ -34,8 +34,8 @@ using namespace std::chrono_literals;
 struct EmulatorState {
     std::mutex mutex;
     // Script.
-    bool firmware = true;        ///< false: the boot loader, which does not answer packets
-    int homeAfter = 3;           ///< homing packets before the firmware reports all axes homed
+    bool firmware = true;  ///< false: the boot loader, which does not answer packets
+    int homeAfter = 3;     ///< homing packets before the firmware reports all axes homed
     glm::dvec3 poseKinematic = kWorkspaceCenter;  ///< where the grip is (m)
     uint8_t buttons = 0;
     bool unplugged = false;      ///< every call fails, as libusb does after a disconnect
@@ -106,7 +106,8 @@ public:
                 return std::ptrdiff_t(n);
             }
         }
-        std::this_thread::sleep_for(std::min(std::chrono::microseconds(200), std::chrono::microseconds(1000 * timeoutMs)));
+        std::this_thread::sleep_for(
+            std::min(std::chrono::microseconds(200), std::chrono::microseconds(1000 * timeoutMs)));
         return 0;
     }
 
@@ -134,9 +135,11 @@ bool waitFor(const std::function<bool()>& done, std::chrono::milliseconds limit 
     return done();
 }
 
-std::unique_ptr<FalconDevice> makeDevice(const std::shared_ptr<EmulatorState>& state, std::filesystem::path firmware = {},
+std::unique_ptr<FalconDevice> makeDevice(const std::shared_ptr<EmulatorState>& state,
+                                         std::filesystem::path firmware = {},
                                          FalconSettings settings = fastSettings()) {
-    return std::make_unique<FalconDevice>(std::make_unique<FirmwareEmulator>(state), std::move(firmware), settings);
+    return std::make_unique<FalconDevice>(std::make_unique<FirmwareEmulator>(state),
+                                          std::move(firmware), settings);
 }
 
 /// The motor units the device should send for `forceDevice` with the grip at the emulator's pose.
@@ -216,7 +219,8 @@ TEST(FalconDevice, ForceArrivesAsMotorUnits) {
 
     // Above maxForce the force is scaled to it, direction kept.
     const glm::dvec3 big(100.0, 0.0, 0.0);
-    const std::array<int16_t, 3> capped = expectedUnits(*state, glm::dvec3(device->spec().maxForce, 0.0, 0.0));
+    const std::array<int16_t, 3> capped =
+        expectedUnits(*state, glm::dvec3(device->spec().maxForce, 0.0, 0.0));
     device->write(big);
     EXPECT_TRUE(waitFor([&] { return near(lastMotor(*state), capped); }));
 }
@@ -307,7 +311,8 @@ TEST(FalconDevice, NoFirmwareAndNoFileIsAClearError) {
 TEST(FalconDevice, LoadsTheFirmwareFileWhenNeeded) {
     auto state = std::make_shared<EmulatorState>();
     state->firmware = false;
-    const std::filesystem::path file = std::filesystem::temp_directory_path() / "kizamu_falcon_test_firmware.bin";
+    const std::filesystem::path file =
+        std::filesystem::temp_directory_path() / "kizamu_falcon_test_firmware.bin";
     const std::vector<uint8_t> image{0x02, 0x00, 0xFF, 0x41, '<', '>', 0x10};
     {
         std::ofstream outFile(file, std::ios::binary);

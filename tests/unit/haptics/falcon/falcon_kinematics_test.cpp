@@ -68,7 +68,8 @@ TEST(FalconKinematics, ForwardInvertsInverseOverTheWorkspace) {
                     continue;
                 }
                 const ForwardResult fk = forwardKinematics(angles, kWorkspaceCenter);
-                ASSERT_TRUE(fk.converged) << x << " " << y << " " << z << " residual " << fk.residualRad;
+                ASSERT_TRUE(fk.converged)
+                    << x << " " << y << " " << z << " residual " << fk.residualRad;
                 EXPECT_LE(fk.iterations, 10);
                 EXPECT_LT(glm::length(fk.position - p), 1e-9);
                 // Warm-started one encoder count away, as on the device thread: a step or two.
@@ -122,7 +123,8 @@ TEST(FalconKinematics, JacobianMatchesFiniteDifferences) {
 TEST(FalconKinematics, TorquesDoTheForcesVirtualWork) {
     // tau . dtheta = F . dp for a small joint motion, with dp from the forward kinematics.
     std::mt19937 rng(99);
-    std::uniform_real_distribution<double> offset(-0.035, 0.035), force(-9.0, 9.0), joint(-1.0, 1.0);
+    std::uniform_real_distribution<double> offset(-0.035, 0.035), force(-9.0, 9.0),
+        joint(-1.0, 1.0);
     for (int n = 0; n < 100; ++n) {
         const glm::dvec3 p = kWorkspaceCenter + glm::dvec3(offset(rng), offset(rng), offset(rng));
         const glm::dvec3 f(force(rng), force(rng), force(rng));
@@ -148,7 +150,8 @@ TEST(FalconKinematics, FullForceAtTheCentreFitsTheTorqueLimit) {
         f[axis] = 8.9;
         glm::dvec3 tau;
         ASSERT_TRUE(jointTorques(kWorkspaceCenter, f, tau));
-        EXPECT_LT(std::max({std::abs(tau.x), std::abs(tau.y), std::abs(tau.z)}), kMaxArmTorque) << "axis " << axis;
+        EXPECT_LT(std::max({std::abs(tau.x), std::abs(tau.y), std::abs(tau.z)}), kMaxArmTorque)
+            << "axis " << axis;
     }
 }
 
@@ -156,11 +159,13 @@ TEST(FalconKinematics, MotorUnitsScaleSignAndLimit) {
     // -10000 units per N·m (libnifalcon's getForces sign and scale).
     EXPECT_EQ(firmwareMotorUnits({0.1, -0.2, 0.0}), (std::array<int16_t, 3>{-1000, 2000, 0}));
     // Above the cap all three scale by the same factor: (6, 3, -1.5) with cap 3 -> (3, 1.5, -0.75).
-    EXPECT_EQ(firmwareMotorUnits({6.0, 3.0, -1.5}, 3.0), (std::array<int16_t, 3>{-30000, -15000, 7500}));
+    EXPECT_EQ(firmwareMotorUnits({6.0, 3.0, -1.5}, 3.0),
+              (std::array<int16_t, 3>{-30000, -15000, 7500}));
     EXPECT_EQ(firmwareMotorUnits({std::nan(""), 0.1, 0.1}), (std::array<int16_t, 3>{0, 0, 0}));
     EXPECT_EQ(firmwareMotorUnits({INFINITY, 0.1, 0.1}), (std::array<int16_t, 3>{0, 0, 0}));
     // A cap above the int16 range clamps instead of wrapping.
-    EXPECT_EQ(firmwareMotorUnits({-10.0, 10.0, 0.0}, 100.0), (std::array<int16_t, 3>{32767, -32768, 0}));
+    EXPECT_EQ(firmwareMotorUnits({-10.0, 10.0, 0.0}, 100.0),
+              (std::array<int16_t, 3>{32767, -32768, 0}));
 }
 
 }  // namespace
