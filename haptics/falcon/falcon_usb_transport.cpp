@@ -25,7 +25,7 @@ constexpr uint8_t kSioSetFlowCtrl = 2;  ///< value 0: no flow control
 constexpr uint8_t kSioSetBaudRate = 3;  ///< value: the FTDI baud divisor encoding
 constexpr uint8_t kSioSetData = 4;      ///< value: bits | parity << 8 | stop bits << 11
 constexpr uint8_t kSioSetLatencyTimer = 9;  ///< value: ms
-constexpr uint16_t kPurgeRx = 1, kPurgeTx = 2;
+constexpr uint16_t kResetSio = 0, kPurgeRx = 1, kPurgeTx = 2;
 constexpr uint16_t kDtrHigh = 0x0101, kDtrLow = 0x0100, kRtsLow = 0x0200;
 constexpr uint16_t kData8N1 = 8;
 /// The interface index libnifalcon passes (INTERFACE_ANY); the FT245 has one interface.
@@ -134,6 +134,8 @@ void FalconUsbTransport::open(unsigned index) {
         fail("cannot claim interface 0 (" + usbError(rc) + ")." + hint);
     }
     try {
+        // Reset the chip's serial engine before setting it up, as libftdi's ftdi_usb_open does.
+        control(kSioReset, kResetSio, "resetting the FTDI chip");
         setNormalMode();
     } catch (...) {
         close();

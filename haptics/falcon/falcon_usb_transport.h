@@ -17,7 +17,8 @@
 /// Features:
 ///  [X] open by index, kernel driver detached, interface 0 claimed; clear errors (permissions,
 ///      busy, not found) naming docs/DEVICES.md
-///  [X] normal mode (1 ms latency timer, the firmware's line rate, purges)
+///  [X] normal mode (chip reset on open, 1 ms latency timer, the firmware's line rate, purges);
+///      no bit-bang mode (libnifalcon's libusb transport sets none in either mode)
 ///  [X] firmware load (9600 baud hand-shake, 140 kbaud upload with echo check, back to normal)
 ///  [X] bulk in with the FTDI status bytes stripped, bulk out
 ///  [ ] asynchronous (libusb_submit_transfer) I/O; hot-plug notification

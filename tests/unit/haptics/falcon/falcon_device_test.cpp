@@ -4,12 +4,15 @@
 /// the pose read back, forces arriving as motor units, NaN forces, silence and unplugging.
 #include "haptics/falcon/falcon_device.h"
 #include "haptics/falcon/falcon_kinematics.h"
+#include "haptics/servo_loop.h"
+#include "tests/util/counting_allocator.h"
 
 #include <glm/geometric.hpp>
 #include <glm/gtc/quaternion.hpp>
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -391,6 +394,88 @@ TEST(FalconVelocityEstimator, FilteredDifference) {
     // A gap restarts at rest; NaN and non-positive dt keep the estimate.
     EXPECT_EQ(w.update({5.0, 0.0, 0.0}, 1.0), glm::dvec3(0.0));
     EXPECT_EQ(w.update({6.0, 0.0, 0.0}, std::nan("")), glm::dvec3(0.0));
+}
+
+TEST(FalconDevice, ServoSideAllocatesNothing) {
+    auto state = std::make_shared<EmulatorState>();
+    auto device = makeDevice(state);
+    DeviceState out;
+    device->read(out);
+    device->write({0.0, 0.0, 0.0});
+    const kizamu::test::AllocationCounts before = kizamu::test::threadAllocationCounts();
+    for (int i = 0; i < 20000; ++i) {
+        device->read(out);
+        device->write({0.001 * (i % 100), std::nan(""), 1.0});
+        device->write({0.0, 0.0, 0.001 * (i % 50)});
+    }
+    const kizamu::test::AllocationCounts after = kizamu::test::threadAllocationCounts();
+    EXPECT_EQ(after.allocations, before.allocations);
+    EXPECT_EQ(after.frees, before.frees);
+}
+
+/// A spring to the device frame's origin: the simplest servo client.
+class CentringSpring final : public ServoClient {
+public:
+    void tick(const DeviceState& state, double, glm::dvec3& force) noexcept override {
+        force = -200.0 * state.position;
+    }
+};
+
+TEST(FalconDevice, RunsUnderTheServoTicker) {
+    auto state = std::make_shared<EmulatorState>();
+    const glm::dvec3 offset(0.01, 0.0, -0.005);
+    state->poseKinematic = kWorkspaceCenter + offset;
+    auto device = makeDevice(state);
+    CentringSpring client;
+    ServoTicker ticker(*device, client, 1000.0);
+    const int64_t start = ServoLoop::clockNs();
+    ticker.begin(start + ticker.periodNs());
+    for (int i = 0; i < 200; ++i) {
+        std::this_thread::sleep_for(1ms);
+        ticker.step(ServoLoop::clockNs());
+    }
+    EXPECT_TRUE(ticker.connected());
+    // The spring pulls towards the centre: about -200 N/m x offset (encoder quantisation aside).
+    EXPECT_NEAR(ticker.lastForce().x, -2.0, 0.05);
+    EXPECT_NEAR(ticker.lastForce().z, 1.0, 0.05);
+    const std::array<int16_t, 3> expected = expectedUnits(*state, ticker.lastForce());
+    EXPECT_TRUE(waitFor([&] { return near(lastMotor(*state), expected, 3); }));
+}
+
+TEST(FalconSeqlock, ReadersNeverSeeATornValue) {
+    struct Triple {
+        double v[3] = {0.0, 0.0, 0.0};
+    };
+    detail::Seqlock<Triple> box;
+    std::atomic<bool> done{false};
+    std::thread writer([&] {
+        for (int k = 1; k <= 200000; ++k) {
+            Triple t;
+            t.v[0] = t.v[1] = t.v[2] = double(k);
+            box.store(t);
+        }
+        done.store(true);
+    });
+    double last = 0.0;
+    uint64_t reads = 0, misses = 0;
+    while (!done.load()) {
+        Triple t;
+        if (!box.load(t)) {
+            ++misses;
+            continue;
+        }
+        ++reads;
+        ASSERT_EQ(t.v[0], t.v[1]);
+        ASSERT_EQ(t.v[1], t.v[2]);
+        ASSERT_GE(t.v[0], last);  // one writer: values only move forward
+        last = t.v[0];
+    }
+    writer.join();
+    Triple final;
+    ASSERT_TRUE(box.load(final));
+    EXPECT_EQ(final.v[0], 200000.0);
+    EXPECT_GT(reads, 0U);
+    (void)misses;
 }
 
 }  // namespace
