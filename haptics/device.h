@@ -4,9 +4,10 @@
 /// force-feedback devices): state in, force out, and the device's specification. SI units.
 ///
 /// Where it sits: the servo thread (servo_loop.h) reads a Device once per tick and writes the
-/// force the renderer (proxy_renderer.h) computed. Implementations: sim/simulated_stylus.h now;
-/// the Falcon over libusb and HID PID devices over hidapi later (issue 32). Threading: read()
-/// and write() are called from the servo thread, and write() of a zero force also from the
+/// force the renderer (proxy_renderer.h) computed. Implementations: sim/simulated_stylus.h (and
+/// sim/realtime_stylus.h on the wall clock), the Novint Falcon over libusb
+/// (haptics/falcon/falcon_device.h), HID force-feedback (PID) devices over hidapi
+/// (haptics/hid/hid_pid_device.h). Threading: read() and write() are called from the servo thread, and write() of a zero force also from the
 /// servo loop's watchdog thread, never at the same time as another call (servo_loop.h, the
 /// gate); both keep the servo thread's contract: no lock another thread holds, no allocation,
 /// no I/O that can block (a real device's transfers are asynchronous and preallocated, or run on
