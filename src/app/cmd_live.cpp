@@ -30,8 +30,9 @@ struct LiveOptions {
 };
 
 void runLive(const LiveOptions& o) {
-    if (!o.device.hand.empty()) {
-        if (!o.trajectory.empty()) throw std::runtime_error("give --trajectory or --device with --hand, not both");
+    const bool device = !o.device.hand.empty() || o.device.device != "sim";
+    if (device) {
+        if (!o.trajectory.empty()) throw std::runtime_error("give --trajectory or a --device, not both");
         DeviceLiveOptions d = o.device;
         d.rate = o.rate;
         d.session = o.session;
@@ -86,9 +87,12 @@ void addLiveCommand(CLI::App& app) {
                                    "thread, through the live engine and write the result");
     auto o = std::make_shared<LiveOptions>();
     cmd->add_option("--trajectory", o->trajectory, "Tool trajectory (.trajectory.jsonl)");
-    cmd->add_option("--device", o->device.device, "Haptic device driving the tool: sim (the simulated stylus, with --hand)")
-        ->check(CLI::IsMember({"sim"}))
+    cmd->add_option("--device", o->device.device,
+                    "Haptic device driving the tool: sim (the simulated stylus, with --hand), falcon[:BUS:ADDR], "
+                    "hid[:/dev/hidrawN] or auto (kizamu devices lists them)")
         ->capture_default_str();
+    cmd->add_option("--firmware", o->device.firmware, "The Novint Falcon's firmware file (Novint's; docs/DEVICES.md)");
+    cmd->add_option("--seconds", o->device.seconds, "How long a real device runs, s (default 10)")->check(CLI::Range(0.0, 86400.0));
     cmd->add_option("--hand", o->device.hand, "Hand file scripting the simulated stylus (docs/HAND.md, examples/*hand*)");
     cmd->add_option("--record", o->device.record, "With --hand: write every servo tick to this trace (docs/HAPTIC-TRACE.md)");
     cmd->add_option("--record-trajectory", o->device.recordTrajectory,

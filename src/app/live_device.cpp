@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file live_device.cpp
-/// @brief runDeviceLive: the simulated stylus, the servo ticker or loop, and the live engine.
+/// @brief runDeviceLive: a haptic device (app/device_open.h), the servo ticker or loop, and the
+/// live engine.
 ///
-/// Lock step (--rate 0): one thread; each 1 ms tick reads the stylus, renders, writes, steps the
-/// stylus, and waits for the engine to apply the sample (sync), so the same hand file gives the
-/// same trace and the same clay. Real time: the servo loop's thread drives the stylus on the wall
-/// clock (sim/realtime_stylus.h) while this thread drains the trace ring every few ms.
+/// Lock step (--rate 0, the simulated stylus only): one thread; each 1 ms tick reads the stylus,
+/// renders, writes, steps the stylus, and waits for the engine to apply the sample (sync), so the
+/// same hand file gives the same trace and the same clay. Real time: the servo loop's thread
+/// drives the device (the simulated stylus on the wall clock, sim/realtime_stylus.h, or a real
+/// one) while this thread drains the trace ring every few ms.
 #include "app/live_device.h"
 
 #include "app/commands.h"
+#include "app/device_open.h"
 #include "engine/engine.h"
 #include "engine/trajectory.h"
 #include "haptics/engine_client.h"
@@ -78,11 +81,12 @@ struct TrajectoryRecorder {
 }  // namespace
 
 void runDeviceLive(const DeviceLiveOptions& o) {
-    if (o.device != "sim")
-        throw std::runtime_error("--device " + o.device + ": only 'sim' drives `kizamu live` (kizamu devices lists the hardware)");
-    if (o.hand.empty()) throw std::runtime_error("--device sim needs --hand FILE (docs/HAND.md)");
-    sim::SimulatedStylus stylus(sim::readHand(o.hand));
-    const haptics::DeviceSpec& spec = stylus.spec();
+    DeviceOpenOptions open;
+    open.firmware = o.firmware;
+    if (!o.hand.empty()) open.hand = sim::readHand(o.hand);
+    const OpenedDevice opened = openDevice(o.device, open, o.rate > 0.0);
+    const haptics::DeviceSpec& spec = opened.device().spec();
+    if (!opened.stylus && !o.hand.empty()) std::fprintf(stderr, "warning: --hand drives the simulated stylus only\n");
 
     engine::EngineSettings settings;
     settings.sessionDir = o.session;
@@ -104,6 +108,7 @@ void runDeviceLive(const DeviceLiveOptions& o) {
     }
     haptics::HapticToolSettings tool;
     tool.mapping = haptics::WorkspaceMapping::fit(spec, domain.originWorld, domain.originWorld + glm::dvec3(domain.sizeWorld));
+    tool.planar = opened.planar;
     const double servoRate = o.rate > 0.0 ? o.rate : 1000.0;
     haptics::ProxySettings ps;
     ps.toolRadius = o.toolRadius;
@@ -129,7 +134,7 @@ void runDeviceLive(const DeviceLiveOptions& o) {
     Tally tally;
     TrajectoryRecorder recorder;
     if (!o.recordTrajectory.empty()) {
-        recorder.trajectory.device = spec.name + " (kizamu live --device " + o.device + ")";
+        recorder.trajectory.device = spec.name + " (kizamu live --device " + opened.id + ")";
         if (!resume) recorder.trajectory.start = engine::TrajectoryStart{defaultStart(o.level).domain, defaultStart(o.level).start};
         engine::ToolChange change;
         change.tool = carve.tool;
@@ -148,10 +153,12 @@ void runDeviceLive(const DeviceLiveOptions& o) {
         }
     };
 
-    const double duration = stylus.hand().duration() + 0.2;  // the hand's script and a moment to settle
+    // The hand's script and a moment to settle, or as long as asked for a person's hand.
+    const double duration = opened.stylus ? opened.stylus->hand().duration() + 0.2 : (o.seconds > 0.0 ? o.seconds : 10.0);
     const auto started = std::chrono::steady_clock::now();
     std::optional<haptics::ServoSummary> timing;
     if (o.rate == 0.0) {
+        sim::SimulatedStylus& stylus = *opened.stylus;  // lock step: openDevice allows only the simulated stylus
         haptics::ServoTicker ticker(stylus, client, servoRate);
         ticker.begin(0);
         const int64_t period = ticker.periodNs();
@@ -165,10 +172,9 @@ void runDeviceLive(const DeviceLiveOptions& o) {
         }
         ticker.zeroForce();
     } else {
-        sim::RealtimeStylus device(stylus, &haptics::ServoLoop::clockNs);
         haptics::ServoSettings ss;
         ss.rateHz = o.rate;
-        haptics::ServoLoop loop(device, client, ss);
+        haptics::ServoLoop loop(opened.device(), client, ss);
         const haptics::ServoStartReport report = loop.start();
         for (const std::string& w : report.warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
         const auto end = started + std::chrono::duration<double>(duration);

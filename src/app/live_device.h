@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file live_device.h
-/// @brief `kizamu live --device sim --hand FILE`: the servo thread, a haptic device and the live
-/// engine together, headless; the servo ticks traced and the samples recorded on request.
+/// @brief `kizamu live --device NAME`: the servo thread, a haptic device and the live engine
+/// together, headless; the servo ticks traced and the samples recorded on request. The
+/// simulated stylus follows a hand file (lock step or real time); a real device (a Falcon, a
+/// HID force-feedback device) is held by a person for `seconds`.
 #pragma once
 
 #include <string>
@@ -9,8 +11,10 @@
 namespace kizamu::app {
 
 struct DeviceLiveOptions {
-    std::string device = "sim";  ///< "sim": the simulated stylus driven by `hand`
-    std::string hand;            ///< hand file (docs/HAND.md)
+    std::string device = "sim";  ///< app/device_open.h: sim, falcon[:BUS:ADDR], hid[:PATH], auto
+    std::string hand;            ///< hand file (docs/HAND.md), for the simulated stylus
+    std::string firmware;        ///< the Falcon's firmware file
+    double seconds = 0.0;        ///< s a real device runs; 0: 10 s (the simulated stylus: its hand's script)
     double rate = 1000.0;        ///< Hz; 0: lock step at 1 kHz on a virtual clock, deterministic
     std::string record;          ///< the servo trace (docs/HAPTIC-TRACE.md); empty: none
     std::string recordTrajectory;  ///< the tool samples as a trajectory (docs/TRAJECTORY.md); empty: none

@@ -211,6 +211,14 @@ assert checked > 100, checked
 PY
 "$kizamu" live --device sim >/dev/null 2>"$tmp/err" && fail "live --device sim without --hand was accepted"
 grep -q -- "--hand" "$tmp/err" || fail "live --device sim without --hand: unclear error $(cat "$tmp/err")"
+# real devices: none here, so each says clearly what is missing; auto falls back to the stylus
+for d in falcon hid bogus; do
+    "$kizamu" live --device "$d" --seconds 0.2 >/dev/null 2>"$tmp/err" && fail "live --device $d without one was accepted"
+    [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q -- "--device $d: " "$tmp/err" || fail "live --device $d: unclear error $(cat "$tmp/err")"
+done
+"$kizamu" live --device auto --hand "$repo/examples/slide_and_carve.hand.jsonl" --level 7 --rate 0 --record "$tmp/h4.trace.jsonl" \
+    >/dev/null || fail "live --device auto (no hardware: the simulated stylus)"
+cmp -s "$tmp/h.trace.jsonl" "$tmp/h4.trace.jsonl" || fail "live --device auto did not fall back to the simulated stylus"
 # progress: a line rewritten with \r on a terminal (script(1) gives the command one), nothing
 # when stderr is no terminal or with --quiet; 300 slab strokes at level 7 on one thread take
 # about a second, several times the 0.25 s before the first line
