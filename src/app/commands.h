@@ -30,6 +30,8 @@ void addGenerateCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
 /// Registers `run`: replays a stroke script.
 void addRunCommand(CLI::App& app);
+/// Registers `render`: a picture of an ADF, a session or a mesh, off screen.
+void addRenderCommand(CLI::App& app);
 /// Registers `live`: a tool trajectory through the live engine.
 void addLiveCommand(CLI::App& app);
 /// Registers `bench` with its areas (`bench adf`, `bench mesh`, `bench edit`). Defined only

@@ -29,6 +29,7 @@ int runCommand(int argc, char** argv) {
         kizamu::app::addGenerateCommand(app);
         kizamu::app::addConvertCommand(app);
         kizamu::app::addRunCommand(app);
+        kizamu::app::addRenderCommand(app);
         kizamu::app::addLiveCommand(app);
 #if KIZAMU_HAVE_BENCH
         kizamu::app::addBenchCommand(app);

@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file clay_renderer.cpp
+/// @brief The clay's draw calls and the off-screen render (see clay_renderer.h).
+#include "render/clay_renderer.h"
+
+#include <glm/mat3x3.hpp>
+
+#include <algorithm>
+#include <cassert>
+
+namespace kizamu::render {
+
+bool applyModeName(std::string_view name, RenderSettings& settings) {
+    if (name == "lit") {
+        settings.shade = ShadeMode::Lit;
+        settings.wireframe = false;
+    } else if (name == "matcap") {
+        settings.shade = ShadeMode::Matcap;
+        settings.wireframe = false;
+    } else if (name == "wireframe") {
+        settings.shade = ShadeMode::Lit;
+        settings.wireframe = true;
+    } else {
+        return false;
+    }
+    return true;
+}
+
+ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
+    : mLit(shaders.build({"clay.vert", "clay.frag"})),
+      mMatcap(shaders.build({"clay.vert", "matcap.frag"})),
+      mWire(shaders.build({"clay.vert", "wire.frag"})) {}
+
+void ClayRenderer::setMesh(const mesh::MeshBuffers& m) {
+    mMesh.upload(m);
+}
+
+void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
+                        const RenderSettings& settings) const {
+    const glm::vec3 bg = settings.backgroundSrgb;
+    glClearColor(bg.r, bg.g, bg.b, 1.0f);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (mMesh.empty()) return;
+
+    const float aspect = float(width) / float(std::max(height, 1));
+    const glm::mat4 view = camera.viewMatrix();
+    const glm::mat4 projection = camera.projectionMatrix(aspect);
+    const int ortho = camera.projection == Projection::Orthographic ? 1 : 0;
+
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    // Not culled: a mesh with holes shows its inside (clay.frag lights back faces as such).
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    if (settings.wireframe) {
+        // The surface is pushed back a little so the lines drawn at its exact depth pass the test.
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(1.0f, 1.0f);
+    }
+    const ShaderProgram& surface = settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
+    surface.use();
+    surface.set("uView", view);
+    surface.set("uProjection", projection);
+    surface.set("uNormalView", glm::mat3(view));
+    surface.set("uClaySrgb", settings.claySrgb);
+    surface.set("uOrthographic", ortho);
+    mMesh.draw();
+    glDisable(GL_POLYGON_OFFSET_FILL);
+
+    if (settings.wireframe) {
+        mWire.use();
+        mWire.set("uView", view);
+        mWire.set("uProjection", projection);
+        mWire.set("uNormalView", glm::mat3(view));
+        mWire.set("uWireSrgba", settings.wireSrgba);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glDepthFunc(GL_LEQUAL);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        mMesh.draw();
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        glDepthFunc(GL_LESS);
+        glDisable(GL_BLEND);
+    }
+    glUseProgram(0);
+    // Debug builds only: glGetError stalls some drivers (style: GL errors are bugs, asserted).
+    assert(glGetError() == GL_NO_ERROR && "ClayRenderer::draw left a GL error");
+}
+
+Image ClayRenderer::renderToImage(const OrbitCamera& camera, int width, int height,
+                                  const RenderSettings& settings) {
+    if (!mTarget || mTarget->width() != width || mTarget->height() != height ||
+        mTarget->samples() > std::max(settings.samples, 1))
+        mTarget.emplace(width, height, settings.samples);
+    mTarget->bind();
+    draw(camera, width, height, settings);
+    return mTarget->read();
+}
+
+}  // namespace kizamu::render
