@@ -156,6 +156,7 @@ void addRunCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     cmd->callback([o] {
+        if (!o->render.empty()) checkRendererBuilt(o->render);
         // A unit the output cannot take fails here, before the replay.
         if (!o->out.empty() && !isAdfPath(o->out))
             mesh::exportUnit(o->out, exportOptions(*o));

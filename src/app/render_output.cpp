@@ -4,13 +4,17 @@
 #include "app/render_output.h"
 
 #include "mesh/mesh_buffers.h"
+#if KIZAMU_HAVE_RENDER
 #include "render/image.h"
+#include "render/offscreen.h"
+#endif
 
 #include <CLI/CLI.hpp>
 
 #include <chrono>
 #include <cstdio>
 #include <optional>
+#include <stdexcept>
 #include <utility>
 
 namespace kizamu::app {
@@ -30,17 +34,6 @@ std::optional<std::pair<int, int>> parseSize(const std::string& s) {
 }
 
 }  // namespace
-
-render::OffscreenView RenderOptions::offscreenView() const {
-    render::OffscreenView v;
-    const auto wh = parseSize(size);
-    v.width = wh->first;
-    v.height = wh->second;
-    v.view = *render::viewAxisOf(view);
-    v.projection = ortho ? render::Projection::Orthographic : render::Projection::Perspective;
-    render::applyModeName(mode, v.settings);
-    return v;
-}
 
 void addRenderOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_option("--size", o.size, "Picture size in pixels, WxH")
@@ -65,9 +58,19 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& o) {
     cmd->add_flag("--ortho", o.ortho, "Orthographic projection (default: perspective)");
 }
 
+#if KIZAMU_HAVE_RENDER
+
+void checkRendererBuilt(const std::string&) {}
+
 void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::string& path) {
     const auto t0 = std::chrono::steady_clock::now();
-    const render::OffscreenView v = o.offscreenView();
+    render::OffscreenView v;
+    const auto wh = parseSize(o.size);
+    v.width = wh->first;
+    v.height = wh->second;
+    v.view = *render::viewAxisOf(o.view);
+    v.projection = o.ortho ? render::Projection::Orthographic : render::Projection::Perspective;
+    render::applyModeName(o.mode, v.settings);
     const render::Image image = render::renderMeshImage(m, v);
     render::writePng(path, image);
     const double ms =
@@ -75,5 +78,19 @@ void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::
     std::printf("rendered %dx%d (%s, %s) in %.1f ms\nwrote %s\n", v.width, v.height, o.view.c_str(),
                 o.mode.c_str(), ms, path.c_str());
 }
+
+#else
+
+void checkRendererBuilt(const std::string& path) {
+    throw std::runtime_error(
+        "cannot render " + path +
+        ": this kizamu was built without the renderer (KIZAMU_BUILD_RENDER=OFF)");
+}
+
+void renderToPng(const mesh::MeshBuffers&, const RenderOptions&, const std::string& path) {
+    checkRendererBuilt(path);
+}
+
+#endif
 
 }  // namespace kizamu::app
