@@ -56,6 +56,7 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& o) {
         ->check(CLI::IsMember({"lit", "matcap", "wireframe"}))
         ->capture_default_str();
     cmd->add_flag("--ortho", o.ortho, "Orthographic projection (default: perspective)");
+    cmd->add_flag("--ground", o.ground, "A floor under the model with a soft contact shadow");
 }
 
 #if KIZAMU_HAVE_RENDER
@@ -71,6 +72,7 @@ void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::
     v.view = *render::viewAxisOf(o.view);
     v.projection = o.ortho ? render::Projection::Orthographic : render::Projection::Perspective;
     render::applyModeName(o.mode, v.settings);
+    v.settings.ground = o.ground;
     const render::Image image = render::renderMeshImage(m, v);
     render::writePng(path, image);
     const double ms =

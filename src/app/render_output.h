@@ -25,9 +25,10 @@ struct RenderOptions {
     std::string view = "iso";       ///< a render::viewAxisOf name
     std::string mode = "lit";       ///< a render::applyModeName name
     bool ortho = false;
+    bool ground = false;  ///< a floor with a soft contact shadow under the model
 };
 
-/// Registers --size, --view, --mode and --ortho on `cmd`, checked at parse time (a bad --view
+/// Registers --size, --view, --mode, --ortho and --ground on `cmd`, checked at parse time (a bad --view
 /// or size is refused before any work).
 void addRenderOptions(CLI::App* cmd, RenderOptions& o);
 

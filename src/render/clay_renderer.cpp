@@ -3,7 +3,9 @@
 /// @brief The clay's draw calls and the off-screen render (see clay_renderer.h).
 #include "render/clay_renderer.h"
 
+#include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
 
 #include <algorithm>
 #include <cassert>
@@ -29,7 +31,37 @@ bool applyModeName(std::string_view name, RenderSettings& settings) {
 ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
     : mLit(shaders.build({"clay.vert", "clay.frag"})),
       mMatcap(shaders.build({"clay.vert", "matcap.frag"})),
-      mWire(shaders.build({"clay.vert", "wire.frag"})) {}
+      mWire(shaders.build({"clay.vert", "wire.frag"})),
+      mGround(shaders.build({"ground.vert", "ground.frag"})) {
+    glGenVertexArrays(1, &mEmptyVao);
+}
+
+ClayRenderer::~ClayRenderer() {
+    if (mEmptyVao) glDeleteVertexArrays(1, &mEmptyVao);
+}
+
+void ClayRenderer::drawGround(const OrbitCamera& camera, const glm::mat4& view,
+                              const glm::mat4& projection, const RenderSettings& settings) const {
+    const glm::vec3 lo = mMesh.boundsMin(), hi = mMesh.boundsMax();
+    // Seen from below, the floor would hide the model: it is drawn only from above.
+    if (camera.eye().z <= lo.z) return;
+    const glm::vec2 centre = 0.5f * (glm::vec2(lo) + glm::vec2(hi));
+    const glm::vec2 footprintHalf = 0.5f * (glm::vec2(hi) - glm::vec2(lo));
+    const float halfSize = 2.5f * std::max(glm::length(footprintHalf), 0.5f * (hi.z - lo.z));
+    mGround.use();
+    mGround.set("uView", view);
+    mGround.set("uProjection", projection);
+    mGround.set("uCentre", centre);
+    mGround.set("uHalfSize", halfSize);
+    // A hair below the model, so its lowest triangles win the depth test.
+    mGround.set("uGroundZ", lo.z - 1e-4f * halfSize);
+    mGround.set("uFootprintHalf", footprintHalf);
+    mGround.set("uBackgroundSrgb", settings.backgroundSrgb);
+    mGround.set("uFloorSrgb", settings.floorSrgb);
+    glBindVertexArray(mEmptyVao);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindVertexArray(0);
+}
 
 void ClayRenderer::setMesh(const mesh::MeshBuffers& m) {
     mMesh.upload(m);
@@ -54,6 +86,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    if (settings.ground) drawGround(camera, view, projection, settings);
     if (settings.wireframe) {
         // The surface is pushed back a little so the lines drawn at its exact depth pass the test.
         glEnable(GL_POLYGON_OFFSET_FILL);

@@ -4,8 +4,9 @@
 /// painted vertex colours where the mesh has them. Renders into the bound framebuffer or into
 /// an off-screen image.
 ///
-/// Programs: clay.vert with clay.frag (lit), matcap.frag (matcap) and wire.frag (overlay), from
-/// a `ShaderLibrary`. Colours are sRGB throughout the API; shading runs in linear light.
+/// Programs: clay.vert with clay.frag (lit), matcap.frag (matcap) and wire.frag (overlay), and
+/// ground.vert with ground.frag (the optional floor), from a `ShaderLibrary`. Colours are sRGB
+/// throughout the API; shading runs in linear light.
 ///
 /// Threading: the GL context current at construction must be current on every call; one
 /// renderer per context. Not thread-safe.
@@ -32,6 +33,10 @@ enum class ShadeMode { Lit, Matcap };
 struct RenderSettings {
     ShadeMode shade = ShadeMode::Lit;
     bool wireframe = false;  ///< triangle edges over the surface
+    /// A floor under the model (z = its lowest point; Z up) with a soft contact shadow, drawn
+    /// only while the eye is above it.
+    bool ground = false;
+    glm::vec3 floorSrgb{0.36f, 0.36f, 0.38f};  ///< the floor, sRGB 0..1
     /// Unpainted clay, sRGB 0..1: a light warm grey, the colour layer's unpainted clay
     /// (adf::kClayColour, 200 192 180), so a painted mesh's unpainted parts and an unpainted
     /// mesh look the same.
@@ -51,6 +56,9 @@ public:
     /// Builds the programs from `shaders`. Precondition: a GL 3.3 core context is current.
     /// @throw ShaderError naming the shader file and line when one fails to compile or link.
     explicit ClayRenderer(const ShaderLibrary& shaders);
+    ClayRenderer(const ClayRenderer&) = delete;
+    ClayRenderer& operator=(const ClayRenderer&) = delete;
+    ~ClayRenderer();
 
     /// Replaces the mesh drawn (whole upload). See GpuMesh::upload.
     void setMesh(const mesh::MeshBuffers& m);
@@ -58,7 +66,8 @@ public:
 
     /// Clears and draws the mesh into the framebuffer bound now, over a viewport of
     /// width × height pixels already set by the caller.
-    /// Complexity: one draw call (two with the wireframe); O(triangles) on the GPU.
+    /// Complexity: one draw call (plus one each for the wireframe and the ground); O(triangles)
+    ///             on the GPU.
     /// Threading: the context's thread. Memory: none.
     /// State: sets depth test, culling off, polygon mode and offset, blending, and the program;
     /// leaves depth test on, blending off, fill mode and no program bound.
@@ -73,8 +82,11 @@ public:
                         const RenderSettings& settings);
 
 private:
-    ShaderProgram mLit, mMatcap, mWire;
+    void drawGround(const OrbitCamera& camera, const glm::mat4& view, const glm::mat4& projection,
+                    const RenderSettings& settings) const;
+    ShaderProgram mLit, mMatcap, mWire, mGround;
     GpuMesh mMesh;
+    GLuint mEmptyVao = 0;  ///< the ground's draw reads no attributes, but core GL needs a VAO
     std::optional<Framebuffer> mTarget;
 };
 

@@ -38,6 +38,9 @@ ShaderProgram::~ShaderProgram() {
     if (mId) glDeleteProgram(mId);
 }
 
+void ShaderProgram::set(const char* name, const glm::vec2& v) const {
+    glUniform2fv(location(name), 1, glm::value_ptr(v));
+}
 void ShaderProgram::set(const char* name, const glm::vec3& v) const {
     glUniform3fv(location(name), 1, glm::value_ptr(v));
 }

@@ -13,6 +13,7 @@
 #include <epoxy/gl.h>
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
@@ -55,6 +56,7 @@ public:
     /// optimised away) is ignored, as GL ignores location -1.
     void set(const char* name, float v) const { glUniform1f(location(name), v); }
     void set(const char* name, int v) const { glUniform1i(location(name), v); }
+    void set(const char* name, const glm::vec2& v) const;
     void set(const char* name, const glm::vec3& v) const;
     void set(const char* name, const glm::vec4& v) const;
     void set(const char* name, const glm::mat3& m) const;

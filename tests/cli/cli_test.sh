@@ -302,7 +302,7 @@ else
     "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --size 0x10 >/dev/null 2>&1 && fail "render accepted --size 0x10"
     "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --mode xray >/dev/null 2>&1 && fail "render accepted --mode xray"
     "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --level 6 >/dev/null 2>&1 && fail "render accepted --level for a .kza"
-    "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --render "$tmp/run.png" --size 96x64 --view front \
+    "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --render "$tmp/run.png" --size 96x64 --view front --ground \
         >/dev/null 2>"$tmp/err" || fail "run --render: $(cat "$tmp/err")"
     [ "$(png_size "$tmp/run.png")" = "96 64" ] || fail "run --render: not a 96x64 PNG"
     mkdir -p "$tmp/shaders" && cp "$repo"/shaders/* "$tmp/shaders/"

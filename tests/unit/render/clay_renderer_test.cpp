@@ -155,6 +155,37 @@ TEST_F(ClayRenderTest, ModesDrawDifferently) {
                 0.01 * double(countNot(a, bg, 2)));
 }
 
+TEST_F(ClayRenderTest, GroundShowsFromAboveOnly) {
+    ClayRenderer renderer(shaders());
+    renderer.setMesh(test::icosphere(0.1f, 4));
+    RenderSettings plain, ground;
+    ground.ground = true;
+    const glm::u8vec4 bg = backgroundOf(plain.backgroundSrgb);
+    for (ViewAxis v : {ViewAxis::Iso, ViewAxis::Bottom}) {
+        SCOPED_TRACE(nameOf(v));
+        OrbitCamera camera;
+        camera.setView(v);
+        camera.frame(glm::vec3(-0.1f), glm::vec3(0.1f), 1.0f);
+        const Image a = renderer.renderToImage(camera, 128, 128, plain);
+        const Image b = renderer.renderToImage(camera, 128, 128, ground);
+        EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+        std::size_t changedOnBackground = 0, changedOnModel = 0, model = 0;
+        for (int y = 0; y < a.height; ++y)
+            for (int x = 0; x < a.width; ++x) {
+                model += differs(a.at(x, y), bg, 0) ? 1 : 0;
+                if (!differs(a.at(x, y), b.at(x, y), 2)) continue;
+                (differs(a.at(x, y), bg, 0) ? changedOnModel : changedOnBackground)++;
+            }
+        // Only silhouette pixels (partly covered: their samples behind the model see the floor).
+        EXPECT_LT(changedOnModel, model / 20) << "the floor changed the model's pixels";
+        EXPECT_FALSE(differs(a.at(64, 64), b.at(64, 64), 0));
+        if (v == ViewAxis::Bottom)
+            EXPECT_EQ(changedOnBackground, 0u) << "the floor is drawn from below";
+        else
+            EXPECT_GT(changedOnBackground, 1000u) << "no floor";
+    }
+}
+
 TEST_F(ClayRenderTest, EmptyMeshClearsToBackground) {
     ClayRenderer renderer(shaders());
     renderer.setMesh(mesh::MeshBuffers{});
