@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
-#include <regex>
 #include <sstream>
+#include <string_view>
 #include <system_error>
 #include <utility>
 
@@ -85,31 +85,82 @@ std::string infoLog(GLuint object, bool program) {
 
 namespace detail {
 
+namespace {
+
+/// A cursor over one log line, for the three prefixes formatShaderLog reads.
+struct LineCursor {
+    std::string_view rest;
+    void skipSpaces() {
+        while (!rest.empty() && (rest.front() == ' ' || rest.front() == '\t'))
+            rest.remove_prefix(1);
+    }
+    bool eat(std::string_view token) {
+        if (rest.substr(0, token.size()) != token) return false;
+        rest.remove_prefix(token.size());
+        return true;
+    }
+    /// Digits, as text; empty when there are none.
+    std::string_view number() {
+        std::size_t n = 0;
+        while (n < rest.size() && rest[n] >= '0' && rest[n] <= '9') ++n;
+        const std::string_view digits = rest.substr(0, n);
+        rest.remove_prefix(n);
+        return digits;
+    }
+};
+
+/// "file:LINE: message" when `line` has one of the prefixes; empty otherwise.
+std::string withLine(const std::string& file, std::string_view line) {
+    // Mesa "0:12(5): error: ..." and NVIDIA "0(12) : error C0000: ...": the first number is
+    // the source string (always 0: one string per file), the next the line.
+    LineCursor c{line};
+    c.skipSpaces();
+    if (!c.number().empty()) {
+        std::string_view lineNo;
+        if (c.eat(":")) {
+            lineNo = c.number();
+            if (lineNo.empty() || !c.eat("(") || c.number().empty() || !c.eat(")")) return {};
+        } else if (c.eat("(")) {
+            lineNo = c.number();
+            if (lineNo.empty() || !c.eat(")")) return {};
+        } else {
+            return {};
+        }
+        c.skipSpaces();
+        if (!c.eat(":")) return {};
+        c.skipSpaces();
+        return file + ":" + std::string(lineNo) + ": " + std::string(c.rest);
+    }
+    // AMD, Intel on Windows and glslang: "ERROR: 0:12: message" (and WARNING).
+    c = LineCursor{line};
+    c.skipSpaces();
+    std::string kind;
+    if (c.eat("ERROR:"))
+        kind = "error";
+    else if (c.eat("WARNING:"))
+        kind = "warning";
+    else
+        return {};
+    c.skipSpaces();
+    if (c.number().empty() || !c.eat(":")) return {};
+    const std::string_view lineNo = c.number();
+    if (lineNo.empty() || !c.eat(":")) return {};
+    c.skipSpaces();
+    return file + ":" + std::string(lineNo) + ": " + kind + ": " + std::string(c.rest);
+}
+
+}  // namespace
+
 std::string formatShaderLog(const std::string& file, const std::string& log) {
-    // Mesa: "0:12(5): error: ..."; NVIDIA: "0(12) : error C0000: ..."; AMD, Intel on Windows
-    // and glslang: "ERROR: 0:12: ...". The first number is the source string (always 0 here:
-    // one string per file), the second the line.
-    static const std::regex mesa(R"(^\s*\d+:(\d+)\(\d+\):\s*(.*)$)");
-    static const std::regex nvidia(R"(^\s*\d+\((\d+)\)\s*:\s*(.*)$)");
-    static const std::regex glslang(R"(^\s*(ERROR|WARNING):\s*\d+:(\d+):\s*(.*)$)");
     std::istringstream in(log);
     std::string line, out;
     while (std::getline(in, line)) {
         while (!line.empty() && (line.back() == '\r' || line.back() == ' ' || line.back() == '\0'))
             line.pop_back();
-        if (line.find_first_not_of(" \t") == std::string::npos) continue;
-        std::smatch m;
-        std::string formatted;
-        if (std::regex_match(line, m, mesa) || std::regex_match(line, m, nvidia)) {
-            formatted = file + ":" + m[1].str() + ": " + m[2].str();
-        } else if (std::regex_match(line, m, glslang)) {
-            std::string kind = m[1].str();
-            std::transform(kind.begin(), kind.end(), kind.begin(),
-                           [](char c) { return char(c - 'A' + 'a'); });
-            formatted = file + ":" + m[2].str() + ": " + kind + ": " + m[3].str();
-        } else {
-            formatted = file + ": " + line.substr(line.find_first_not_of(" \t"));
-        }
+        const std::size_t first = line.find_first_not_of(" \t");
+        if (first == std::string::npos) continue;
+        std::string formatted = withLine(file, line);
+        if (formatted.empty()) formatted = file + ": " + line.substr(first);
         if (!out.empty()) out += '\n';
         out += formatted;
     }

@@ -21,6 +21,7 @@
 #include <initializer_list>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace kizamu::render {
@@ -53,7 +54,9 @@ public:
     void use() const { glUseProgram(mId); }
 
     /// Uniform setters on the program in use. A name the program lacks (unused uniforms are
-    /// optimised away) is ignored, as GL ignores location -1.
+    /// optimised away) is ignored, as GL ignores location -1. Each looks the location up by
+    /// name (a driver string lookup): cheap at a few uniforms per draw; cache locations before
+    /// setting many per frame.
     void set(const char* name, float v) const { glUniform1f(location(name), v); }
     void set(const char* name, int v) const { glUniform1i(location(name), v); }
     void set(const char* name, const glm::vec2& v) const;

@@ -115,6 +115,10 @@ TEST(ShaderLog, VendorFormatsBecomeFileAndLine) {
     EXPECT_EQ(formatShaderLog("a.vert", "0:1(1): warning: w\n\n0:2(3): error: e\n"),
               "a.vert:1: warning: w\na.vert:2: error: e");
     EXPECT_EQ(formatShaderLog("p", "error: linking failed\n"), "p: error: linking failed");
+    // Near misses keep their text, with the file in front.
+    EXPECT_EQ(formatShaderLog("a", "0:12 error\n"), "a: 0:12 error");
+    EXPECT_EQ(formatShaderLog("a", "12(x): e\n"), "a: 12(x): e");
+    EXPECT_EQ(formatShaderLog("a", "  0:4(10): error: indented\r\n"), "a:4: error: indented");
     EXPECT_EQ(formatShaderLog("p", ""), "p: failed with no message from the driver");
 }
 
