@@ -4,6 +4,7 @@
 #include "adf/adf_file.h"
 #include "app/commands.h"
 #include "app/progress.h"
+#include "app/render_output.h"
 #include "mesh/mesh_export.h"
 #include "mesh/surface_nets.h"
 #include "sculpt/script_start.h"
@@ -29,6 +30,8 @@ namespace {
 
 struct RunOptions {
     std::string script, out, session;
+    std::string render;  ///< a PNG of the result; empty: none
+    RenderOptions picture;
     std::size_t checkpointEvery = 100;
     int level = 0;
     bool stats = false;
@@ -104,11 +107,11 @@ void runScript(const RunOptions& o) {
         std::printf("  undo        %zu records, %.2f MB of replaced tiles\n", sculptor().undoDepth(),
                     double(sculptor().historyBytes()) / 1e6);
     }
-    if (o.out.empty()) return;
-    if (isAdfPath(o.out)) {
+    mesh::MeshBuffers m;  // the result's mesh, made once for --out and --render
+    if (!o.out.empty() && isAdfPath(o.out)) {
         adf::saveAdf(a, o.out);
-    } else {
-        mesh::MeshBuffers m;
+        std::printf("wrote %s\n", o.out.c_str());
+    } else if (!o.out.empty()) {
         mesh::UntangleReport untangled;
         {
             const ProgressReporter reporter("mesh and write", progressWanted(o.quiet));
@@ -121,8 +124,14 @@ void runScript(const RunOptions& o) {
         }
         std::printf("meshed: %zu vertices, %zu triangles\n", m.vertexCount(), m.triangleCount());
         printUntangled(untangled);
+        std::printf("wrote %s\n", o.out.c_str());
     }
-    std::printf("wrote %s\n", o.out.c_str());
+    if (o.render.empty()) return;
+    if (m.positions.empty()) {
+        const ProgressReporter reporter("mesh", progressWanted(o.quiet));
+        m = mesh::meshAdf(sculptor().current(), &pool);
+    }
+    renderToPng(m, o.picture, o.render);
 }
 
 }  // namespace
@@ -133,6 +142,8 @@ void addRunCommand(CLI::App& app) {
     cmd->add_option("script", o->script, "Stroke script (.jsonl)")->required();
     cmd->add_option("--level", o->level, "Finest level to replay at (0: the script's own)")->check(CLI::Range(0, 16));
     cmd->add_option("--out", o->out, "Output: .kza, or a mesh (.obj .stl .ply .glb .3mf)");
+    cmd->add_option("--render", o->render, "Also render the result to this PNG, off screen (no display needed)");
+    addRenderOptions(cmd, o->picture);
     cmd->add_option("--units", o->units,
                     "Unit of a mesh --out's coordinates (default: mm; .3mf records it; .glb is "
                     "always m)")
@@ -145,6 +156,7 @@ void addRunCommand(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--threads", o->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     cmd->callback([o] {
+        if (!o->render.empty()) checkRendererBuilt(o->render);
         // A unit the output cannot take fails here, before the replay.
         if (!o->out.empty() && !isAdfPath(o->out))
             mesh::exportUnit(o->out, exportOptions(*o));

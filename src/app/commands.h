@@ -30,6 +30,9 @@ void addGenerateCommand(CLI::App& app);
 void addConvertCommand(CLI::App& app);
 /// Registers `run`: replays a stroke script.
 void addRunCommand(CLI::App& app);
+/// Registers `render`: a picture of an ADF, a session or a mesh, off screen. Defined only where
+/// the renderer is built (KIZAMU_HAVE_RENDER, from KIZAMU_BUILD_RENDER).
+void addRenderCommand(CLI::App& app);
 /// Registers `live`: a tool trajectory through the live engine.
 void addLiveCommand(CLI::App& app);
 /// Registers `devices`: the haptic devices found, and the simulated stylus.

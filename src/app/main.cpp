@@ -29,6 +29,9 @@ int runCommand(int argc, char** argv) {
         kizamu::app::addGenerateCommand(app);
         kizamu::app::addConvertCommand(app);
         kizamu::app::addRunCommand(app);
+#if KIZAMU_HAVE_RENDER
+        kizamu::app::addRenderCommand(app);
+#endif
         kizamu::app::addLiveCommand(app);
         kizamu::app::addDevicesCommand(app);
 #if KIZAMU_HAVE_BENCH

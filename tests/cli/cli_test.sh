@@ -1,11 +1,13 @@
 #!/usr/bin/env bash
 # End-to-end checks of the kizamu executable: generate, info, damaged files, and the
 # benchmark's JSON contract. Usage: cli_test.sh path/to/kizamu [mimalloc|default] [bench|nobench]
-# (the third argument: whether the build has the benchmarks, KIZAMU_BUILD_BENCH)
+# [render|norender] (the third argument: whether the build has the benchmarks, KIZAMU_BUILD_BENCH;
+# the fourth: whether it has the renderer, KIZAMU_BUILD_RENDER)
 set -uo pipefail
 kizamu="$1"
 allocator="${2:-default}"
 benchmarks="${3:-bench}"
+renderer="${4:-render}"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 failures=0
@@ -277,6 +279,47 @@ assert red >= int(sys.argv[2]) and clay > len(cols) // 2, f"red {red}, clay {cla
 PY
 done
 python3 "$repo/scripts/make_slab.py" | cmp -s - "$repo/examples/slab2000.jsonl" || fail "examples/slab2000.jsonl differs from scripts/make_slab.py"
+
+# render: a PNG of the asked size from a .kza, a mesh file and a run's result, off screen (EGL
+# surfaceless; Mesa's llvmpipe without a GPU); bad views and sizes are refused before any work
+png_size() {  # prints "W H" from a PNG's IHDR, or nothing when the file is not a PNG
+    python3 - "$1" <<'PY'
+import struct, sys
+data = open(sys.argv[1], "rb").read(33)
+if data[:8] == b"\x89PNG\r\n\x1a\n" and data[12:16] == b"IHDR":
+    print(*struct.unpack(">II", data[16:24]))
+PY
+}
+if [ "$renderer" = norender ]; then
+    "$kizamu" --help | grep -q "^ *render " && fail "built without the renderer, but --help lists 'render'"
+    "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --render "$tmp/run.png" >/dev/null 2>"$tmp/err" &&
+        fail "run --render succeeded without the renderer"
+    grep -q "without the renderer" "$tmp/err" || fail "run --render without the renderer: $(cat "$tmp/err")"
+else
+    export LP_NUM_THREADS=2
+    "$kizamu" render "$tmp/p.kza" --out "$tmp/p.png" --size 320x200 >"$tmp/out" 2>"$tmp/err" || fail "render kza: $(cat "$tmp/err")"
+    [ "$(png_size "$tmp/p.png")" = "320 200" ] || fail "render kza: not a 320x200 PNG: $(png_size "$tmp/p.png")"
+    "$kizamu" render "$tmp/tet.obj" --out "$tmp/tet.png" --size 64x48 --view top --mode wireframe --ortho >/dev/null 2>"$tmp/err" ||
+        fail "render obj: $(cat "$tmp/err")"
+    [ "$(png_size "$tmp/tet.png")" = "64 48" ] || fail "render obj: not a 64x48 PNG"
+    "$kizamu" render "$tmp/tet.obj" --out "$tmp/tet6.png" --size 64x64 --level 6 --mode matcap >/dev/null 2>"$tmp/err" ||
+        fail "render obj --level: $(cat "$tmp/err")"
+    "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --view diagonal >/dev/null 2>"$tmp/err" && fail "render accepted --view diagonal"
+    grep -q "view" "$tmp/err" || fail "render's refusal of --view diagonal does not name it: $(cat "$tmp/err")"
+    [ -e "$tmp/bad.png" ] && fail "a refused render wrote its PNG"
+    "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --size 0x10 >/dev/null 2>&1 && fail "render accepted --size 0x10"
+    "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --mode xray >/dev/null 2>&1 && fail "render accepted --mode xray"
+    "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --level 6 >/dev/null 2>&1 && fail "render accepted --level for a .kza"
+    "$kizamu" run "$repo/examples/carve_basics.jsonl" --level 6 --render "$tmp/run.png" --size 96x64 --view front --ground \
+        >/dev/null 2>"$tmp/err" || fail "run --render: $(cat "$tmp/err")"
+    [ "$(png_size "$tmp/run.png")" = "96 64" ] || fail "run --render: not a 96x64 PNG"
+    mkdir -p "$tmp/shaders" && cp "$repo"/shaders/* "$tmp/shaders/"
+    printf '#version 330 core\nout vec4 fragColour;\nvoid main() {\n    fragColour = vec4(nothing);\n}\n' >"$tmp/shaders/clay.frag"
+    KIZAMU_SHADER_DIR="$tmp/shaders" "$kizamu" render "$tmp/p.kza" --out "$tmp/bad.png" --size 32x32 >/dev/null 2>"$tmp/err" &&
+        fail "render with a corrupt clay.frag succeeded"
+    grep -q "shaders/clay.frag:4: error" "$tmp/err" || fail "a corrupt shader's error lacks its file and line: $(cat "$tmp/err")"
+    unset LP_NUM_THREADS
+fi
 
 # Without the benchmark library there is no `bench` command, and nothing more to check.
 if [ "$benchmarks" = nobench ]; then

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file clay_renderer.cpp
+/// @brief The clay's draw calls and the off-screen render (see clay_renderer.h).
+#include "render/clay_renderer.h"
+
+#include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
+
+#include <algorithm>
+#include <cassert>
+
+namespace kizamu::render {
+
+bool applyModeName(std::string_view name, RenderSettings& settings) {
+    if (name == "lit") {
+        settings.shade = ShadeMode::Lit;
+        settings.wireframe = false;
+    } else if (name == "matcap") {
+        settings.shade = ShadeMode::Matcap;
+        settings.wireframe = false;
+    } else if (name == "wireframe") {
+        settings.shade = ShadeMode::Lit;
+        settings.wireframe = true;
+    } else {
+        return false;
+    }
+    return true;
+}
+
+ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
+    : mLit(shaders.build({"clay.vert", "clay.frag"})),
+      mMatcap(shaders.build({"clay.vert", "matcap.frag"})),
+      mWire(shaders.build({"clay.vert", "wire.frag"})),
+      mGround(shaders.build({"ground.vert", "ground.frag"})) {
+    glGenVertexArrays(1, &mEmptyVao);
+}
+
+ClayRenderer::~ClayRenderer() {
+    if (mEmptyVao) glDeleteVertexArrays(1, &mEmptyVao);
+}
+
+void ClayRenderer::drawGround(const OrbitCamera& camera, const glm::mat4& view,
+                              const glm::mat4& projection, const RenderSettings& settings) const {
+    const glm::vec3 lo = mMesh.boundsMin(), hi = mMesh.boundsMax();
+    // Seen from below, the floor would hide the model: it is drawn only from above.
+    if (camera.eye().z <= lo.z) return;
+    const glm::vec2 centre = 0.5f * (glm::vec2(lo) + glm::vec2(hi));
+    const glm::vec2 footprintHalf = 0.5f * (glm::vec2(hi) - glm::vec2(lo));
+    const float halfSize = 2.5f * std::max(glm::length(footprintHalf), 0.5f * (hi.z - lo.z));
+    mGround.use();
+    mGround.set("uView", view);
+    mGround.set("uProjection", projection);
+    mGround.set("uCentre", centre);
+    mGround.set("uHalfSize", halfSize);
+    // A hair below the model, so its lowest triangles win the depth test.
+    mGround.set("uGroundZ", lo.z - 1e-4f * halfSize);
+    mGround.set("uFootprintHalf", footprintHalf);
+    mGround.set("uBackgroundSrgb", settings.backgroundSrgb);
+    mGround.set("uFloorSrgb", settings.floorSrgb);
+    glBindVertexArray(mEmptyVao);
+    glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+    glBindVertexArray(0);
+}
+
+void ClayRenderer::setMesh(const mesh::MeshBuffers& m) {
+    mMesh.upload(m);
+}
+
+void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
+                        const RenderSettings& settings) const {
+    const glm::vec3 bg = settings.backgroundSrgb;
+    glClearColor(bg.r, bg.g, bg.b, 1.0f);
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (mMesh.empty()) return;
+
+    const float aspect = float(width) / float(std::max(height, 1));
+    const glm::mat4 view = camera.viewMatrix();
+    const glm::mat4 projection = camera.projectionMatrix(aspect);
+    const int ortho = camera.projection == Projection::Orthographic ? 1 : 0;
+
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    // Not culled: a mesh with holes shows its inside (clay.frag lights back faces as such).
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    if (settings.ground) drawGround(camera, view, projection, settings);
+    if (settings.wireframe) {
+        // The surface is pushed back a little so the lines drawn at its exact depth pass the test.
+        glEnable(GL_POLYGON_OFFSET_FILL);
+        glPolygonOffset(1.0f, 1.0f);
+    }
+    const ShaderProgram& surface = settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
+    surface.use();
+    surface.set("uView", view);
+    surface.set("uProjection", projection);
+    surface.set("uNormalView", glm::mat3(view));
+    surface.set("uClaySrgb", settings.claySrgb);
+    surface.set("uOrthographic", ortho);
+    mMesh.draw();
+    glDisable(GL_POLYGON_OFFSET_FILL);
+
+    if (settings.wireframe) {
+        mWire.use();
+        mWire.set("uView", view);
+        mWire.set("uProjection", projection);
+        mWire.set("uNormalView", glm::mat3(view));
+        mWire.set("uWireSrgba", settings.wireSrgba);
+        glEnable(GL_BLEND);
+        glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+        glDepthFunc(GL_LEQUAL);
+        glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+        mMesh.draw();
+        glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+        glDepthFunc(GL_LESS);
+        glDisable(GL_BLEND);
+    }
+    glUseProgram(0);
+    // Debug builds only: glGetError stalls some drivers (style: GL errors are bugs, asserted).
+    assert(glGetError() == GL_NO_ERROR && "ClayRenderer::draw left a GL error");
+}
+
+Image ClayRenderer::renderToImage(const OrbitCamera& camera, int width, int height,
+                                  const RenderSettings& settings) {
+    if (!mTarget || mTarget->width() != width || mTarget->height() != height ||
+        mTarget->samples() > std::max(settings.samples, 1))
+        mTarget.emplace(width, height, settings.samples);
+    mTarget->bind();
+    draw(camera, width, height, settings);
+    return mTarget->read();
+}
+
+}  // namespace kizamu::render

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file clay_renderer.h
+/// @brief Draws the clay: lit (Blinn-Phong), matcap, with a wireframe overlay on request;
+/// painted vertex colours where the mesh has them. Renders into the bound framebuffer or into
+/// an off-screen image.
+///
+/// Programs: clay.vert with clay.frag (lit), matcap.frag (matcap) and wire.frag (overlay), and
+/// ground.vert with ground.frag (the optional floor), from a `ShaderLibrary`. Colours are sRGB
+/// throughout the API; shading runs in linear light.
+///
+/// Threading: the GL context current at construction must be current on every call; one
+/// renderer per context. Not thread-safe.
+#pragma once
+
+#include "mesh/mesh_buffers.h"
+#include "render/camera.h"
+#include "render/framebuffer.h"
+#include "render/gpu_mesh.h"
+#include "render/image.h"
+#include "render/shader_program.h"
+
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include <optional>
+#include <string_view>
+
+namespace kizamu::render {
+
+enum class ShadeMode { Lit, Matcap };
+
+/// What a frame looks like. Plain data.
+struct RenderSettings {
+    ShadeMode shade = ShadeMode::Lit;
+    bool wireframe = false;  ///< triangle edges over the surface
+    /// A floor under the model (z = its lowest point; Z up) with a soft contact shadow, drawn
+    /// only while the eye is above it.
+    bool ground = false;
+    glm::vec3 floorSrgb{0.36f, 0.36f, 0.38f};  ///< the floor, sRGB 0..1
+    /// Unpainted clay, sRGB 0..1: a light warm grey, the colour layer's unpainted clay
+    /// (adf::kClayColour, 200 192 180), so a painted mesh's unpainted parts and an unpainted
+    /// mesh look the same.
+    glm::vec3 claySrgb{200.0f / 255.0f, 192.0f / 255.0f, 180.0f / 255.0f};
+    glm::vec3 backgroundSrgb{0.235f, 0.240f, 0.255f};  ///< cleared colour, sRGB 0..1
+    glm::vec4 wireSrgba{0.10f, 0.08f, 0.07f, 0.55f};   ///< overlay lines, sRGB 0..1, alpha blended
+    int samples = 4;                                   ///< MSAA samples off screen (1: none)
+};
+
+/// The CLI's `--mode`: "lit", "matcap", or "wireframe" (lit with the overlay). Leaves
+/// `settings` unchanged and returns false for any other name.
+bool applyModeName(std::string_view name, RenderSettings& settings);
+
+/// Owned by the thread that owns the GL context; not thread-safe.
+class ClayRenderer {
+public:
+    /// Builds the programs from `shaders`. Precondition: a GL 3.3 core context is current.
+    /// @throw ShaderError naming the shader file and line when one fails to compile or link.
+    explicit ClayRenderer(const ShaderLibrary& shaders);
+    ClayRenderer(const ClayRenderer&) = delete;
+    ClayRenderer& operator=(const ClayRenderer&) = delete;
+    ~ClayRenderer();
+
+    /// Replaces the mesh drawn (whole upload). See GpuMesh::upload.
+    void setMesh(const mesh::MeshBuffers& m);
+    const GpuMesh& mesh() const { return mMesh; }
+
+    /// Clears and draws the mesh into the framebuffer bound now, over a viewport of
+    /// width × height pixels already set by the caller.
+    /// Complexity: one draw call (plus one each for the wireframe and the ground); O(triangles)
+    ///             on the GPU.
+    /// Threading: the context's thread. Memory: none.
+    /// State: sets depth test, culling off, polygon mode and offset, blending, and the program;
+    /// leaves depth test on, blending off, fill mode and no program bound.
+    void draw(const OrbitCamera& camera, int width, int height,
+              const RenderSettings& settings) const;
+
+    /// Draws into an off-screen multisampled target of width × height (kept for the next call
+    /// of the same size) and reads it back: RGBA8, sRGB, top row first.
+    /// @throw std::runtime_error when the target cannot be made (size beyond the driver's).
+    /// Complexity: draw() plus an O(pixels) read-back that waits for the GPU.
+    Image renderToImage(const OrbitCamera& camera, int width, int height,
+                        const RenderSettings& settings);
+
+private:
+    void drawGround(const OrbitCamera& camera, const glm::mat4& view, const glm::mat4& projection,
+                    const RenderSettings& settings) const;
+    ShaderProgram mLit, mMatcap, mWire, mGround;
+    GpuMesh mMesh;
+    GLuint mEmptyVao = 0;  ///< the ground's draw reads no attributes, but core GL needs a VAO
+    std::optional<Framebuffer> mTarget;
+};
+
+}  // namespace kizamu::render
