@@ -27,6 +27,10 @@ glm::dvec3 WorkspaceMapping::toWorld(const glm::dvec3& devicePoint) const noexce
     return worldAnchor + vectorToWorld(devicePoint - deviceAnchor);
 }
 
+glm::dvec3 WorkspaceMapping::toDevice(const glm::dvec3& worldPoint) const noexcept {
+    return deviceAnchor + (glm::inverse(rotation) * (worldPoint - worldAnchor)) / scale;
+}
+
 glm::dvec3 WorkspaceMapping::vectorToWorld(const glm::dvec3& v) const noexcept { return scale * (rotation * v); }
 
 glm::dvec3 WorkspaceMapping::forceToDevice(const glm::dvec3& worldForce) const noexcept {

@@ -39,6 +39,8 @@ struct WorkspaceMapping {
     static WorkspaceMapping fit(const DeviceSpec& spec, const glm::dvec3& lo, const glm::dvec3& hi) noexcept;
 
     glm::dvec3 toWorld(const glm::dvec3& devicePoint) const noexcept;
+    /// The device point that maps to `worldPoint` (the inverse of toWorld).
+    glm::dvec3 toDevice(const glm::dvec3& worldPoint) const noexcept;
     /// A device-frame vector (a velocity) in the world: scale · R v.
     glm::dvec3 vectorToWorld(const glm::dvec3& v) const noexcept;
     /// A world force (N) as the device renders it: Rᵀ f, not scaled (see the file comment).

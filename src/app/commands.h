@@ -33,6 +33,8 @@ void addRunCommand(CLI::App& app);
 /// Registers `render`: a picture of an ADF, a session or a mesh, off screen. Defined only where
 /// the renderer is built (KIZAMU_HAVE_RENDER, from KIZAMU_BUILD_RENDER).
 void addRenderCommand(CLI::App& app);
+/// Registers `sculpt`: the sculpting window. Defined only where the renderer is built.
+void addSculptCommand(CLI::App& app);
 /// Registers `live`: a tool trajectory through the live engine.
 void addLiveCommand(CLI::App& app);
 /// Registers `devices`: the haptic devices found, and the simulated stylus.

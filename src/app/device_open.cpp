@@ -41,7 +41,9 @@ OpenedDevice openSim(const std::string& name, const DeviceOpenOptions& o, bool w
     out.id = "sim";
     if (o.liveHand) {
         if (!wallClock) fail(name, "a live hand needs the wall clock");
-        out.stylus = std::make_unique<sim::SimulatedStylus>(sim::Hand{});
+        sim::Hand rest;
+        rest.add(0.0, o.liveStart);
+        out.stylus = std::make_unique<sim::SimulatedStylus>(rest);
     } else if (o.hand) {
         out.stylus = std::make_unique<sim::SimulatedStylus>(*o.hand);
     } else {

@@ -25,6 +25,7 @@ struct DeviceOpenOptions {
     std::string firmware;          ///< the Falcon's firmware file (Novint's; we cannot ship it)
     std::optional<sim::Hand> hand;  ///< sim: a scripted hand
     sim::LiveHand* liveHand = nullptr;  ///< sim: a live hand instead (the mouse), on the wall clock
+    glm::dvec3 liveStart{0.0};          ///< m, device frame: where the stylus rests before the live hand moves it
 };
 
 /// An open device. For the simulated stylus both `stylus` and (on the wall clock) `realtime`

@@ -31,6 +31,7 @@ int runCommand(int argc, char** argv) {
         kizamu::app::addRunCommand(app);
 #if KIZAMU_HAVE_RENDER
         kizamu::app::addRenderCommand(app);
+        kizamu::app::addSculptCommand(app);
 #endif
         kizamu::app::addLiveCommand(app);
         kizamu::app::addDevicesCommand(app);

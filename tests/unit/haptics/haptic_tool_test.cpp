@@ -35,6 +35,7 @@ TEST(WorkspaceMapping, MapsPointsVectorsAndForcesAndReanchorsWithoutMoving) {
     m.anchor(glm::dvec3(0.01, 0.0, 0.0), glm::dvec3(1.0, 2.0, 3.0));
     const glm::dvec3 w = m.toWorld(glm::dvec3(0.02, 0.0, 0.0));  // 1 cm along device x: 2 cm along world y
     EXPECT_NEAR(glm::length(w - glm::dvec3(1.0, 2.02, 3.0)), 0.0, 1e-12);
+    EXPECT_NEAR(glm::length(m.toDevice(w) - glm::dvec3(0.02, 0.0, 0.0)), 0.0, 1e-12);
     EXPECT_NEAR(glm::length(m.vectorToWorld(glm::dvec3(0.0, 1.0, 0.0)) - glm::dvec3(-2.0, 0.0, 0.0)), 0.0, 1e-12);
     // Forces turn back and keep their size.
     EXPECT_NEAR(glm::length(m.forceToDevice(glm::dvec3(0.0, 3.0, 0.0)) - glm::dvec3(3.0, 0.0, 0.0)), 0.0, 1e-12);

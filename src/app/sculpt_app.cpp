@@ -1,0 +1,615 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file sculpt_app.cpp
+/// @brief The sculpting window's frame loop: input, navigation, the tool, the engine's mesh
+/// deltas, drawing, the panel.
+#include "app/sculpt_app.h"
+
+#include "app/commands.h"
+#include "app/device_open.h"
+#include "engine/engine.h"
+#include "haptics/engine_client.h"
+#include "haptics/servo_loop.h"
+#include "interact/input_script.h"
+#include "interact/input_state.h"
+#include "interact/mouse_tool.h"
+#include "mesh/mesh_delta.h"
+#include "render/clay_renderer.h"
+#include "render/image.h"
+#include "render/shader_program.h"
+#include "sculpt/session.h"
+#include "sculpt/session_lock.h"
+#include "ui/glfw_window.h"
+#include "ui/imgui_layer.h"
+
+#include <epoxy/gl.h>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <imgui.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <deque>
+#include <filesystem>
+#include <future>
+#include <memory>
+#include <optional>
+#include <thread>
+
+namespace kizamu::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+int64_t nowNs() { return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count(); }
+
+/// A new block of clay: a 12 cm cube in a 20 cm domain centred on the origin.
+sculpt::Script defaultBlock(int level) {
+    sculpt::Script s;
+    s.domain.originWorld = glm::dvec3(-0.1);
+    s.domain.sizeWorld = 0.2;
+    s.domain.maxLevel = level > 0 ? level : 9;
+    s.start.kind = sculpt::Shape::Kind::Box;
+    s.start.centre = glm::dvec3(0.0);
+    s.start.halfSize = glm::dvec3(0.06);
+    return s;
+}
+
+std::string defaultSessionRoot() {
+    if (const char* x = std::getenv("XDG_DATA_HOME"); x && *x) return (fs::path(x) / "kizamu" / "sessions").string();
+    if (const char* h = std::getenv("HOME"); h && *h) return (fs::path(h) / ".local" / "share" / "kizamu" / "sessions").string();
+    return (fs::temp_directory_path() / "kizamu-sessions").string();
+}
+
+/// A fresh "untitled-YYYYMMDD-HHMMSS[-N]" directory name under `root`.
+std::string untitledDir(const std::string& root) {
+    const std::time_t t = std::time(nullptr);
+    std::tm tm{};
+    localtime_r(&t, &tm);
+    char stamp[32];
+    std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &tm);
+    std::string dir = (fs::path(root) / (std::string("untitled-") + stamp)).string();
+    for (int n = 2; fs::exists(dir); ++n) dir = (fs::path(root) / (std::string("untitled-") + stamp + "-" + std::to_string(n))).string();
+    return dir;
+}
+
+/// Sessions under `root` a crash left open, newest first.
+std::vector<std::string> interruptedSessions(const std::string& root) {
+    std::vector<std::pair<fs::file_time_type, std::string>> found;
+    std::error_code ec;
+    for (const auto& e : fs::directory_iterator(root, ec)) {
+        if (!e.is_directory() || !sculpt::isSessionDir(e.path().string())) continue;
+        if (sculpt::SessionLock::interrupted(e.path().string())) found.emplace_back(fs::last_write_time(e.path(), ec), e.path().string());
+    }
+    std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    std::vector<std::string> out;
+    for (auto& f : found) out.push_back(std::move(f.second));
+    return out;
+}
+
+const char* const kOpNames[] = {"Carve", "Add", "Build", "Heat gun", "Smooth", "Flatten", "Paint"};
+const char* const kShapeNames[] = {"Sphere", "Cube", "Cylinder"};
+
+/// The haptic side when a device is chosen: the device, its servo loop and the client that
+/// feels the engine's clay; the mouse moves the simulated stylus's live hand.
+struct Haptics {
+    sim::LiveHand hand;
+    OpenedDevice device;
+    std::unique_ptr<haptics::ProxyRenderer> renderer;
+    std::unique_ptr<haptics::EngineHapticClient> client;
+    std::unique_ptr<haptics::ServoLoop> loop;
+    haptics::HapticToolSettings tool;
+};
+
+class SculptApp {
+public:
+    explicit SculptApp(const SculptOptions& o);
+    ~SculptApp();
+    int run();
+
+private:
+    void startEngine();
+    void startHaptics();
+    void frameEvents(int64_t frame);
+    void handleKeys();
+    void handleDrops();
+    void navigate();
+    void sculpt();
+    void updateMesh();
+    void draw();
+    void panel();
+    void setTitle();
+    void screenshot(const std::string& path);
+    /// The ray under the cursor (world): origin and direction.
+    std::pair<glm::dvec3, glm::dvec3> cursorRay() const;
+    void report(const engine::CommandResult& r, const char* what);
+    void selectTool();
+    /// A long command (open, import, export) runs while frames go on; its result is reported when
+    /// it arrives, and `sessionDir`, if set, becomes the session in use when it succeeded.
+    void launch(std::future<engine::CommandResult> f, std::string what, std::string sessionDir = {});
+    void pollLaunched();
+
+    struct Launched {
+        std::future<engine::CommandResult> result;
+        std::string what, sessionDir;
+    };
+    std::vector<Launched> mLaunched;
+
+    SculptOptions mOptions;
+    std::optional<interact::InputScript> mScript;
+    std::size_t mScriptNext = 0;
+    ui::GlfwWindow mWindow;
+    ui::ImGuiLayer mImGui;
+    render::ShaderLibrary mShaders;
+    render::ClayRenderer mRenderer;
+    render::OrbitCamera mCamera;
+    render::RenderSettings mLook;
+    std::unique_ptr<engine::Engine> mEngine;
+    std::unique_ptr<adf::SnapshotStore::Reader> mReader;
+    std::unique_ptr<Haptics> mHaptics;
+    mesh::MeshMirror mMirror;
+    std::size_t mTriangles = 0;
+    bool mFramed = false;
+    interact::InputState mInput;
+    std::vector<interact::InputEvent> mEvents;
+    interact::MouseTool mMouse;
+    engine::ToolSettings mTool;
+    glm::dvec2 mLastCursor{0.0};
+    std::string mSessionDir;
+    std::string mStatus;           ///< the last message (errors, what a command did)
+    std::vector<std::string> mInterrupted;
+    std::deque<double> mFrameMs;
+    char mExportPath[512] = "";
+    char mOpenPath[512] = "";
+};
+
+SculptApp::SculptApp(const SculptOptions& o)
+    : mOptions(o), mWindow([&] {
+          ui::WindowSettings ws;
+          ws.width = o.width;
+          ws.height = o.height;
+          return ws;
+      }()),
+      mImGui(mWindow.handle()), mRenderer(mShaders) {
+    if (!o.input.empty()) mScript = interact::readInputScript(o.input);
+    mTool.tool.radius = 0.008;
+    mTool.tool.strength = 1.0;
+    mMouse.setTool(mTool.tool);
+    mLook.ground = true;
+    startEngine();
+    startHaptics();
+    setTitle();
+}
+
+SculptApp::~SculptApp() {
+    if (mHaptics && mHaptics->loop) mHaptics->loop->stop();
+    mHaptics.reset();  // its client's reader goes before the engine's store
+    mReader.reset();
+}
+
+void SculptApp::startEngine() {
+    const std::string root = mOptions.sessionRoot.empty() ? defaultSessionRoot() : mOptions.sessionRoot;
+    engine::EngineSettings es;
+    es.producers = 2;  // 0: the mouse, 1: the servo thread
+    es.start = defaultBlock(mOptions.level);
+    const bool openDir = !mOptions.open.empty() && sculpt::isSessionDir(mOptions.open);
+    if (openDir) {
+        es.sessionDir = mOptions.open;
+    } else if (mOptions.open.empty() && mOptions.session.empty()) {
+        mInterrupted = interruptedSessions(root);
+        if (!mInterrupted.empty() && mOptions.restore == "yes") {
+            es.sessionDir = mInterrupted.front();
+            mStatus = "restored " + mInterrupted.front();
+            mInterrupted.clear();
+        } else {
+            if (mOptions.restore == "no") mInterrupted.clear();
+            es.sessionDir = untitledDir(root);
+        }
+    } else {
+        es.sessionDir = mOptions.session.empty() ? untitledDir(root) : mOptions.session;
+    }
+    mSessionDir = es.sessionDir;
+    mEngine = std::make_unique<engine::Engine>(es);
+    mReader = std::make_unique<adf::SnapshotStore::Reader>(mEngine->snapshots());
+    report(mEngine->setTool(mTool).get(), "tool");
+    if (!mOptions.open.empty() && !openDir) {
+        const std::string dir = untitledDir(root);
+        launch(mEngine->importMesh(mOptions.open, dir, mOptions.level), "import " + mOptions.open, dir);
+    }
+}
+
+void SculptApp::launch(std::future<engine::CommandResult> f, std::string what, std::string sessionDir) {
+    mStatus = what + " ...";
+    mLaunched.push_back({std::move(f), std::move(what), std::move(sessionDir)});
+}
+
+void SculptApp::pollLaunched() {
+    for (auto it = mLaunched.begin(); it != mLaunched.end();) {
+        if (it->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+            ++it;
+            continue;
+        }
+        const engine::CommandResult r = it->result.get();
+        report(r, it->what.c_str());
+        if (r.ok && r.message.empty()) mStatus = it->what + ": done";
+        if (r.ok && !it->sessionDir.empty()) {
+            mSessionDir = it->sessionDir;
+            mMirror = mesh::MeshMirror();
+            mFramed = false;
+            setTitle();
+        }
+        it = mLaunched.erase(it);
+    }
+}
+
+void SculptApp::startHaptics() {
+    if (mOptions.device == "none") return;
+    auto h = std::make_unique<Haptics>();
+    adf::Domain d;
+    {
+        const auto guard = mReader->acquire();
+        d = guard.adf().domain();
+    }
+    // The stylus waits at the top of its workspace, above the clay, until the mouse moves it.
+    const haptics::DeviceSpec simSpec = sim::SimulatedStylus(sim::Hand{}).spec();
+    const glm::dvec3 rest(0.0, 0.0, 0.9 * simSpec.workspaceMax.z);
+    h->hand.set(rest, 0, haptics::ServoLoop::clockNs());
+    DeviceOpenOptions open;
+    open.firmware = mOptions.firmware;
+    open.liveHand = &h->hand;
+    open.liveStart = rest;
+    try {
+        h->device = openDevice(mOptions.device, open, true);
+    } catch (const std::exception& e) {
+        mStatus = std::string(e.what()) + " (sculpting with the mouse alone)";
+        return;
+    }
+    const haptics::DeviceSpec& spec = h->device.device().spec();
+    h->tool.mapping = haptics::WorkspaceMapping::fit(spec, d.originWorld, d.originWorld + glm::dvec3(d.sizeWorld));
+    h->tool.planar = h->device.planar;
+    haptics::ProxySettings ps;
+    ps.toolRadius = mTool.tool.radius;
+    h->renderer = std::make_unique<haptics::ProxyRenderer>(h->tool.mapping.worldSpec(spec), 1e-3, ps);
+    h->client = std::make_unique<haptics::EngineHapticClient>(mEngine->snapshots(), mEngine->samples(1), *h->renderer, h->tool);
+    h->loop = std::make_unique<haptics::ServoLoop>(h->device.device(), *h->client);
+    const haptics::ServoStartReport r = h->loop->start();
+    if (!r.realtime && !r.warnings.empty()) mStatus = "haptics without real-time priority: " + r.warnings.front();
+    mHaptics = std::move(h);
+}
+
+void SculptApp::report(const engine::CommandResult& r, const char* what) {
+    if (!r.ok) mStatus = std::string(what) + ": " + r.message;
+    else if (!r.message.empty()) mStatus = r.message;
+}
+
+void SculptApp::setTitle() {
+    const std::string name = fs::path(mSessionDir).filename().string();
+    mWindow.setTitle("Kizamu - " + (name.empty() ? std::string("in memory") : name));
+}
+
+void SculptApp::frameEvents(int64_t frame) {
+    mEvents.clear();
+    mWindow.poll(mEvents, frame);
+    if (mScript) {
+        const glm::ivec2 size = mWindow.windowSize();
+        const double sx = double(size.x) / mScript->width, sy = double(size.y) / mScript->height;
+        while (mScriptNext < mScript->events.size() && mScript->events[mScriptNext].frame <= frame) {
+            interact::InputEvent e = mScript->events[mScriptNext++];
+            e.x *= sx;
+            e.y *= sy;
+            if (e.kind == interact::InputEventKind::Drop && fs::path(e.path).is_relative())
+                e.path = (fs::path(mScript->baseDir) / e.path).string();
+            mEvents.push_back(std::move(e));
+        }
+    }
+    mInput.beginFrame();
+    for (const interact::InputEvent& e : mEvents) mInput.apply(e);
+}
+
+void SculptApp::selectTool() {
+    mMouse.setTool(mTool.tool);
+    report(mEngine->setTool(mTool).get(), "tool");
+}
+
+void SculptApp::handleKeys() {
+    using namespace interact;
+    for (const KeyPress& k : mInput.keys()) {
+        const bool ctrl = k.mods & kModCtrl, shift = k.mods & kModShift;
+        if (ctrl && k.key == "z" && !shift) report(mEngine->undo().get(), "undo");
+        else if ((ctrl && shift && k.key == "z") || (ctrl && k.key == "y")) report(mEngine->redo().get(), "redo");
+        else if (ctrl && k.key == "s") report(mEngine->save().get(), "save");
+        else if (!ctrl && k.key.size() == 1 && k.key[0] >= '1' && k.key[0] <= '7') {
+            mTool.tool.op = sculpt::ToolOp(k.key[0] - '1');
+            selectTool();
+        } else if (k.key == "[" || k.key == "]") {
+            mTool.tool.radius = std::clamp(mTool.tool.radius * (k.key == "]" ? 1.25 : 0.8), 0.0005, 0.1);
+            selectTool();
+        } else if (k.key == "minus" || k.key == "equal") {
+            mTool.tool.strength = std::clamp(mTool.tool.strength + (k.key == "equal" ? 0.1 : -0.1), 0.1, 1.0);
+            selectTool();
+        } else if (k.key == "kp1") mCamera.setView(ctrl ? render::ViewAxis::Back : render::ViewAxis::Front);
+        else if (k.key == "kp3") mCamera.setView(ctrl ? render::ViewAxis::Left : render::ViewAxis::Right);
+        else if (k.key == "kp7") mCamera.setView(ctrl ? render::ViewAxis::Bottom : render::ViewAxis::Top);
+        else if (k.key == "kp5")
+            mCamera.projection = mCamera.projection == render::Projection::Perspective ? render::Projection::Orthographic
+                                                                                        : render::Projection::Perspective;
+        else if (k.key == "kpdecimal" || k.key == "home") mFramed = false;
+        else if (k.key == "w" && !ctrl) mLook.wireframe = !mLook.wireframe;
+        else if (k.key == "m" && !ctrl) mLook.shade = mLook.shade == render::ShadeMode::Lit ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
+        else if (k.key == "escape") report(mEngine->cancelStroke().get(), "cancel");
+    }
+}
+
+void SculptApp::handleDrops() {
+    for (const std::string& path : mInput.drops()) {
+        if (sculpt::isSessionDir(path)) {
+            launch(mEngine->openSession(path), "open " + path, path);
+        } else {
+            const std::string dir = untitledDir(mOptions.sessionRoot.empty() ? defaultSessionRoot() : mOptions.sessionRoot);
+            launch(mEngine->importMesh(path, dir, 0), "import " + path, dir);
+        }
+    }
+}
+
+void SculptApp::navigate() {
+    const glm::dvec2 c = mInput.cursor();
+    const glm::dvec2 delta = c - mLastCursor;
+    mLastCursor = c;
+    const bool orbit = mInput.held(interact::MouseButton::Middle) || mInput.held(interact::MouseButton::Right);
+    if (orbit && !(mInput.mods() & interact::kModShift)) {
+        mCamera.orbit(float(-delta.x * 0.008), float(delta.y * 0.008));
+    } else if (orbit) {  // Shift + middle: pan in the view plane
+        const glm::ivec2 size = mWindow.windowSize();
+        const float perPixel = 2.0f * mCamera.distance * std::tan(mCamera.fovYRad * 0.5f) / float(std::max(1, size.y));
+        const glm::vec3 right = glm::normalize(glm::cross(mCamera.forward(), mCamera.up()));
+        mCamera.target += (-float(delta.x) * right + float(delta.y) * mCamera.up()) * perPixel;
+    }
+    if (mInput.wheel() != 0.0 && !(mInput.mods() & interact::kModAlt)) mCamera.zoom(float(std::pow(0.85, mInput.wheel())));
+}
+
+std::pair<glm::dvec3, glm::dvec3> SculptApp::cursorRay() const {
+    const glm::ivec2 size = mWindow.windowSize();
+    const float aspect = float(size.x) / float(std::max(1, size.y));
+    const glm::mat4 inv = glm::inverse(mCamera.projectionMatrix(aspect) * mCamera.viewMatrix());
+    const glm::dvec2 c = mInput.cursor();
+    const float nx = float(2.0 * c.x / size.x - 1.0), ny = float(1.0 - 2.0 * c.y / size.y);
+    glm::vec4 a = inv * glm::vec4(nx, ny, -1.0f, 1.0f), b = inv * glm::vec4(nx, ny, 1.0f, 1.0f);
+    a /= a.w;
+    b /= b.w;
+    return {glm::dvec3(a), glm::dvec3(b - a)};
+}
+
+void SculptApp::sculpt() {
+    interact::MouseInput in;
+    in.timeS = double(nowNs()) * 1e-9;
+    in.hasRay = mInput.hasCursor() && !mImGui.wantsMouse();
+    std::tie(in.rayOrigin, in.rayDirection) = cursorRay();
+    in.primary = mInput.held(interact::MouseButton::Left) && !mImGui.wantsMouse();
+    in.ctrl = mInput.mods() & interact::kModCtrl;
+    in.shift = mInput.mods() & interact::kModShift;
+    in.wheel = (mInput.mods() & interact::kModAlt) ? mInput.wheel() : 0.0;  // Alt + wheel: the tool's depth
+    in.pressure = mInput.pressure();
+    interact::MouseToolFrame f;
+    {
+        const auto guard = mReader->acquire();
+        adf::AdfAccessor clay(guard.adf());
+        f = mMouse.update(in, clay, guard.adf().domain());
+    }
+    if (f.strokeBegan) {
+        engine::ToolSettings ts = mTool;
+        ts.tool.op = f.op;
+        ts.constraints.followOffset = f.followOffset;
+        report(mEngine->setTool(ts).get(), "tool");
+    }
+    if (!f.hasTarget) return;
+    const uint32_t buttons = f.stroking ? uint32_t(engine::kButtonPrimary) : 0u;
+    if (mHaptics) {
+        // The hand presses the stylus a tool radius into the clay below the cursor: the proxy
+        // stays on the surface and, while the button is held, carves in at the removal rate.
+        const glm::dvec3 pressed = f.target - f.normal * mTool.tool.radius;
+        mHaptics->hand.set(mHaptics->client->mapping().toDevice(pressed), buttons, haptics::ServoLoop::clockNs());
+        return;
+    }
+    engine::ToolSample s;
+    s.timeNs = nowNs();
+    s.posWorld = f.target;
+    s.strength = f.pressure;
+    s.buttons = buttons;
+    mEngine->samples(0).push(s);  // a refused sample (pending buffer full) is carried by the next
+}
+
+void SculptApp::updateMesh() {
+    std::optional<mesh::MeshDelta> delta = mEngine->takeMeshDelta();
+    if (!delta) return;
+    if (!mMirror.apply(std::move(*delta))) {
+        mEngine->requestFullMesh();
+        return;
+    }
+    const mesh::MeshBuffers m = mMirror.flatten();
+    mTriangles = m.triangleCount();
+    mRenderer.setMesh(m);
+    if (!mFramed && m.vertexCount() > 0) {
+        glm::vec3 lo(HUGE_VALF), hi(-HUGE_VALF);
+        for (const glm::vec3& p : m.positions) {
+            lo = glm::min(lo, p);
+            hi = glm::max(hi, p);
+        }
+        const glm::ivec2 size = mWindow.windowSize();
+        if (mCamera.distance == 1.0f && mCamera.yawRad == 0.0f) mCamera.setView(render::ViewAxis::Iso);
+        mCamera.frame(lo, hi, float(size.x) / float(std::max(1, size.y)), 1.6f);
+        mFramed = true;
+    }
+}
+
+void SculptApp::draw() {
+    const glm::ivec2 fb = mWindow.framebufferSize();
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, fb.x, fb.y);
+    mRenderer.draw(mCamera, fb.x, fb.y, mLook);
+}
+
+void SculptApp::panel() {
+    ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_Once);
+    ImGui::SetNextWindowSize(ImVec2(280, 0), ImGuiCond_Once);
+    ImGui::Begin("Kizamu");
+    bool changed = false;
+    int op = int(mTool.tool.op);
+    changed |= ImGui::Combo("Tool", &op, kOpNames, IM_ARRAYSIZE(kOpNames));
+    int shape = int(mTool.tool.shape);
+    changed |= ImGui::Combo("Shape", &shape, kShapeNames, IM_ARRAYSIZE(kShapeNames));
+    float sizeMm = float(mTool.tool.radius * 1000.0);
+    changed |= ImGui::SliderFloat("Size (mm)", &sizeMm, 0.5f, 50.0f, "%.1f", ImGuiSliderFlags_Logarithmic);
+    float strength = float(mTool.tool.strength);
+    changed |= ImGui::SliderFloat("Strength", &strength, 0.05f, 1.0f, "%.2f");
+    float colour[3] = {mTool.tool.colour.r / 255.0f, mTool.tool.colour.g / 255.0f, mTool.tool.colour.b / 255.0f};
+    changed |= ImGui::ColorEdit3("Colour", colour);
+    bool mx = mTool.mirror & 1, my = mTool.mirror & 2, mz = mTool.mirror & 4;
+    ImGui::Text("Symmetry");
+    ImGui::SameLine();
+    changed |= ImGui::Checkbox("X", &mx);
+    ImGui::SameLine();
+    changed |= ImGui::Checkbox("Y", &my);
+    ImGui::SameLine();
+    changed |= ImGui::Checkbox("Z", &mz);
+    float depth = float(mMouse.depth());
+    if (ImGui::SliderFloat("Depth (radii)", &depth, -1.0f, 1.0f, "%.2f")) mMouse.setDepth(depth);
+    if (changed) {
+        mTool.tool.op = sculpt::ToolOp(op);
+        mTool.tool.shape = sculpt::ToolShape(shape);
+        mTool.tool.radius = sizeMm / 1000.0;
+        mTool.tool.strength = strength;
+        mTool.tool.colour = glm::u8vec3(glm::round(glm::vec3(colour[0], colour[1], colour[2]) * 255.0f));
+        mTool.mirror = uint8_t((mx ? 1 : 0) | (my ? 2 : 0) | (mz ? 4 : 0));
+        selectTool();
+    }
+    ImGui::Separator();
+    if (ImGui::Button("Undo")) report(mEngine->undo().get(), "undo");
+    ImGui::SameLine();
+    if (ImGui::Button("Redo")) report(mEngine->redo().get(), "redo");
+    ImGui::SameLine();
+    if (ImGui::Button("Save")) report(mEngine->save().get(), "save");
+    ImGui::InputText("##export", mExportPath, sizeof mExportPath);
+    ImGui::SameLine();
+    if (ImGui::Button("Export") && mExportPath[0]) launch(mEngine->exportMesh(mExportPath), std::string("export ") + mExportPath);
+    ImGui::InputText("##open", mOpenPath, sizeof mOpenPath);
+    ImGui::SameLine();
+    if (ImGui::Button("Open") && mOpenPath[0]) {
+        interact::InputEvent drop;
+        drop.kind = interact::InputEventKind::Drop;
+        drop.path = mOpenPath;
+        mInput.apply(drop);
+        handleDrops();
+    }
+    ImGui::Separator();
+    bool matcap = mLook.shade == render::ShadeMode::Matcap, ortho = mCamera.projection == render::Projection::Orthographic;
+    if (ImGui::Checkbox("Matcap", &matcap)) mLook.shade = matcap ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
+    ImGui::SameLine();
+    ImGui::Checkbox("Wire", &mLook.wireframe);
+    ImGui::SameLine();
+    ImGui::Checkbox("Floor", &mLook.ground);
+    ImGui::SameLine();
+    if (ImGui::Checkbox("Ortho", &ortho)) mCamera.projection = ortho ? render::Projection::Orthographic : render::Projection::Perspective;
+    ImGui::Separator();
+    std::vector<double> ms(mFrameMs.begin(), mFrameMs.end());
+    std::sort(ms.begin(), ms.end());
+    ImGui::Text("frame %.1f ms (median of %zu)", ms.empty() ? 0.0 : ms[ms.size() / 2], ms.size());
+    ImGui::Text("%zu triangles, %llu strokes", mTriangles, (unsigned long long)mEngine->stats().strokes);
+    if (mHaptics) {
+        const haptics::ServoSummary s = mHaptics->loop->stats().summary();
+        ImGui::Text("haptics %s: %.0f Hz, period error p99 %.0f us", mHaptics->device.device().spec().name.c_str(), s.rateHz,
+                    s.periodErrorUs.p99);
+    } else {
+        ImGui::TextUnformatted("haptics off: the mouse sculpts alone");
+    }
+    if (!mStatus.empty()) ImGui::TextWrapped("%s", mStatus.c_str());
+    ImGui::End();
+
+    if (!mInterrupted.empty()) {
+        ImGui::OpenPopup("Restore");
+        if (ImGui::BeginPopupModal("Restore", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
+            ImGui::Text("Kizamu did not close %s.\nEvery finished stroke is in its journal.", mInterrupted.front().c_str());
+            if (ImGui::Button("Restore it")) {
+                interact::InputEvent drop;
+                drop.kind = interact::InputEventKind::Drop;
+                drop.path = mInterrupted.front();
+                mInterrupted.clear();
+                mInput.apply(drop);
+                handleDrops();
+                ImGui::CloseCurrentPopup();
+            }
+            ImGui::SameLine();
+            if (ImGui::Button("Not now")) {
+                mInterrupted.clear();
+                ImGui::CloseCurrentPopup();
+            }
+            ImGui::EndPopup();
+        }
+    }
+}
+
+void SculptApp::screenshot(const std::string& path) {
+    const glm::ivec2 fb = mWindow.framebufferSize();
+    render::Image img(fb.x, fb.y);
+    std::vector<uint8_t> rows(std::size_t(fb.x) * std::size_t(fb.y) * 4);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, fb.x, fb.y, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+    const std::size_t stride = std::size_t(fb.x) * 4;
+    for (int y = 0; y < fb.y; ++y)  // GL's first row is the bottom
+        std::copy_n(rows.data() + std::size_t(fb.y - 1 - y) * stride, stride, img.pixels.data() + std::size_t(y) * stride);
+    render::writePng(path, img);
+}
+
+int SculptApp::run() {
+    const auto framePeriod = std::chrono::microseconds(16'667);  // 60 frames a second at most
+    for (int64_t frame = 0; !mWindow.shouldClose() && (mOptions.frames == 0 || frame < mOptions.frames); ++frame) {
+        const auto start = Clock::now();
+        frameEvents(frame);
+        mImGui.begin();
+        if (!mImGui.wantsKeyboard()) handleKeys();
+        handleDrops();
+        pollLaunched();
+        navigate();
+        sculpt();
+        updateMesh();
+        draw();
+        panel();
+        mImGui.end();
+        const bool last = mOptions.frames > 0 && frame + 1 == mOptions.frames;
+        if (last && !mOptions.screenshot.empty()) {
+            // The last frame shows everything the script did: wait for the engine, then draw again.
+            while (!mEngine->samples(0).flush()) std::this_thread::yield();
+            for (Launched& l : mLaunched) l.result.wait();
+            pollLaunched();
+            mEngine->sync().get();
+            updateMesh();
+            draw();
+            mImGui.drawAgain();
+            screenshot(mOptions.screenshot);
+        }
+        mWindow.swap();
+        for (const std::string& n : mEngine->takeNotices()) mStatus = n;
+        const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        mFrameMs.push_back(ms);
+        if (mFrameMs.size() > 120) mFrameMs.pop_front();
+        std::this_thread::sleep_until(start + framePeriod);
+    }
+    if (!mOptions.screenshot.empty()) std::printf("wrote %s\n", mOptions.screenshot.c_str());
+    std::printf("sculpt: session %s, %llu strokes\n", mSessionDir.c_str(), (unsigned long long)mEngine->stats().strokes);
+    return 0;
+}
+
+}  // namespace
+
+int runSculptApp(const SculptOptions& options) {
+    SculptApp app(options);
+    return app.run();
+}
+
+}  // namespace kizamu::app

@@ -1,0 +1,38 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file sculpt_app.h
+/// @brief `kizamu sculpt`: the desktop sculpting window. The live engine's clay drawn as it
+/// changes, a panel of tools and figures, the mouse as the stylus's hand (through a haptic
+/// device's servo loop when one is chosen), Blender's navigation and shortcuts.
+///
+/// One UI thread owns the window, the GL context and the panel; it never waits on the edit
+/// thread except for a tool change at the start of a stroke (the engine's next pass). The edit
+/// thread (engine/engine.h) applies the samples and posts mesh deltas; the servo thread
+/// (haptics/servo_loop.h), when a device is chosen, renders the force and pushes the proxy.
+/// Scripted runs (`--input FILE --frames N --screenshot PNG`) feed recorded input events
+/// (docs/INPUT.md) through the same path as the window's own.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+namespace kizamu::app {
+
+struct SculptOptions {
+    std::string open;              ///< a session directory to open, or a mesh or .kza to import; empty: a new block of clay
+    std::string session;           ///< where a new session is journaled; empty: an untitled one under sessionRoot
+    std::string sessionRoot;       ///< empty: $XDG_DATA_HOME/kizamu/sessions (~/.local/share/kizamu/sessions)
+    std::string device = "auto";   ///< none (the mouse alone), sim, falcon[:BUS:ADDR], hid[:PATH], auto
+    std::string firmware;          ///< the Falcon's firmware file
+    int level = 0;                 ///< a new session's finest level (0: 9)
+    std::string input;             ///< an input script to replay (docs/INPUT.md)
+    int64_t frames = 0;            ///< exit after this many frames (0: when the window closes)
+    std::string screenshot;        ///< write the last frame here (PNG)
+    int width = 1280, height = 720;
+    std::string restore = "ask";   ///< an interrupted session found at start: ask, yes, no
+};
+
+/// Runs the window until it closes or `frames` have been drawn. Returns the exit code.
+/// @throw std::runtime_error (no display, no OpenGL 3.3, a shader that does not compile, ...)
+int runSculptApp(const SculptOptions& options);
+
+}  // namespace kizamu::app
