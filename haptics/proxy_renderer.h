@@ -52,7 +52,7 @@ struct ProxySettings {
     bool enabled = true;      ///< false: haptics off (zero force; the proxy is still tracked)
     double softStartForce = 0.5;  ///< N: after a (re)start no force until the computed one is below this
     double softStartTime = 0.25;  ///< s: then the force ramps from 0 to full over this time
-    double removalRate = 0.01;    ///< m/s: how fast the carving proxy advances into the material
+    double removalRate = 0.03;    ///< m/s: how fast the carving proxy advances into the material (a loop tool through soft clay)
     /// m/s: how fast a proxy the surface moved under (a new snapshot) is moved back to it:
     /// K settleSpeed T per tick bounds the force step it causes (0.16 N at 3200 N/m, 1 kHz;
     /// docs/decisions/0032-haptic-proxy-gains.md).
