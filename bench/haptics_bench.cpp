@@ -103,8 +103,9 @@ private:
 };
 
 /// The application's force computation: the proxy renderer on the published clay through
-/// EngineHapticClient (a 1 cm tool sphere, the device's point on or below the surface, so
-/// every tick is a contact: march, bisection and slide), pushing the proxy to `samples`.
+/// EngineHapticClient (a 1 cm tool sphere; the device 1 mm past the touching level, about 3 N
+/// at the renderer's 3200 N/m, a firm press; every tick a contact: march, bisection and slide),
+/// pushing the proxy to `samples`.
 struct Rendering {
     haptics::ProxyRenderer renderer;
     haptics::EngineHapticClient client;
@@ -118,6 +119,10 @@ struct Rendering {
         return ps;
     }
 };
+
+/// m above a surface point (the top's normal is +z) where the stand-in device presses: 1 mm past
+/// the 1 cm tool's touching level.
+constexpr double kPress = 0.009;
 
 struct Run {
     haptics::ServoSummary summary;
@@ -187,7 +192,8 @@ Run loadRun(const HapticsBenchOptions& opt, double rateHz) {
                     s.timeNs = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
                     s.posWorld = line[std::min(i, kStrokeSamples - 1)] - glm::dvec3(0.0, 0.0, deeper);
                     s.buttons = i < kStrokeSamples ? engine::kButtonPrimary : 0u;
-                    for (int a = 0; a < 3; ++a) device.tool[a].store(s.posWorld[a], std::memory_order_relaxed);
+                    const glm::dvec3 felt = s.posWorld + glm::dvec3(0.0, 0.0, kPress);
+                    for (int a = 0; a < 3; ++a) device.tool[a].store(felt[a], std::memory_order_relaxed);
                     q.push(s);
                 }
             }
@@ -239,6 +245,26 @@ Figures combine(const std::vector<Run>& runs) {
     return f;
 }
 
+/// The force computation alone, with no thread or deadline around it: `ticks` back-to-back
+/// updates on the calling thread along `path`, each timed. Separates what the renderer costs from
+/// what the servo thread's scheduling adds to its measured force time (a tick preempted midway).
+std::vector<double> forceAlone(adf::SnapshotStore& store, const std::vector<glm::dvec3>& path, std::size_t ticks) {
+    StandInDevice device(&path);
+    engine::SampleQueue nobody;
+    Rendering rendering(store, nobody, device, 1000.0);
+    std::vector<double> us;
+    us.reserve(ticks);
+    haptics::DeviceState state;
+    glm::dvec3 force;
+    for (std::size_t i = 0; i < ticks; ++i) {
+        device.read(state);
+        const auto t0 = Clock::now();
+        rendering.client.tick(state, 1e-3, force);
+        us.push_back(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+    }
+    return us;
+}
+
 std::string hz(double rate) { return std::to_string(int(std::lround(rate))) + " Hz"; }
 
 }  // namespace
@@ -259,9 +285,13 @@ int runHapticsBench(const HapticsBenchOptions& opt) {
         adf::SnapshotStore::Reader reader(bareStore);
         const auto g = reader.acquire();
         barePath = surfaceLine(g.adf(), 0.5, 2000, 0.2);
+        for (glm::dvec3& p : barePath) p.z += kPress;  // the top's normal is +z
         const std::vector<glm::dvec3> back(barePath.rbegin(), barePath.rend());
         barePath.insert(barePath.end(), back.begin(), back.end());
     }
+
+    out.progress("the force computation alone");
+    const std::vector<double> alone = forceAlone(bareStore, barePath, 200'000);
 
     bool realtime = true, warned = false;
     auto measure = [&](double rateHz, Figures& bare, Figures& load) {
@@ -295,6 +325,9 @@ int runHapticsBench(const HapticsBenchOptions& opt) {
     out.add("haptics.force_us.p50", load.force50, "us");
     out.add("haptics.force_us.p999", load.force999, "us", "target <= 5 us");
     out.add("haptics.missed_deadlines", load.missed, "", "fraction of ticks more than a period late; target <= 0.0005");
+    out.add("haptics.force_us.alone.p50", quantile(alone, 0.5), "us", "the same update back to back, no servo thread");
+    out.add("haptics.force_us.alone.p99", quantile(alone, 0.99), "us");
+    out.add("haptics.force_us.alone.p999", quantile(alone, 0.999), "us", "every update does the same work: the tail is the vCPU");
     out.add("haptics.engine_segments", load.segments, "segments", "live segments applied per run");
     out.section("servo loop at " + hz(opt.rateHz) + " bare: nothing else running (the machine's timer floor)");
     out.add("haptics.bare.rate_hz", bare.rate, "Hz");
