@@ -14,7 +14,7 @@
 /// spec, so "device" below means the device's state in the world.
 ///
 /// Features:
-///  [X] proxy in free space = device; stops on the contact surface (march + bisection, bounded)
+///  [X] proxy in free space = device; stops on the contact surface (march, then regula falsi on the gap; bounded)
 ///  [X] slides along the surface (tangent-plane move + re-projection, bounded), static and
 ///      kinetic friction (Coulomb cone on the spring force)
 ///  [X] tool radius and offset surface (contact where distance = toolRadius + offset)
@@ -84,7 +84,7 @@ public:
     static constexpr double kPassivitySafety = 0.8;
     /// Bounded work per tick (what keeps update() real-time).
     static constexpr int kMarchSteps = 32;     ///< sphere-tracing steps along the proxy's path
-    static constexpr int kBisectSteps = 16;    ///< bisection steps to the contact point
+    static constexpr int kBisectSteps = 16;    ///< most root-finding steps to the contact point (regula falsi: a few)
     static constexpr int kSlideIterations = 4; ///< tangent-plane moves (edges and grooves need > 1)
     static constexpr int kProjectSteps = 3;    ///< Newton steps back onto the surface per move
 
