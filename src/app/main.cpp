@@ -38,6 +38,14 @@ int runCommand(int argc, char** argv) {
 #if KIZAMU_HAVE_BENCH
         kizamu::app::addBenchCommand(app);
 #endif
+#if KIZAMU_HAVE_RENDER
+        // `kizamu` alone opens the sculpting window on a new block of clay (`kizamu sculpt`).
+        if (argc == 1) {
+            const char* alone[] = {argv[0], "sculpt"};
+            app.parse(2, const_cast<char**>(alone));
+            return 0;
+        }
+#endif
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
         return app.exit(e);

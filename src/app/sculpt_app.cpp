@@ -139,6 +139,7 @@ private:
         std::string what, sessionDir;
     };
     std::vector<Launched> mLaunched;
+    std::future<engine::CommandResult> mStrokeTool;  ///< the tool change a stroke's press waits for
 
     SculptOptions mOptions;
     std::optional<interact::InputScript> mScript;
@@ -313,16 +314,16 @@ void SculptApp::frameEvents(int64_t frame) {
 
 void SculptApp::selectTool() {
     mMouse.setTool(mTool.tool);
-    report(mEngine->setTool(mTool).get(), "tool");
+    launch(mEngine->setTool(mTool), "tool");
 }
 
 void SculptApp::handleKeys() {
     using namespace interact;
     for (const KeyPress& k : mInput.keys()) {
         const bool ctrl = k.mods & kModCtrl, shift = k.mods & kModShift;
-        if (ctrl && k.key == "z" && !shift) report(mEngine->undo().get(), "undo");
-        else if ((ctrl && shift && k.key == "z") || (ctrl && k.key == "y")) report(mEngine->redo().get(), "redo");
-        else if (ctrl && k.key == "s") report(mEngine->save().get(), "save");
+        if (ctrl && k.key == "z" && !shift) launch(mEngine->undo(), "undo");
+        else if ((ctrl && shift && k.key == "z") || (ctrl && k.key == "y")) launch(mEngine->redo(), "redo");
+        else if (ctrl && k.key == "s") launch(mEngine->save(), "save");
         else if (!ctrl && k.key.size() == 1 && k.key[0] >= '1' && k.key[0] <= '7') {
             mTool.tool.op = sculpt::ToolOp(k.key[0] - '1');
             selectTool();
@@ -341,7 +342,7 @@ void SculptApp::handleKeys() {
         else if (k.key == "kpdecimal" || k.key == "home") mFramed = false;
         else if (k.key == "w" && !ctrl) mLook.wireframe = !mLook.wireframe;
         else if (k.key == "m" && !ctrl) mLook.shade = mLook.shade == render::ShadeMode::Lit ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
-        else if (k.key == "escape") report(mEngine->cancelStroke().get(), "cancel");
+        else if (k.key == "escape") launch(mEngine->cancelStroke(), "cancel");
     }
 }
 
@@ -401,10 +402,16 @@ void SculptApp::sculpt() {
         f = mMouse.update(in, clay, guard.adf().domain());
     }
     if (f.strokeBegan) {
+        // The stroke's tool first: the edit thread takes samples before commands in a pass, so
+        // the press waits (a frame or two, never blocking this thread) until the tool is set.
         engine::ToolSettings ts = mTool;
         ts.tool.op = f.op;
         ts.constraints.followOffset = f.followOffset;
-        report(mEngine->setTool(ts).get(), "tool");
+        mStrokeTool = mEngine->setTool(ts);
+    }
+    if (mStrokeTool.valid()) {
+        if (mStrokeTool.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+        report(mStrokeTool.get(), "tool");
     }
     if (!f.hasTarget) return;
     const uint32_t buttons = f.stroking ? uint32_t(engine::kButtonPrimary) : 0u;
@@ -488,11 +495,11 @@ void SculptApp::panel() {
         selectTool();
     }
     ImGui::Separator();
-    if (ImGui::Button("Undo")) report(mEngine->undo().get(), "undo");
+    if (ImGui::Button("Undo")) launch(mEngine->undo(), "undo");
     ImGui::SameLine();
-    if (ImGui::Button("Redo")) report(mEngine->redo().get(), "redo");
+    if (ImGui::Button("Redo")) launch(mEngine->redo(), "redo");
     ImGui::SameLine();
-    if (ImGui::Button("Save")) report(mEngine->save().get(), "save");
+    if (ImGui::Button("Save")) launch(mEngine->save(), "save");
     ImGui::InputText("##export", mExportPath, sizeof mExportPath);
     ImGui::SameLine();
     if (ImGui::Button("Export") && mExportPath[0]) launch(mEngine->exportMesh(mExportPath), std::string("export ") + mExportPath);
@@ -523,6 +530,15 @@ void SculptApp::panel() {
         const haptics::ServoSummary s = mHaptics->loop->stats().summary();
         ImGui::Text("haptics %s: %.0f Hz, period error p99 %.0f us", mHaptics->device.device().spec().name.c_str(), s.rateHz,
                     s.periodErrorUs.p99);
+        if (!mHaptics->loop->connected()) {
+            // The servo loop already holds the force at zero; the window goes on.
+            ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.3f, 1.0f), "the device stopped answering: force is off");
+            if (ImGui::Button("Reconnect")) {
+                mHaptics->loop->stop();
+                mHaptics.reset();
+                startHaptics();
+            }
+        }
     } else {
         ImGui::TextUnformatted("haptics off: the mouse sculpts alone");
     }

@@ -5,7 +5,8 @@
 /// device's servo loop when one is chosen), Blender's navigation and shortcuts.
 ///
 /// One UI thread owns the window, the GL context and the panel; it never waits on the edit
-/// thread except for a tool change at the start of a stroke (the engine's next pass). The edit
+/// thread: commands run while frames go on (a stroke's press waits, a frame or two, for its tool
+/// change; a scripted run's last frame waits for everything, to show it). The edit
 /// thread (engine/engine.h) applies the samples and posts mesh deltas; the servo thread
 /// (haptics/servo_loop.h), when a device is chosen, renders the force and pushes the proxy.
 /// Scripted runs (`--input FILE --frames N --screenshot PNG`) feed recorded input events

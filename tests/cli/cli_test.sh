@@ -297,6 +297,9 @@ if [ "$renderer" = norender ]; then
     grep -q "without the renderer" "$tmp/err" || fail "run --render without the renderer: $(cat "$tmp/err")"
 else
     export LP_NUM_THREADS=2
+    # `kizamu` alone opens the sculpting window; with no display it says so on one line
+    env -u DISPLAY "$kizamu" >/dev/null 2>"$tmp/err" && fail "kizamu alone with no display succeeded"
+    [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "no display" "$tmp/err" || fail "kizamu alone, no display: $(cat "$tmp/err")"
     "$kizamu" render "$tmp/p.kza" --out "$tmp/p.png" --size 320x200 >"$tmp/out" 2>"$tmp/err" || fail "render kza: $(cat "$tmp/err")"
     [ "$(png_size "$tmp/p.png")" = "320 200" ] || fail "render kza: not a 320x200 PNG: $(png_size "$tmp/p.png")"
     "$kizamu" render "$tmp/tet.obj" --out "$tmp/tet.png" --size 64x48 --view top --mode wireframe --ortho >/dev/null 2>"$tmp/err" ||
