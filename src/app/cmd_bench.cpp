@@ -5,6 +5,9 @@
 #include "bench/adf_bench.h"
 #include "bench/edit_bench.h"
 #include "bench/haptics_bench.h"
+#if KIZAMU_BENCH_HAVE_RENDER
+#include "bench/render_bench.h"
+#endif
 #include "bench/live_bench.h"
 #include "bench/mesh_bench.h"
 
@@ -145,6 +148,23 @@ void addBenchCommand(CLI::App& app) {
         }
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
+
+#if KIZAMU_BENCH_HAVE_RENDER
+    auto* renderCmd = bench->add_subcommand(
+        "render", "The renderer off screen: frame times (level 10, about a million triangles), draw calls, sample to visible");
+    auto renderOptions = std::make_shared<bench::RenderBenchOptions>();
+    renderCmd->add_flag("--json", renderOptions->json, "One JSON object per figure per line, nothing else on stdout");
+    renderCmd->add_option("--frames", renderOptions->frames, "Frames timed per mesh (figures are medians)")
+        ->check(CLI::Range(1, 10000))
+        ->capture_default_str();
+    renderCmd->add_option("--edits", renderOptions->edits, "Dabs timed for the sample-to-visible latency")
+        ->check(CLI::Range(1, 10000))
+        ->capture_default_str();
+    renderCmd->callback([renderOptions] {
+        const int rc = bench::runRenderBench(*renderOptions);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+#endif
 }
 
 }  // namespace kizamu::app

@@ -12,6 +12,7 @@
 #include "interact/input_script.h"
 #include "interact/input_state.h"
 #include "interact/mouse_tool.h"
+#include "mesh/mesh_colours.h"
 #include "mesh/mesh_delta.h"
 #include "render/clay_renderer.h"
 #include "render/image.h"
@@ -140,6 +141,7 @@ private:
     };
     std::vector<Launched> mLaunched;
     std::future<engine::CommandResult> mStrokeTool;  ///< the tool change a stroke's press waits for
+    std::optional<render::ToolMark> mToolMark;        ///< where the tool is drawn; none off the clay
 
     SculptOptions mOptions;
     std::optional<interact::InputScript> mScript;
@@ -388,9 +390,11 @@ std::pair<glm::dvec3, glm::dvec3> SculptApp::cursorRay() const {
 void SculptApp::sculpt() {
     interact::MouseInput in;
     in.timeS = double(nowNs()) * 1e-9;
-    in.hasRay = mInput.hasCursor() && !mImGui.wantsMouse();
+    // A script's cursor is the only one: the panel's hover (from the system's pointer) is ignored.
+    const bool panelHasMouse = !mScript && mImGui.wantsMouse();
+    in.hasRay = mInput.hasCursor() && !panelHasMouse;
     std::tie(in.rayOrigin, in.rayDirection) = cursorRay();
-    in.primary = mInput.held(interact::MouseButton::Left) && !mImGui.wantsMouse();
+    in.primary = mInput.held(interact::MouseButton::Left) && !panelHasMouse;
     in.ctrl = mInput.mods() & interact::kModCtrl;
     in.shift = mInput.mods() & interact::kModShift;
     in.wheel = (mInput.mods() & interact::kModAlt) ? mInput.wheel() : 0.0;  // Alt + wheel: the tool's depth
@@ -410,10 +414,16 @@ void SculptApp::sculpt() {
         mStrokeTool = mEngine->setTool(ts);
     }
     if (mStrokeTool.valid()) {
-        if (mStrokeTool.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;
+        if (mStrokeTool.wait_for(std::chrono::seconds(0)) != std::future_status::ready) return;  // the ring stays where it was
         report(mStrokeTool.get(), "tool");
     }
+    mToolMark.reset();
     if (!f.hasTarget) return;
+    render::ToolMark mark;
+    mark.centre = glm::vec3(f.target);
+    mark.normal = glm::vec3(f.normal);
+    mark.radius = float(mTool.tool.radius);
+    mToolMark = mark;
     const uint32_t buttons = f.stroking ? uint32_t(engine::kButtonPrimary) : 0u;
     if (mHaptics) {
         // The hand presses the stylus a tool radius into the clay below the cursor: the proxy
@@ -437,7 +447,13 @@ void SculptApp::updateMesh() {
         mEngine->requestFullMesh();
         return;
     }
-    const mesh::MeshBuffers m = mMirror.flatten();
+    mesh::MeshBuffers m = mMirror.flatten();
+    {
+        // Paint: the mirror carries shapes only; the colours are the published layer's at each
+        // vertex (the same lookup every export uses, mesh_colours.h).
+        const auto guard = mReader->acquire();
+        if (guard.adf().colours()) mesh::colourPoints(*guard.adf().colours(), m.positions, m.colours);
+    }
     mTriangles = m.triangleCount();
     mRenderer.setMesh(m);
     if (!mFramed && m.vertexCount() > 0) {
@@ -457,7 +473,7 @@ void SculptApp::draw() {
     const glm::ivec2 fb = mWindow.framebufferSize();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glViewport(0, 0, fb.x, fb.y);
-    mRenderer.draw(mCamera, fb.x, fb.y, mLook);
+    mRenderer.draw(mCamera, fb.x, fb.y, mLook, mToolMark ? &*mToolMark : nullptr);
 }
 
 void SculptApp::panel() {

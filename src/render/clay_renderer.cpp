@@ -32,7 +32,8 @@ ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
     : mLit(shaders.build({"clay.vert", "clay.frag"})),
       mMatcap(shaders.build({"clay.vert", "matcap.frag"})),
       mWire(shaders.build({"clay.vert", "wire.frag"})),
-      mGround(shaders.build({"ground.vert", "ground.frag"})) {
+      mGround(shaders.build({"ground.vert", "ground.frag"})),
+      mTool(shaders.build({"tool.vert", "tool.frag"})) {
     glGenVertexArrays(1, &mEmptyVao);
 }
 
@@ -67,8 +68,40 @@ void ClayRenderer::setMesh(const mesh::MeshBuffers& m) {
     mMesh.upload(m);
 }
 
+void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection,
+                            bool floor) const {
+    mTool.use();
+    mTool.set("uView", view);
+    mTool.set("uProjection", projection);
+    mTool.set("uCentre", tool.centre);
+    mTool.set("uNormal", tool.normal);
+    mTool.set("uRadius", tool.radius);
+    // The floor's height as drawGround puts it (a hair above, so the spot wins the depth test).
+    const float floorZ = mMesh.boundsMin().z;
+    mTool.set("uFloorZ", floorZ);
+    glBindVertexArray(mEmptyVao);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    if (floor && tool.centre.z > floorZ) {
+        mTool.set("uMode", 2);
+        mTool.set("uColourSrgba", glm::vec4(0.0f, 0.0f, 0.0f, 0.45f));
+        glDrawArrays(GL_TRIANGLE_FAN, 0, 34);
+        mTool.set("uMode", 1);
+        mTool.set("uColourSrgba", glm::vec4(tool.ringSrgba.r, tool.ringSrgba.g, tool.ringSrgba.b, 0.5f));
+        glDrawArrays(GL_LINES, 0, 2);
+    }
+    // The ring over everything: a cursor must never hide behind the bump it is on.
+    glDisable(GL_DEPTH_TEST);
+    mTool.set("uMode", 0);
+    mTool.set("uColourSrgba", tool.ringSrgba);
+    glDrawArrays(GL_LINE_LOOP, 0, 64);
+    glEnable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glBindVertexArray(0);
+}
+
 void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
-                        const RenderSettings& settings) const {
+                        const RenderSettings& settings, const ToolMark* tool) const {
     const glm::vec3 bg = settings.backgroundSrgb;
     glClearColor(bg.r, bg.g, bg.b, 1.0f);
     glClearDepth(1.0);
@@ -117,18 +150,19 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
         glDepthFunc(GL_LESS);
         glDisable(GL_BLEND);
     }
+    if (tool) drawTool(*tool, view, projection, settings.ground);
     glUseProgram(0);
     // Debug builds only: glGetError stalls some drivers (style: GL errors are bugs, asserted).
     assert(glGetError() == GL_NO_ERROR && "ClayRenderer::draw left a GL error");
 }
 
 Image ClayRenderer::renderToImage(const OrbitCamera& camera, int width, int height,
-                                  const RenderSettings& settings) {
+                                  const RenderSettings& settings, const ToolMark* tool) {
     if (!mTarget || mTarget->width() != width || mTarget->height() != height ||
         mTarget->samples() > std::max(settings.samples, 1))
         mTarget.emplace(width, height, settings.samples);
     mTarget->bind();
-    draw(camera, width, height, settings);
+    draw(camera, width, height, settings, tool);
     return mTarget->read();
 }
 

@@ -46,6 +46,15 @@ struct RenderSettings {
     int samples = 4;                                   ///< MSAA samples off screen (1: none)
 };
 
+/// Where the tool is, drawn over the clay: a ring of the brush's radius on the surface under it
+/// (always visible), and, with the floor, a line down to the floor and a spot there (depth cues).
+struct ToolMark {
+    glm::vec3 centre{0.0f};             ///< m, world: the tool's centre
+    glm::vec3 normal{0.0f, 0.0f, 1.0f};  ///< unit: the surface normal under it
+    float radius = 0.01f;               ///< m
+    glm::vec4 ringSrgba{1.0f, 0.55f, 0.15f, 0.9f};
+};
+
 /// The CLI's `--mode`: "lit", "matcap", or "wireframe" (lit with the overlay). Leaves
 /// `settings` unchanged and returns false for any other name.
 bool applyModeName(std::string_view name, RenderSettings& settings);
@@ -72,19 +81,20 @@ public:
     /// State: sets depth test, culling off, polygon mode and offset, blending, and the program;
     /// leaves depth test on, blending off, fill mode and no program bound.
     void draw(const OrbitCamera& camera, int width, int height,
-              const RenderSettings& settings) const;
+              const RenderSettings& settings, const ToolMark* tool = nullptr) const;
 
     /// Draws into an off-screen multisampled target of width × height (kept for the next call
     /// of the same size) and reads it back: RGBA8, sRGB, top row first.
     /// @throw std::runtime_error when the target cannot be made (size beyond the driver's).
     /// Complexity: draw() plus an O(pixels) read-back that waits for the GPU.
     Image renderToImage(const OrbitCamera& camera, int width, int height,
-                        const RenderSettings& settings);
+                        const RenderSettings& settings, const ToolMark* tool = nullptr);
 
 private:
     void drawGround(const OrbitCamera& camera, const glm::mat4& view, const glm::mat4& projection,
                     const RenderSettings& settings) const;
-    ShaderProgram mLit, mMatcap, mWire, mGround;
+    void drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection, bool floor) const;
+    ShaderProgram mLit, mMatcap, mWire, mGround, mTool;
     GpuMesh mMesh;
     GLuint mEmptyVao = 0;  ///< the ground's draw reads no attributes, but core GL needs a VAO
     std::optional<Framebuffer> mTarget;

@@ -428,6 +428,25 @@ assert 0 <= names["haptics.missed_deadlines"] <= 1, "missed deadlines is not a f
 assert names["haptics.realtime_priority"] in (0, 1), "realtime_priority is not 0 or 1"
 PY
 "$kizamu" bench haptics --spin-us 101 --seconds 0.1 >/dev/null 2>&1 && fail "bench haptics accepted a spin above 100 us"
+if [ "$renderer" = render ]; then
+    # bench render contract (small: 2 frames per mesh, 2 dabs)
+    LP_NUM_THREADS=2 "$kizamu" bench render --json --frames 2 --edits 2 >"$tmp/render.json" 2>/dev/null || fail "bench render exited non-zero"
+    python3 - "$tmp/render.json" <<'PY' || failures=$((failures + 1))
+import json, sys
+names = {}
+for line in open(sys.argv[1]):
+    obj = json.loads(line)
+    assert set(obj) == {"figure", "value", "unit"}, obj
+    names[obj["figure"]] = obj["value"]
+need = ["render.frame_ms.level10", "render.frame_ms.1m_triangles", "render.triangles.1m", "render.draw_calls.level12",
+        "render.edit_to_visible_ms", "render.edit_to_mesh_ms", "render.edit_to_visible_frames"]
+missing = [n for n in need if n not in names]
+assert not missing, f"missing figures: {missing}"
+assert all(isinstance(names[n], (int, float)) and names[n] > 0 for n in need), names
+assert names["render.triangles.1m"] > 900000, names["render.triangles.1m"]
+assert names["render.edit_to_visible_ms"] >= names["render.edit_to_mesh_ms"], names
+PY
+fi
 
 # devices: exits 0 with or without hardware, always lists the simulated stylus; --json parses
 devices=$("$kizamu" devices) || fail "devices exited non-zero"

@@ -186,6 +186,41 @@ TEST_F(ClayRenderTest, GroundShowsFromAboveOnly) {
     }
 }
 
+TEST_F(ClayRenderTest, TheToolsRingAndItsFloorSpotShowWhereTheToolIs) {
+    // The tool at the top of a sphere seen from the front, with the floor: the ring's pixels
+    // change about the sphere's top, the floor spot's under the sphere (behind it: hidden) or
+    // beside it; nothing changes in the image's lower left corner far from both.
+    ClayRenderer renderer(shaders());
+    const float r = 0.1f;
+    renderer.setMesh(test::icosphere(r, 4));
+    OrbitCamera camera;
+    camera.setView(ViewAxis::Front);
+    camera.pitchRad = 0.3f;  // a little above, so the floor shows
+    camera.frame(glm::vec3(-r), glm::vec3(r), 1.0f);
+    RenderSettings settings;
+    settings.ground = true;
+    ToolMark tool;
+    tool.centre = glm::vec3(0.0f, 0.0f, r);
+    tool.normal = glm::vec3(0.0f, 0.0f, 1.0f);
+    tool.radius = 0.03f;
+    const int n = 200;
+    const Image a = renderer.renderToImage(camera, n, n, settings);
+    const Image b = renderer.renderToImage(camera, n, n, settings, &tool);
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+    // Where the tool's centre lands on screen.
+    const glm::vec4 clip = camera.projectionMatrix(1.0f) * camera.viewMatrix() * glm::vec4(tool.centre, 1.0f);
+    const glm::vec2 px((clip.x / clip.w * 0.5f + 0.5f) * n, (0.5f - clip.y / clip.w * 0.5f) * n);
+    std::size_t nearTool = 0, farCorner = 0;
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            if (!differs(a.at(x, y), b.at(x, y), 8)) continue;
+            if (glm::length(glm::vec2(x, y) - px) < 0.35f * n) ++nearTool;
+            if (x < n / 6 && y > 5 * n / 6) ++farCorner;
+        }
+    EXPECT_GT(nearTool, 50u) << "the ring shows about the tool";
+    EXPECT_EQ(farCorner, 0u);
+}
+
 TEST_F(ClayRenderTest, EmptyMeshClearsToBackground) {
     ClayRenderer renderer(shaders());
     renderer.setMesh(mesh::MeshBuffers{});

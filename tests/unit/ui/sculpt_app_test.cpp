@@ -99,7 +99,8 @@ TEST_F(SculptAppTest, AScriptedDragCarvesWhereTheCursorWentAndUndoRestoresThePix
     ASSERT_EQ(sculpt("--frames 40 --input " + script("drag.input.jsonl", drag()) + " --screenshot " + after, &out), 0) << out;
     EXPECT_NE(out.find("1 strokes"), std::string::npos) << out;
     ASSERT_EQ(sculpt("--frames 40 --input " +
-                     script("undo.input.jsonl", drag() + "{\"frame\": 30, \"key\": \"z\", \"mods\": [\"ctrl\"]}\n") +
+                     script("undo.input.jsonl", drag() + "{\"frame\": 30, \"key\": \"z\", \"mods\": [\"ctrl\"]}\n"
+                                                   "{\"frame\": 31, \"move\": [630, 10]}\n") +  // off the clay: no tool ring
                      " --screenshot " + undone),
               0);
     const render::Image a = render::readPng(before), b = render::readPng(after), c = render::readPng(undone);
