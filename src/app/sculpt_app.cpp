@@ -21,6 +21,7 @@
 #include "sculpt/session_lock.h"
 #include "ui/glfw_window.h"
 #include "ui/imgui_layer.h"
+#include "util/cpu_set.h"
 
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -39,6 +40,8 @@
 #include <memory>
 #include <optional>
 #include <thread>
+
+#include <unistd.h>
 
 namespace kizamu::app {
 
@@ -95,6 +98,17 @@ std::vector<std::string> interruptedSessions(const std::string& root) {
 
 const char* const kOpNames[] = {"Carve", "Add", "Build", "Heat gun", "Smooth", "Flatten", "Paint"};
 const char* const kShapeNames[] = {"Sphere", "Cube", "Cylinder"};
+const char* const kUnits[] = {"mm", "cm", "m"};  ///< an export's coordinates
+
+/// The process's resident memory, MiB (Linux /proc/self/statm; 0 where it cannot be read).
+double residentMiB() {
+    std::FILE* f = std::fopen("/proc/self/statm", "r");
+    if (!f) return 0.0;
+    unsigned long pages = 0, resident = 0;
+    const int n = std::fscanf(f, "%lu %lu", &pages, &resident);
+    std::fclose(f);
+    return n == 2 ? double(resident) * double(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0) : 0.0;
+}
 
 /// The haptic side when a device is chosen: the device, its servo loop and the client that
 /// feels the engine's clay; the mouse moves the simulated stylus's live hand.
@@ -157,6 +171,9 @@ private:
     std::unique_ptr<Haptics> mHaptics;
     mesh::MeshMirror mMirror;
     std::size_t mTriangles = 0;
+    std::size_t mCells = 0;
+    Clock::time_point mCellsCounted{};
+    int mExportUnit = 0;
     bool mFramed = false;
     interact::InputState mInput;
     std::vector<interact::InputEvent> mEvents;
@@ -455,6 +472,11 @@ void SculptApp::updateMesh() {
         if (guard.adf().colours()) mesh::colourPoints(*guard.adf().colours(), m.positions, m.colours);
     }
     mTriangles = m.triangleCount();
+    if (Clock::now() - mCellsCounted > std::chrono::milliseconds(500)) {  // O(tiles): twice a second at most
+        const auto guard = mReader->acquire();
+        mCells = guard.adf().computeStats().cells;
+        mCellsCounted = Clock::now();
+    }
     mRenderer.setMesh(m);
     if (!mFramed && m.vertexCount() > 0) {
         glm::vec3 lo(HUGE_VALF), hi(-HUGE_VALF);
@@ -478,7 +500,7 @@ void SculptApp::draw() {
 
 void SculptApp::panel() {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_Once);
-    ImGui::SetNextWindowSize(ImVec2(280, 0), ImGuiCond_Once);
+    ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_Once);
     ImGui::Begin("Kizamu");
     bool changed = false;
     int op = int(mTool.tool.op);
@@ -501,6 +523,8 @@ void SculptApp::panel() {
     changed |= ImGui::Checkbox("Z", &mz);
     float depth = float(mMouse.depth());
     if (ImGui::SliderFloat("Depth (radii)", &depth, -1.0f, 1.0f, "%.2f")) mMouse.setDepth(depth);
+    float lazyMm = float(mMouse.lazyRadius() * 1000.0);
+    if (ImGui::SliderFloat("Lazy mouse (mm)", &lazyMm, 0.0f, 30.0f, "%.1f")) mMouse.setLazyRadius(lazyMm / 1000.0);
     if (changed) {
         mTool.tool.op = sculpt::ToolOp(op);
         mTool.tool.shape = sculpt::ToolShape(shape);
@@ -516,9 +540,18 @@ void SculptApp::panel() {
     if (ImGui::Button("Redo")) launch(mEngine->redo(), "redo");
     ImGui::SameLine();
     if (ImGui::Button("Save")) launch(mEngine->save(), "save");
+    ImGui::SameLine();
+    if (ImGui::Button("New")) {
+        const std::string dir = untitledDir(mOptions.sessionRoot.empty() ? defaultSessionRoot() : mOptions.sessionRoot);
+        launch(mEngine->newSession(dir, defaultBlock(mOptions.level)), "new block", dir);
+    }
     ImGui::InputText("##export", mExportPath, sizeof mExportPath);
     ImGui::SameLine();
-    if (ImGui::Button("Export") && mExportPath[0]) launch(mEngine->exportMesh(mExportPath), std::string("export ") + mExportPath);
+    if (ImGui::Button("Export") && mExportPath[0])
+        launch(mEngine->exportMesh(mExportPath, kUnits[mExportUnit]), std::string("export ") + mExportPath);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(50);
+    ImGui::Combo("##unit", &mExportUnit, kUnits, IM_ARRAYSIZE(kUnits));
     ImGui::InputText("##open", mOpenPath, sizeof mOpenPath);
     ImGui::SameLine();
     if (ImGui::Button("Open") && mOpenPath[0]) {
@@ -541,7 +574,8 @@ void SculptApp::panel() {
     std::vector<double> ms(mFrameMs.begin(), mFrameMs.end());
     std::sort(ms.begin(), ms.end());
     ImGui::Text("frame %.1f ms (median of %zu)", ms.empty() ? 0.0 : ms[ms.size() / 2], ms.size());
-    ImGui::Text("%zu triangles, %llu strokes", mTriangles, (unsigned long long)mEngine->stats().strokes);
+    ImGui::Text("%zu triangles, %zu cells, %llu strokes", mTriangles, mCells, (unsigned long long)mEngine->stats().strokes);
+    ImGui::Text("memory %.0f MiB", residentMiB());
     if (mHaptics) {
         const haptics::ServoSummary s = mHaptics->loop->stats().summary();
         ImGui::Text("haptics %s: %.0f Hz, period error p99 %.0f us", mHaptics->device.device().spec().name.c_str(), s.rateHz,
@@ -640,6 +674,13 @@ int SculptApp::run() {
 }  // namespace
 
 int runSculptApp(const SculptOptions& options) {
+    // Mesa's software renderer (llvmpipe, where there is no GPU) starts one thread per CPU; with a
+    // haptic device one CPU is left to the servo thread. Read when the GL driver loads; ignored
+    // by GPU drivers; a value already set wins.
+    if (options.device != "none" && !std::getenv("LP_NUM_THREADS")) {
+        const std::size_t cpus = util::allowedCpus().size();
+        setenv("LP_NUM_THREADS", std::to_string(cpus > 1 ? cpus - 1 : 1).c_str(), 0);
+    }
     SculptApp app(options);
     return app.run();
 }

@@ -76,6 +76,9 @@ public:
     /// Radii (clamped to [minDepth, maxDepth]): the tool's centre above the surface.
     void setDepth(double radii) noexcept;
     double depth() const noexcept { return mDepth; }
+    /// m (>= 0): the lazy mouse's string; 0 turns it off. Takes effect at the next stroke.
+    void setLazyRadius(double m) noexcept { mSettings.lazyRadius = m > 0.0 ? m : 0.0; }
+    double lazyRadius() const noexcept { return mSettings.lazyRadius; }
 
     /// One frame: traces the ray into `clay` (its domain `domain`) and returns the tool's frame.
     MouseToolFrame update(const MouseInput& in, adf::AdfAccessor& clay, const adf::Domain& domain) noexcept;

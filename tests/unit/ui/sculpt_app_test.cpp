@@ -23,10 +23,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kW = 640, kH = 480;
+constexpr int kW = 960, kH = 600;
+/// The drag: along y = kDragY from kDragX0 to kDragX1 (pixels), over the block right of the panel.
+constexpr int kDragX0 = 400, kDragX1 = 580, kDragY = 300;
 /// The panel's corner of the window (what it covers at 640 x 480, with room to spare): its
 /// figures change from run to run, so comparisons leave it out.
-constexpr int kPanelRight = 300, kPanelBottom = 370;
+constexpr int kPanelRight = 350, kPanelBottom = 430;
 
 bool haveDisplay() {
     if (std::getenv("DISPLAY")) return true;
@@ -62,12 +64,14 @@ protected:
         std::ofstream(path) << "{\"kizamu_input\": 1, \"size\": [" << kW << ", " << kH << "]}\n" << events;
         return path;
     }
-    /// The groove's drag: 20 frames from (250, 240) to (390, 240), then released.
+    /// The groove's drag: from (kDragX0, kDragY) to (kDragX1, kDragY) 10 px a frame, then released.
     static std::string drag() {
-        std::string e = "{\"frame\": 5, \"move\": [250, 240]}\n{\"frame\": 6, \"press\": \"left\"}\n";
-        for (int i = 1; i <= 14; ++i)
-            e += "{\"frame\": " + std::to_string(6 + i) + ", \"move\": [" + std::to_string(250 + 10 * i) + ", 240]}\n";
-        return e + "{\"frame\": 25, \"release\": \"left\"}\n";
+        const std::string y = std::to_string(kDragY);
+        std::string e = "{\"frame\": 5, \"move\": [" + std::to_string(kDragX0) + ", " + y + "]}\n{\"frame\": 6, \"press\": \"left\"}\n";
+        const int steps = (kDragX1 - kDragX0) / 10;
+        for (int i = 1; i <= steps; ++i)
+            e += "{\"frame\": " + std::to_string(6 + i) + ", \"move\": [" + std::to_string(kDragX0 + 10 * i) + ", " + y + "]}\n";
+        return e + "{\"frame\": " + std::to_string(8 + steps) + ", \"release\": \"left\"}\n";
     }
     /// Pixels outside the panel that differ by more than `tolerance` in any channel, and how far
     /// the farthest of them is from the drag's line.
@@ -81,7 +85,7 @@ protected:
                 const int d = std::max({std::abs(p.r - q.r), std::abs(p.g - q.g), std::abs(p.b - q.b)});
                 if (d <= tolerance) continue;
                 ++n;
-                const double dx = x < 250 ? 250 - x : (x > 390 ? x - 390 : 0), dy = std::abs(y - 240);
+                const double dx = x < kDragX0 ? kDragX0 - x : (x > kDragX1 ? x - kDragX1 : 0), dy = std::abs(y - kDragY);
                 far = std::max(far, std::hypot(dx, dy));
             }
         if (farthest) *farthest = far;
@@ -99,8 +103,8 @@ TEST_F(SculptAppTest, AScriptedDragCarvesWhereTheCursorWentAndUndoRestoresThePix
     ASSERT_EQ(sculpt("--frames 40 --input " + script("drag.input.jsonl", drag()) + " --screenshot " + after, &out), 0) << out;
     EXPECT_NE(out.find("1 strokes"), std::string::npos) << out;
     ASSERT_EQ(sculpt("--frames 40 --input " +
-                     script("undo.input.jsonl", drag() + "{\"frame\": 30, \"key\": \"z\", \"mods\": [\"ctrl\"]}\n"
-                                                   "{\"frame\": 31, \"move\": [630, 10]}\n") +  // off the clay: no tool ring
+                     script("undo.input.jsonl", drag() + "{\"frame\": 32, \"key\": \"z\", \"mods\": [\"ctrl\"]}\n"
+                                                   "{\"frame\": 33, \"move\": [" + std::to_string(kW - 10) + ", 10]}\n") +  // off the clay: no tool ring
                      " --screenshot " + undone),
               0);
     const render::Image a = render::readPng(before), b = render::readPng(after), c = render::readPng(undone);
