@@ -31,7 +31,7 @@
 /// Determinism: segment cuts depend on timing, and the journal records them. Replaying the
 /// journal (Session::open) gives the live clay bit for bit; sync() lets a driver cut segments
 /// deterministically (kizamu live --rate 0).
-/// Threads: the edit thread runs every sculptor, mesher and Session call; the pool it owns does
+/// Threads: the edit thread makes every call into the sculptor, the mesher and the journal; the pool it owns does
 /// their parallel loops. It sleeps on a condition variable between passes (commands wake it at
 /// once, samples are seen within EngineSettings::pollEvery); it never spins.
 #pragma once
@@ -174,7 +174,7 @@ public:
     /// sculpt::Session::createFromClay, so it reopens and replays like any other): its ADF is
     /// generated at `level` (0: the level of the clay in use) in mesh::domainAround with the
     /// margin `kizamu convert` uses, on the edit pool; then published with a mesh reset, as
-    /// newSession does. The mesh's unit: metres for a format that declares its unit (glTF, FBX,
+    /// openSession() publishes. The mesh's unit: metres for a format that declares its unit (glTF, FBX,
     /// COLLADA), else `unit` ("mm", "cm", "m"; empty: mm, as `kizamu convert --in-units`).
     /// Errors (an unreadable mesh, one without triangles, a bad unit or level, a `dir` that
     /// already holds a journal) leave the sculpt::Session in use in place. The message says what was

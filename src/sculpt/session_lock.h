@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file session_lock.h
-/// @brief One writer per session directory, and a trace of a writer that died: DIR/lock, held
-/// with an advisory lock (flock) while a Session has the directory open, removed when it closes.
+/// @brief One writer per journal directory, and a trace of a writer that died: DIR/lock, held
+/// with an advisory lock (flock) while a writing sculpt::Session has DIR open, removed on close.
 ///
-/// Two processes appending to one journal would interleave records; the second to open the
-/// session gets a clear error instead ("open in another Kizamu, pid N"). The kernel drops a
-/// flock when its process dies however it dies, so a lock file that exists but is not held was
-/// left by a process that never closed the session: a crash or a kill. The application offers to
-/// restore such a session (every finished stroke is in its journal). Cold path; Linux flock(2).
+/// Two processes appending to one journal would interleave records; the second writer to open
+/// DIR gets a clear error instead ("open in another Kizamu, pid N"). The kernel drops a flock
+/// when its process dies however it dies, so a lock file that exists but is not held was left by
+/// a process that never closed DIR: a crash or a kill. The application offers to reopen such a
+/// directory (every finished stroke is in its journal). Cold path; Linux flock(2).
 #pragma once
 
 #include <optional>
@@ -19,10 +19,10 @@ namespace kizamu::sculpt {
 class SessionLock {
 public:
     /// Takes DIR/lock (creating it, writing this process's id into it).
-    /// @throw kizamu::FileError "DIR: open in another Kizamu (pid N)" when another open session
+    /// @throw kizamu::FileError "DIR: open in another Kizamu (pid N)" when another writer
     ///        holds it, or when the lock file cannot be created
     explicit SessionLock(const std::string& dir);
-    /// Removes the lock file, then releases the lock (the session closed cleanly).
+    /// Removes the lock file, then releases the lock (DIR closed cleanly).
     ~SessionLock();
     SessionLock(const SessionLock&) = delete;
     SessionLock& operator=(const SessionLock&) = delete;
