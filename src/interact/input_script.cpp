@@ -97,6 +97,77 @@ void readHeader(const json& j, InputScript& s) {
     }
 }
 
+std::vector<double> finiteArray(const json& j, const char* what, std::size_t n) {
+    if (!j.is_array() || j.size() != n)
+        throw std::invalid_argument(std::string("\"") + what + "\" must be a list of " + std::to_string(n) + " numbers");
+    std::vector<double> v;
+    for (const json& x : j) v.push_back(finiteNumber(x, what));
+    return v;
+}
+
+float unitNumber(const json& j, const char* what, double lo) {
+    const double v = finiteNumber(j, what);
+    if (v < lo || v > 1.0) throw std::invalid_argument(std::string("\"") + what + "\" must be in [" + (lo < 0 ? "-1" : "0") + ", 1]");
+    return float(v);
+}
+
+bool boolean(const json& j, const char* what) {
+    if (!j.is_boolean()) throw std::invalid_argument(std::string("\"") + what + "\" must be true or false");
+    return j.get<bool>();
+}
+
+/// {"frame": F, "controller": "left"|"right", "position": [x, y, z], "orientation": [x, y, z, w],
+///  "trigger": v, "squeeze": v, "thumbstick": [x, y], "primary": b, "secondary": b, "active": b}
+void readController(const json& j, InputEvent& e) {
+    e.kind = InputEventKind::Controller;
+    ControllerInput& c = e.controller;
+    const json& hand = j["controller"];
+    if (hand == "left") c.hand = 0;
+    else if (hand == "right") c.hand = 1;
+    else throw std::invalid_argument("\"controller\" is \"left\" or \"right\"");
+    for (const auto& [key, value] : j.items()) {
+        if (key == "frame" || key == "controller") continue;
+        if (key == "position") {
+            const auto v = finiteArray(value, "position", 3);
+            c.position = glm::dvec3(v[0], v[1], v[2]);
+        } else if (key == "orientation") {
+            const auto v = finiteArray(value, "orientation", 4);
+            const glm::dquat q(v[3], v[0], v[1], v[2]);
+            if (std::abs(glm::length(q) - 1.0) > 1e-3) throw std::invalid_argument("\"orientation\" must be a unit quaternion [x, y, z, w]");
+            c.orientation = glm::normalize(q);
+        } else if (key == "trigger") {
+            c.trigger = unitNumber(value, "trigger", 0.0);
+        } else if (key == "squeeze") {
+            c.squeeze = unitNumber(value, "squeeze", 0.0);
+        } else if (key == "thumbstick") {
+            if (!value.is_array() || value.size() != 2) throw std::invalid_argument("\"thumbstick\" must be [x, y], each in [-1, 1]");
+            c.thumbstick = glm::vec2(unitNumber(value[0], "thumbstick", -1.0), unitNumber(value[1], "thumbstick", -1.0));
+        } else if (key == "primary") {
+            c.primary = boolean(value, "primary");
+        } else if (key == "secondary") {
+            c.secondary = boolean(value, "secondary");
+        } else if (key == "active") {
+            c.active = boolean(value, "active");
+        } else {
+            throw std::invalid_argument("unknown key \"" + key + "\" in a controller event");
+        }
+    }
+}
+
+json controllerJson(const ControllerInput& c) {
+    json j;
+    j["controller"] = c.hand == 0 ? "left" : "right";
+    if (c.position) j["position"] = {c.position->x, c.position->y, c.position->z};
+    if (c.orientation) j["orientation"] = {c.orientation->x, c.orientation->y, c.orientation->z, c.orientation->w};
+    if (c.trigger) j["trigger"] = double(*c.trigger);
+    if (c.squeeze) j["squeeze"] = double(*c.squeeze);
+    if (c.thumbstick) j["thumbstick"] = {double(c.thumbstick->x), double(c.thumbstick->y)};
+    if (c.primary) j["primary"] = *c.primary;
+    if (c.secondary) j["secondary"] = *c.secondary;
+    if (c.active) j["active"] = *c.active;
+    return j;
+}
+
 InputEvent readEvent(const json& j, const InputScript& s) {
     if (!j.is_object()) throw std::invalid_argument("an event must be an object");
     InputEvent e;
@@ -105,9 +176,14 @@ InputEvent readEvent(const json& j, const InputScript& s) {
     if (e.frame < 0) throw std::invalid_argument("\"frame\" is negative");
     if (!s.events.empty() && e.frame < s.events.back().frame)
         throw std::invalid_argument("frame " + std::to_string(e.frame) + " comes after frame " + std::to_string(s.events.back().frame));
+    if (j.contains("controller")) {
+        readController(j, e);
+        return e;
+    }
     int kinds = 0;
     for (const char* k : {"move", "press", "release", "wheel", "key", "drop"}) kinds += j.contains(k) ? 1 : 0;
-    if (kinds != 1) throw std::invalid_argument("an event is exactly one of \"move\", \"press\", \"release\", \"wheel\", \"key\", \"drop\"");
+    if (kinds != 1)
+        throw std::invalid_argument("an event is exactly one of \"move\", \"press\", \"release\", \"wheel\", \"key\", \"drop\", \"controller\"");
     for (const auto& [key, value] : j.items())
         if (key != "frame" && key != "move" && key != "press" && key != "release" && key != "wheel" && key != "key" &&
             key != "drop" && key != "mods" && key != "pressure")
@@ -220,8 +296,11 @@ std::string formatInputScript(const InputScript& s) {
         case InputEventKind::Wheel: j["wheel"] = e.wheel; break;
         case InputEventKind::Key: j["key"] = e.key; break;
         case InputEventKind::Drop: j["drop"] = e.path; break;
+        case InputEventKind::Controller: j.update(controllerJson(e.controller)); break;
         }
-        if (e.mods != 0 && e.kind != InputEventKind::Move && e.kind != InputEventKind::Drop) j["mods"] = modsJson(e.mods);
+        if (e.mods != 0 && e.kind != InputEventKind::Move && e.kind != InputEventKind::Drop &&
+            e.kind != InputEventKind::Controller)
+            j["mods"] = modsJson(e.mods);
         out += j.dump() + "\n";
     }
     return out;

@@ -12,7 +12,12 @@
 /// Errors are one line, "file: line N: problem". Cold path: plain values, any thread.
 #pragma once
 
+#include <glm/ext/quaternion_double.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,11 +25,22 @@ namespace kizamu::interact {
 
 inline constexpr int kInputScriptVersion = 1;
 
-enum class InputEventKind : uint8_t { Move, Press, Release, Wheel, Key, Drop };
+enum class InputEventKind : uint8_t { Move, Press, Release, Wheel, Key, Drop, Controller };
 enum class MouseButton : uint8_t { Left, Right, Middle };
 
 /// Modifier bits (the keys held with a press, a key or a wheel notch).
 enum : uint32_t { kModShift = 1u << 0, kModCtrl = 1u << 1, kModAlt = 1u << 2 };
+
+/// A hand controller's inputs as a script sets them (played into an OpenXR runtime that has
+/// XR_EXT_conformance_automation): the fields given change, the others keep their last value.
+struct ControllerInput {
+    int hand = 1;  ///< 0 left, 1 right
+    std::optional<glm::dvec3> position;     ///< m, the headset's reference space (Y up)
+    std::optional<glm::dquat> orientation;  ///< unit
+    std::optional<float> trigger, squeeze;  ///< 0..1
+    std::optional<glm::vec2> thumbstick;    ///< −1..1 each
+    std::optional<bool> primary, secondary, active;
+};
 
 struct InputEvent {
     int64_t frame = 0;  ///< the frame it applies at (>= 0, non-decreasing through the script)
@@ -36,6 +52,7 @@ struct InputEvent {
     std::string key;          ///< Key: "a".."z", "0".."9", or a name (keyNames())
     uint32_t mods = 0;        ///< Press, Key, Wheel: kMod* bits held
     std::string path;         ///< Drop: the file dropped on the window (relative: to the script's directory)
+    ControllerInput controller;  ///< Controller
 };
 
 struct InputScript {

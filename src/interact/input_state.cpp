@@ -38,6 +38,7 @@ void InputState::apply(const InputEvent& e) {
         mMods = e.mods;
         break;
     case InputEventKind::Drop: mDrops.push_back(e.path); break;
+    case InputEventKind::Controller: break;  // the headset's, played into the XR runtime (xr/controller_automation.h)
     }
 }
 
