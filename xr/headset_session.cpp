@@ -4,6 +4,8 @@
 #include "xr/xr_error.h"
 
 #include <algorithm>
+#include <cstdlib>
+#include <filesystem>
 #include <cstring>
 #include <stdexcept>
 
@@ -13,9 +15,34 @@ namespace {
 
 constexpr const char* kValidationLayer = "XR_APILAYER_LUNARG_core_validation";
 
+/// The active runtime's manifest where the loader looks for it (XR_RUNTIME_JSON, then
+/// active_runtime.json under the XDG configuration directories and /etc), or empty: asked
+/// first, so a machine with no runtime gets one clear line instead of the loader's errors.
+std::string activeRuntimeManifest() {
+    namespace fs = std::filesystem;
+    if (const char* json = std::getenv("XR_RUNTIME_JSON"); json && *json) return fs::exists(json) ? json : "";
+    std::vector<fs::path> dirs;
+    if (const char* home = std::getenv("XDG_CONFIG_HOME"); home && *home) dirs.emplace_back(home);
+    else if (const char* h = std::getenv("HOME"); h && *h) dirs.push_back(fs::path(h) / ".config");
+    const char* configDirs = std::getenv("XDG_CONFIG_DIRS");
+    std::string list = configDirs && *configDirs ? configDirs : "/etc/xdg";
+    for (std::size_t start = 0; start <= list.size();) {
+        const std::size_t end = std::min(list.find(':', start), list.size());
+        if (end > start) dirs.emplace_back(list.substr(start, end - start));
+        start = end + 1;
+    }
+    dirs.emplace_back("/etc");
+    for (const fs::path& d : dirs) {
+        const fs::path manifest = d / "openxr" / "1" / "active_runtime.json";
+        if (std::error_code ec; fs::exists(manifest, ec)) return manifest.string();
+    }
+    return {};
+}
+
 bool hasExtension(const char* name) {
     uint32_t count = 0;
-    if (XR_FAILED(xrEnumerateInstanceExtensionProperties(nullptr, 0, &count, nullptr))) return false;
+    if (XR_FAILED(xrEnumerateInstanceExtensionProperties(nullptr, 0, &count, nullptr)))
+        throw std::runtime_error("the OpenXR runtime did not load (the loader's messages above say why)");
     std::vector<XrExtensionProperties> props(count, {XR_TYPE_EXTENSION_PROPERTIES});
     if (XR_FAILED(xrEnumerateInstanceExtensionProperties(nullptr, count, &count, props.data()))) return false;
     return std::any_of(props.begin(), props.end(), [&](const XrExtensionProperties& p) { return std::strcmp(p.extensionName, name) == 0; });
@@ -56,6 +83,9 @@ XrGraphicsBindingOpenGLXlibKHR glxBinding() {
 }  // namespace
 
 HeadsetSession::HeadsetSession(const HeadsetOptions& options) : mPanelWidthM(options.panelWidthM) {
+    if (activeRuntimeManifest().empty())
+        throw std::runtime_error("no OpenXR runtime is installed (set XR_RUNTIME_JSON to a runtime's manifest, or install "
+                                 "one, such as Monado or SteamVR)");
     std::vector<const char*> extensions{XR_KHR_OPENGL_ENABLE_EXTENSION_NAME};
     if (!hasExtension(XR_KHR_OPENGL_ENABLE_EXTENSION_NAME))
         throw std::runtime_error("the OpenXR runtime has no OpenGL support (XR_KHR_opengl_enable)");

@@ -30,6 +30,13 @@ void addSculptCommand(CLI::App& app) {
     cmd->add_option("--input", o->input, "Replay this input script (docs/INPUT.md) as if typed and moved by hand");
     cmd->add_option("--frames", o->frames, "Exit after this many frames (0: when the window closes)")->check(CLI::Range(int64_t(0), int64_t(1) << 40));
     cmd->add_option("--screenshot", o->screenshot, "Write the last frame to this PNG (with --frames)");
+    cmd->add_flag("--xr", o->xr,
+                  "Sculpt in a headset through OpenXR (XR_RUNTIME_JSON or the system's active runtime); without one, "
+                  "say why and open the desktop window");
+    cmd->add_option("--hand", o->hand, "With --xr: the hand that holds the tool (the other grabs and points)")
+        ->check(CLI::IsMember({"left", "right"}))
+        ->capture_default_str();
+    cmd->add_flag("--xr-validation", o->xrValidation, "With --xr: enable Khronos' OpenXR core validation layer");
     cmd->add_option("--width", o->width, "Window width")->check(CLI::Range(64, 16384))->capture_default_str();
     cmd->add_option("--height", o->height, "Window height")->check(CLI::Range(64, 16384))->capture_default_str();
     cmd->callback([o] {

@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "app/device_open.h"
+#include "app/headset_mode.h"
 #include "engine/engine.h"
 #include "haptics/engine_client.h"
 #include "haptics/servo_loop.h"
@@ -130,6 +131,14 @@ public:
 private:
     void startEngine();
     void startHaptics();
+    void startHeadset();
+    /// The headset's frame: the hands' intent acted on (tool changes, undo, the tool's samples,
+    /// the contact cue), after HeadsetMode::beginFrame.
+    void sculptInHeadset();
+    /// Draws the eyes, the panel into its quad, submits, and mirrors the left eye to the window.
+    void drawHeadset();
+    /// Ends the OpenXR session the way the runtime expects (request, frames until it stops).
+    void endHeadset();
     void frameEvents(int64_t frame);
     void handleKeys();
     void handleDrops();
@@ -169,6 +178,9 @@ private:
     std::unique_ptr<engine::Engine> mEngine;
     std::unique_ptr<adf::SnapshotStore::Reader> mReader;
     std::unique_ptr<Haptics> mHaptics;
+    std::unique_ptr<HeadsetMode> mHeadset;
+    bool mHeadsetResizing = false;  ///< the thumbstick is changing the tool's size
+    bool mScriptNeedsHeadsetWarned = false;
     mesh::MeshMirror mMirror;
     std::size_t mTriangles = 0;
     std::size_t mCells = 0;
@@ -193,6 +205,8 @@ SculptApp::SculptApp(const SculptOptions& o)
           ui::WindowSettings ws;
           ws.width = o.width;
           ws.height = o.height;
+          // The headset's mirror is a blit of the left eye, which a multisampled window refuses.
+          if (o.xr) ws.samples = 0;
           return ws;
       }()),
       mImGui(mWindow.handle()), mRenderer(mShaders) {
@@ -203,7 +217,27 @@ SculptApp::SculptApp(const SculptOptions& o)
     mLook.ground = true;
     startEngine();
     startHaptics();
+    if (o.xr) startHeadset();
     setTitle();
+}
+
+void SculptApp::startHeadset() {
+    HeadsetModeOptions ho;
+    ho.dominant = mOptions.hand == "left" ? xr::Hand::Left : xr::Hand::Right;
+    ho.validation = mOptions.xrValidation;
+    {
+        const auto guard = mReader->acquire();
+        const adf::Domain& d = guard.adf().domain();
+        ho.clayCentre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
+    }
+    try {
+        mHeadset = std::make_unique<HeadsetMode>(ho);
+        std::printf("xr: %s\n", mHeadset->describe().c_str());
+    } catch (const std::exception& e) {
+        // No runtime, no headset, no OpenGL binding: the desktop window is the way to sculpt.
+        std::fprintf(stderr, "xr: no headset (%s); sculpting in the desktop window\n", e.what());
+        mStatus = std::string("no headset: ") + e.what();
+    }
 }
 
 SculptApp::~SculptApp() {
@@ -324,6 +358,14 @@ void SculptApp::frameEvents(int64_t frame) {
             e.y *= sy;
             if (e.kind == interact::InputEventKind::Drop && fs::path(e.path).is_relative())
                 e.path = (fs::path(mScript->baseDir) / e.path).string();
+            if (e.kind == interact::InputEventKind::Controller) {
+                if ((!mHeadset || !mHeadset->play(e.controller)) && !mScriptNeedsHeadsetWarned) {
+                    std::fprintf(stderr, "sculpt: the input script moves controllers, which needs a headset whose runtime "
+                                         "can be driven (XR_EXT_conformance_automation); they are ignored\n");
+                    mScriptNeedsHeadsetWarned = true;
+                }
+                continue;
+            }
             mEvents.push_back(std::move(e));
         }
     }
@@ -491,6 +533,85 @@ void SculptApp::updateMesh() {
     }
 }
 
+void SculptApp::sculptInHeadset() {
+    const xr::SculptIntent& in = mHeadset->intent();
+    if (in.invert && (mTool.tool.op == sculpt::ToolOp::Carve || mTool.tool.op == sculpt::ToolOp::Add)) {
+        mTool.tool.op = mTool.tool.op == sculpt::ToolOp::Carve ? sculpt::ToolOp::Add : sculpt::ToolOp::Carve;
+        selectTool();
+    }
+    if (in.toolStep != 0) {
+        const int n = int(IM_ARRAYSIZE(kOpNames));
+        mTool.tool.op = sculpt::ToolOp((int(mTool.tool.op) + in.toolStep + n) % n);
+        selectTool();
+    }
+    if (in.sizeFactor != 1.0) {
+        mTool.tool.radius = std::clamp(mTool.tool.radius * in.sizeFactor, 0.0005, 0.1);
+        mHeadsetResizing = true;
+    } else if (mHeadsetResizing) {  // the stick let go: the engine gets the new size once
+        mHeadsetResizing = false;
+        selectTool();
+    }
+    if (in.undo) launch(mEngine->undo(), "undo");
+
+    mToolMark.reset();
+    if (!in.hasTool) {
+        mHeadset->contact(0.0, mTool.tool.radius);
+        return;
+    }
+    adf::Sample under;
+    {
+        const auto guard = mReader->acquire();
+        adf::AdfAccessor clay(guard.adf());
+        under = clay.sample(glm::vec3(in.toolClay));
+    }
+    render::ToolMark mark;
+    mark.centre = glm::vec3(in.toolClay);
+    const float g = glm::length(under.gradient);
+    mark.normal = g > 1e-6f ? under.gradient / g : glm::vec3(0.0f, 0.0f, 1.0f);
+    mark.radius = float(mTool.tool.radius);
+    mark.body = mTool.tool.shape == sculpt::ToolShape::Cube       ? render::ToolBody::Cube
+                : mTool.tool.shape == sculpt::ToolShape::Cylinder ? render::ToolBody::Cylinder
+                                                                  : render::ToolBody::Sphere;
+    mToolMark = mark;
+    // The contact cue: how far the tool's sphere reaches into the clay (the same distance
+    // query the stylus's force uses). A stylus, when there is one, carries the forces instead.
+    if (!mHaptics) mHeadset->contact(mTool.tool.radius - double(under.distance), mTool.tool.radius);
+    if (mHaptics) return;  // the stylus drives the tool
+    engine::ToolSample sample;
+    sample.timeNs = nowNs();
+    sample.posWorld = in.toolClay;
+    sample.strength = std::max(in.strength, 0.05f);
+    sample.buttons = in.sculpting ? uint32_t(engine::kButtonPrimary) : 0u;
+    mEngine->samples(0).push(sample);
+}
+
+void SculptApp::drawHeadset() {
+    mHeadset->drawEyes(mRenderer, mLook, mToolMark ? &*mToolMark : nullptr);
+    mHeadset->beginPanel();
+    mImGui.end();
+    mHeadset->endPanel();
+    mHeadset->endFrame();
+    const glm::ivec2 fb = mWindow.framebufferSize();
+    mHeadset->mirror(fb.x, fb.y);
+}
+
+void SculptApp::endHeadset() {
+    if (!mHeadset) return;
+    mHeadset->requestExit();
+    // The runtime answers with STOPPING (the session ends) and EXITING; frames go on meanwhile,
+    // empty, as the specification asks, for at most a few seconds.
+    const auto deadline = Clock::now() + std::chrono::seconds(3);
+    while (mHeadset->alive() && Clock::now() < deadline) {
+        if (mHeadset->running()) {
+            mHeadset->beginFrame();
+            mHeadset->endFrame();
+        } else {
+            std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        }
+    }
+    mHeadset.reset();
+}
+
 void SculptApp::draw() {
     const glm::ivec2 fb = mWindow.framebufferSize();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -590,8 +711,12 @@ void SculptApp::panel() {
             }
         }
     } else {
-        ImGui::TextUnformatted("haptics off: the mouse sculpts alone");
+        ImGui::TextUnformatted(mHeadset ? "haptics off: the controller sculpts and vibrates on contact"
+                                        : "haptics off: the mouse sculpts alone");
     }
+    if (mHeadset)
+        ImGui::Text("%s, %s, %.1f ms a frame", mHeadset->describe().c_str(), mHeadset->focused() ? "focused" : "not focused",
+                    mHeadset->medianFrameMs());
     if (!mStatus.empty()) ImGui::TextWrapped("%s", mStatus.c_str());
     ImGui::End();
 
@@ -637,16 +762,32 @@ int SculptApp::run() {
     for (int64_t frame = 0; !mWindow.shouldClose() && (mOptions.frames == 0 || frame < mOptions.frames); ++frame) {
         const auto start = Clock::now();
         frameEvents(frame);
-        mImGui.begin();
+        if (mHeadset && !mHeadset->alive()) {
+            std::printf("xr: the session ended\n");
+            break;  // the headset closed the session: so does the app
+        }
+        // With a running session the headset paces the loop (xrWaitFrame) and the hands sculpt.
+        const bool headset = mHeadset && mHeadset->running();
+        if (headset) {
+            mHeadset->beginFrame();
+            mImGui.begin(mHeadset->panelPointer());
+        } else {
+            mImGui.begin();
+        }
         if (!mImGui.wantsKeyboard()) handleKeys();
         handleDrops();
         pollLaunched();
-        navigate();
-        sculpt();
+        if (headset) {
+            sculptInHeadset();
+        } else {
+            navigate();
+            sculpt();
+        }
         updateMesh();
-        draw();
+        if (!headset) draw();
         panel();
-        mImGui.end();
+        if (headset) drawHeadset();
+        else mImGui.end();
         const bool last = mOptions.frames > 0 && frame + 1 == mOptions.frames;
         if (last && !mOptions.screenshot.empty()) {
             // The last frame shows everything the script did: wait for the engine, then draw again.
@@ -655,8 +796,15 @@ int SculptApp::run() {
             pollLaunched();
             mEngine->sync().get();
             updateMesh();
-            draw();
-            mImGui.drawAgain();
+            if (headset && mHeadset->running()) {
+                mHeadset->beginFrame();
+                mImGui.begin(mHeadset->panelPointer());
+                panel();
+                drawHeadset();
+            } else {
+                draw();
+                mImGui.drawAgain();
+            }
             screenshot(mOptions.screenshot);
         }
         mWindow.swap();
@@ -664,8 +812,12 @@ int SculptApp::run() {
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         mFrameMs.push_back(ms);
         if (mFrameMs.size() > 120) mFrameMs.pop_front();
-        std::this_thread::sleep_until(start + framePeriod);
+        if (!headset) std::this_thread::sleep_until(start + framePeriod);
     }
+    if (mHeadset)
+        std::printf("xr: %llu frames, median %.1f ms from xrWaitFrame to xrEndFrame\n", (unsigned long long)mHeadset->frames(),
+                    mHeadset->medianFrameMs());
+    endHeadset();
     if (!mOptions.screenshot.empty()) std::printf("wrote %s\n", mOptions.screenshot.c_str());
     std::printf("sculpt: session %s, %llu strokes\n", mSessionDir.c_str(), (unsigned long long)mEngine->stats().strokes);
     return 0;

@@ -11,6 +11,9 @@
 /// (haptics/servo_loop.h), when a device is chosen, renders the force and pushes the proxy.
 /// Scripted runs (`--input FILE --frames N --screenshot PNG`) feed recorded input events
 /// (docs/INPUT.md) through the same path as the window's own.
+/// With `xr`, an OpenXR session (headset_mode.h) paces the loop with xrWaitFrame, the
+/// controllers sculpt, the panel floats in the world, and the window shows the left eye; when
+/// the session ends the app exits. Without a runtime the window opens as usual.
 #pragma once
 
 #include <cstdint>
@@ -30,6 +33,9 @@ struct SculptOptions {
     std::string screenshot;        ///< write the last frame here (PNG)
     int width = 1280, height = 720;
     std::string restore = "ask";   ///< an interrupted session found at start: ask, yes, no
+    bool xr = false;               ///< sculpt in a headset (OpenXR); the window mirrors the left eye
+    std::string hand = "right";    ///< with xr: the tool's hand (left or right)
+    bool xrValidation = false;     ///< with xr: Khronos' core validation layer
 };
 
 /// Runs the window until it closes or `frames` have been drawn. Returns the exit code.

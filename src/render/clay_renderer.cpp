@@ -4,6 +4,7 @@
 #include "render/clay_renderer.h"
 
 #include <glm/geometric.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec2.hpp>
 
@@ -41,11 +42,21 @@ ClayRenderer::~ClayRenderer() {
     if (mEmptyVao) glDeleteVertexArrays(1, &mEmptyVao);
 }
 
-void ClayRenderer::drawGround(const OrbitCamera& camera, const glm::mat4& view,
-                              const glm::mat4& projection, const RenderSettings& settings) const {
+ViewSetup ViewSetup::of(const OrbitCamera& camera, float aspect) {
+    ViewSetup v;
+    v.view = camera.viewMatrix();
+    v.projection = camera.projectionMatrix(aspect);
+    v.eye = camera.eye();
+    v.orthographic = camera.projection == Projection::Orthographic;
+    return v;
+}
+
+void ClayRenderer::drawGround(const ViewSetup& v, const RenderSettings& settings) const {
     const glm::vec3 lo = mMesh.boundsMin(), hi = mMesh.boundsMax();
     // Seen from below, the floor would hide the model: it is drawn only from above.
-    if (camera.eye().z <= lo.z) return;
+    if (v.eye.z <= lo.z) return;
+    const glm::mat4& view = v.view;
+    const glm::mat4& projection = v.projection;
     const glm::vec2 centre = 0.5f * (glm::vec2(lo) + glm::vec2(hi));
     const glm::vec2 footprintHalf = 0.5f * (glm::vec2(hi) - glm::vec2(lo));
     const float halfSize = 2.5f * std::max(glm::length(footprintHalf), 0.5f * (hi.z - lo.z));
@@ -100,18 +111,41 @@ void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const g
     glBindVertexArray(0);
 }
 
+void ClayRenderer::drawToolBody(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection) const {
+    std::optional<GpuMesh>& body = mToolBodies[std::size_t(tool.body)];
+    if (!body) {
+        body.emplace();
+        body->upload(unitToolBody(tool.body));
+    }
+    const glm::mat4 model = glm::scale(glm::translate(glm::mat4(1.0f), tool.centre), glm::vec3(tool.radius));
+    mWire.use();
+    mWire.set("uView", view * model);
+    mWire.set("uProjection", projection);
+    mWire.set("uNormalView", glm::mat3(view));
+    mWire.set("uWireSrgba", glm::vec4(tool.ringSrgba.r, tool.ringSrgba.g, tool.ringSrgba.b, 0.6f));
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
+    body->draw();
+    glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+    glDisable(GL_BLEND);
+}
+
 void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
                         const RenderSettings& settings, const ToolMark* tool) const {
+    draw(ViewSetup::of(camera, float(width) / float(std::max(height, 1))), settings, tool);
+}
+
+void ClayRenderer::draw(const ViewSetup& v, const RenderSettings& settings, const ToolMark* tool) const {
     const glm::vec3 bg = settings.backgroundSrgb;
     glClearColor(bg.r, bg.g, bg.b, 1.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     if (mMesh.empty()) return;
 
-    const float aspect = float(width) / float(std::max(height, 1));
-    const glm::mat4 view = camera.viewMatrix();
-    const glm::mat4 projection = camera.projectionMatrix(aspect);
-    const int ortho = camera.projection == Projection::Orthographic ? 1 : 0;
+    const glm::mat4& view = v.view;
+    const glm::mat4& projection = v.projection;
+    const int ortho = v.orthographic ? 1 : 0;
 
     glEnable(GL_DEPTH_TEST);
     glDepthFunc(GL_LESS);
@@ -119,7 +153,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
     glDisable(GL_CULL_FACE);
     glDisable(GL_BLEND);
     glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
-    if (settings.ground) drawGround(camera, view, projection, settings);
+    if (settings.ground) drawGround(v, settings);
     if (settings.wireframe) {
         // The surface is pushed back a little so the lines drawn at its exact depth pass the test.
         glEnable(GL_POLYGON_OFFSET_FILL);
@@ -151,6 +185,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
         glDisable(GL_BLEND);
     }
     if (tool) drawTool(*tool, view, projection, settings.ground);
+    if (tool && tool->body != ToolBody::None) drawToolBody(*tool, view, projection);
     glUseProgram(0);
     // Debug builds only: glGetError stalls some drivers (style: GL errors are bugs, asserted).
     assert(glGetError() == GL_NO_ERROR && "ClayRenderer::draw left a GL error");

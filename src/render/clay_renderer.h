@@ -18,10 +18,12 @@
 #include "render/gpu_mesh.h"
 #include "render/image.h"
 #include "render/shader_program.h"
+#include "render/tool_body.h"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include <array>
 #include <optional>
 #include <string_view>
 
@@ -53,6 +55,20 @@ struct ToolMark {
     glm::vec3 normal{0.0f, 0.0f, 1.0f};  ///< unit: the surface normal under it
     float radius = 0.01f;               ///< m
     glm::vec4 ringSrgba{1.0f, 0.55f, 0.15f, 0.9f};
+    /// The tool's own shape drawn as lines at the centre, `radius` in size (a hand in 3D holds
+    /// it: the headset); None draws the ring alone.
+    ToolBody body = ToolBody::None;
+};
+
+/// Where the clay is seen from, for draw(): world to eye, eye to clip, and the eye (world).
+/// The view may scale uniformly (a headset's clay held at another size).
+struct ViewSetup {
+    glm::mat4 view{1.0f};
+    glm::mat4 projection{1.0f};
+    glm::vec3 eye{0.0f};
+    bool orthographic = false;
+    /// The camera's (OrbitCamera::viewMatrix, projectionMatrix) for a width / height aspect.
+    static ViewSetup of(const OrbitCamera& camera, float aspect);
 };
 
 /// The CLI's `--mode`: "lit", "matcap", or "wireframe" (lit with the overlay). Leaves
@@ -82,6 +98,8 @@ public:
     /// leaves depth test on, blending off, fill mode and no program bound.
     void draw(const OrbitCamera& camera, int width, int height,
               const RenderSettings& settings, const ToolMark* tool = nullptr) const;
+    /// The same from explicit matrices (a headset's eye).
+    void draw(const ViewSetup& view, const RenderSettings& settings, const ToolMark* tool = nullptr) const;
 
     /// Draws into an off-screen multisampled target of width × height (kept for the next call
     /// of the same size) and reads it back: RGBA8, sRGB, top row first.
@@ -91,11 +109,12 @@ public:
                         const RenderSettings& settings, const ToolMark* tool = nullptr);
 
 private:
-    void drawGround(const OrbitCamera& camera, const glm::mat4& view, const glm::mat4& projection,
-                    const RenderSettings& settings) const;
+    void drawGround(const ViewSetup& v, const RenderSettings& settings) const;
     void drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection, bool floor) const;
+    void drawToolBody(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection) const;
     ShaderProgram mLit, mMatcap, mWire, mGround, mTool;
     GpuMesh mMesh;
+    mutable std::array<std::optional<GpuMesh>, 4> mToolBodies;  ///< by ToolBody, made at first use
     GLuint mEmptyVao = 0;  ///< the ground's draw reads no attributes, but core GL needs a VAO
     std::optional<Framebuffer> mTarget;
 };

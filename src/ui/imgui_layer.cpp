@@ -3,6 +3,8 @@
 /// @brief ImGuiLayer: context, backends, frames.
 #include "ui/imgui_layer.h"
 
+#include <cfloat>
+
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
 #include <imgui.h>
@@ -37,6 +39,19 @@ ImGuiLayer::~ImGuiLayer() {
 void ImGuiLayer::begin() {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+}
+
+void ImGuiLayer::begin(const PanelPointer& pointer) {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();  // keyboard and time; the display and mouse are overridden next
+    ImGuiIO& io = ImGui::GetIO();
+    io.DisplaySize = ImVec2(pointer.displaySize.x, pointer.displaySize.y);
+    io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
+    io.MousePos = pointer.position ? ImVec2(pointer.position->x, pointer.position->y) : ImVec2(-FLT_MAX, -FLT_MAX);
+    io.MouseDown[0] = pointer.position && pointer.down;
+    for (int b = 1; b < 5; ++b) io.MouseDown[b] = false;
+    io.MouseWheel = io.MouseWheelH = 0.0f;
     ImGui::NewFrame();
 }
 

@@ -9,9 +9,21 @@
 /// Threading: the UI thread with the window's context current. One per window.
 #pragma once
 
+#include <glm/vec2.hpp>
+
+#include <optional>
+
 struct GLFWwindow;
 
 namespace kizamu::ui {
+
+/// A pointer other than the window's mouse (the headset's ray on the panel's quad) and the
+/// image the panel is drawn into.
+struct PanelPointer {
+    glm::vec2 displaySize{480.0f, 560.0f};  ///< pixels of the image the panel is drawn into
+    std::optional<glm::vec2> position;      ///< pixels from the top left; none: off the panel
+    bool down = false;                      ///< the click is held
+};
 
 class ImGuiLayer {
 public:
@@ -23,6 +35,9 @@ public:
 
     /// Starts a frame (after the window's poll, before any ImGui:: call).
     void begin();
+    /// Starts a frame whose panel is drawn into an image of pointer.displaySize and operated by
+    /// `pointer` instead of the window's mouse (the keyboard stays the window's).
+    void begin(const PanelPointer& pointer);
     /// Draws what this frame's ImGui:: calls built into the bound framebuffer.
     void end();
     /// Draws the last frame's panel again (after the scene was redrawn under it).
