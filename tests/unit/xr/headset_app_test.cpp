@@ -1,0 +1,247 @@
+// SPDX-License-Identifier: Apache-2.0
+// Sculpting in a headset end to end, under a display (Xvfb from scripts/test): the real `kizamu
+// sculpt --xr` on Debian's OpenXR loader with the project's simulated runtime (XR_RUNTIME_JSON;
+// sim/openxr/), its controllers scripted through XR_EXT_conformance_automation (docs/INPUT.md),
+// the eyes' last images and the runtime's events read from its capture directory
+// (KIZAMU_XRSIM_CAPTURE; docs/XR-SIM.md). The session reaches FOCUSED and ends cleanly; a
+// scripted controller carves a groove seen in both eyes and vibrates on contact; two hands move
+// and scale the clay; the panel's pointer clicks Undo; all of it with Khronos' core validation
+// layer enabled and silent.
+#include "render/image.h"
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace kizamu {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kFrames = 80;
+/// Every script ends with the hands out of sight (behind the headset), so the last images show
+/// the clay alone.
+constexpr const char* kHandsAway = "{\"frame\": 70, \"controller\": \"right\", \"position\": [0.0, 0.0, 1.0], \"trigger\": 0.0, \"squeeze\": 0.0}\n"
+                                   "{\"frame\": 70, \"controller\": \"left\", \"position\": [-0.1, 0.0, 1.0], \"trigger\": 0.0, \"squeeze\": 0.0}\n";
+
+bool haveDisplay() {
+    if (std::getenv("DISPLAY")) return true;
+    if (std::getenv("KIZAMU_REQUIRE_DISPLAY")) ADD_FAILURE() << "no DISPLAY, and KIZAMU_REQUIRE_DISPLAY is set";
+    return false;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+std::string controller(int frame, const char* hand, const std::string& fields) {
+    return "{\"frame\": " + std::to_string(frame) + ", \"controller\": \"" + hand + "\", " + fields + "}\n";
+}
+
+std::string position(double x, double y, double z) {
+    std::ostringstream s;
+    s << "\"position\": [" << x << ", " << y << ", " << z << "]";
+    return s.str();
+}
+
+/// The right hand carves across the clay's front face (which faces the headset at z = -0.29 m:
+/// the 12 cm block appears 0.35 m ahead and 0.15 m down) with the trigger held.
+std::string carve() {
+    std::string e = controller(2, "right", position(-0.04, -0.15, -0.284)) + controller(6, "right", "\"trigger\": 1.0");
+    for (int i = 0; i <= 30; ++i) e += controller(7 + i, "right", position(-0.04 + 0.08 * i / 30.0, -0.15, -0.284));
+    return e + controller(40, "right", "\"trigger\": 0.0") + controller(41, "right", position(0.0, 0.0, 1.0));
+}
+
+struct Run {
+    int status = -1;
+    std::string output, events;
+    render::Image left, right;
+};
+
+class HeadsetAppTest : public ::testing::Test {
+protected:
+    void SetUp() override {
+        mDir = fs::temp_directory_path() / ("kizamu_xr_" + std::to_string(::getpid()) + "_" +
+                                            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        fs::remove_all(mDir);
+        fs::create_directories(mDir);
+    }
+    void TearDown() override { fs::remove_all(mDir); }
+
+    /// Runs kizamu sculpt --xr for kFrames frames with the controller events `events` (plus the
+    /// hands put away) and reads what the runtime captured.
+    Run sculpt(const std::string& name, const std::string& events, const std::string& args = "", const std::string& env = "") {
+        const fs::path capture = mDir / name;
+        fs::create_directories(capture);
+        const fs::path script = mDir / (name + ".input.jsonl");
+        std::ofstream(script) << "{\"kizamu_input\": 1}\n" << events << kHandsAway;
+        const fs::path log = capture / "log.txt";
+        const std::string cmd = "XR_RUNTIME_JSON=" KIZAMU_XRSIM_MANIFEST " KIZAMU_XRSIM_CAPTURE=" + capture.string() + " " + env +
+                                " " KIZAMU_EXECUTABLE " sculpt --xr --device none --width 640 --height 480 --session-root " +
+                                (mDir / "sessions").string() + " --frames " + std::to_string(kFrames) + " --input " +
+                                script.string() + " --screenshot " + (capture / "mirror.png").string() + " " + args + " >" +
+                                log.string() + " 2>&1";
+        Run r;
+        const int status = std::system(cmd.c_str());
+        r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+        r.output = slurp(log);
+        r.events = slurp(capture / "events.jsonl");
+        if (fs::exists(capture / "left.png")) r.left = render::readPng((capture / "left.png").string());
+        if (fs::exists(capture / "right.png")) r.right = render::readPng((capture / "right.png").string());
+        return r;
+    }
+    fs::path mDir;
+};
+
+/// Pixels differing by more than `tolerance` in any channel, and their bounding box.
+struct Difference {
+    int count = 0;
+    int x0 = 1 << 30, y0 = 1 << 30, x1 = -1, y1 = -1;
+};
+Difference difference(const render::Image& a, const render::Image& b, int tolerance = 24) {
+    Difference d;
+    for (int y = 0; y < std::min(a.height, b.height); ++y)
+        for (int x = 0; x < std::min(a.width, b.width); ++x) {
+            const auto p = a.at(x, y), q = b.at(x, y);
+            if (std::max({std::abs(p.r - q.r), std::abs(p.g - q.g), std::abs(p.b - q.b)}) <= tolerance) continue;
+            ++d.count;
+            d.x0 = std::min(d.x0, x), d.y0 = std::min(d.y0, y), d.x1 = std::max(d.x1, x), d.y1 = std::max(d.y1, y);
+        }
+    return d;
+}
+
+/// The clay's bounding box in an eye's image: the pixels that are not the background's colour.
+Difference clayBox(const render::Image& eye) {
+    render::Image background = eye;
+    const auto corner = eye.at(0, 0);
+    for (int y = 0; y < eye.height; ++y)
+        for (int x = 0; x < eye.width; ++x) {
+            auto* p = &background.pixels[(std::size_t(y) * std::size_t(eye.width) + std::size_t(x)) * 4];
+            p[0] = corner.r, p[1] = corner.g, p[2] = corner.b;
+        }
+    return difference(eye, background, 12);
+}
+
+int count(const std::string& text, const std::string& what) {
+    int n = 0;
+    for (std::size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + 1)) ++n;
+    return n;
+}
+
+TEST_F(HeadsetAppTest, TheSessionReachesFocusedAndEndsCleanly) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    const Run r = sculpt("lifecycle", "");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("xr: OpenXR: Kizamu simulated runtime"), std::string::npos) << r.output;
+    // The specification's order, through to the end the app asked for.
+    std::size_t at = 0;
+    for (const char* state : {"\"READY\"", "\"SYNCHRONIZED\"", "\"VISIBLE\"", "\"FOCUSED\"", "\"STOPPING\"", "\"IDLE\"", "\"EXITING\""}) {
+        at = r.events.find(state, at);
+        ASSERT_NE(at, std::string::npos) << state << " missing or out of order in\n" << r.events;
+    }
+    ASSERT_GT(r.left.width, 0);
+    EXPECT_GT(clayBox(r.left).count, 1000) << "the clay is not in the left eye";
+    EXPECT_GT(clayBox(r.right).count, 1000) << "the clay is not in the right eye";
+    // Two eyes, two viewpoints: the clay sits further left in the right eye.
+    EXPECT_LT(clayBox(r.right).x0, clayBox(r.left).x0);
+}
+
+TEST_F(HeadsetAppTest, AScriptedControllerCarvesAGrooveSeenInBothEyesAndVibratesOnContact) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    const Run untouched = sculpt("untouched", "");
+    const Run carved = sculpt("carved", carve());
+    ASSERT_EQ(carved.status, 0) << carved.output;
+    EXPECT_NE(carved.output.find("1 strokes"), std::string::npos) << carved.output;
+    for (const auto& [name, a, b] : {std::tuple{"left", &untouched.left, &carved.left}, std::tuple{"right", &untouched.right, &carved.right}}) {
+        const Difference d = difference(*a, *b);
+        const Difference clay = clayBox(*a);
+        EXPECT_GT(d.count, 200) << name << " eye: no groove";
+        // A groove: wider than tall, inside the clay's outline.
+        EXPECT_GT(d.x1 - d.x0, 3 * (d.y1 - d.y0)) << name;
+        EXPECT_GE(d.x0, clay.x0) << name;
+        EXPECT_LE(d.x1, clay.x1) << name;
+    }
+    EXPECT_GT(count(carved.events, "\"haptic\""), 10) << "no vibration on contact";
+    EXPECT_NE(carved.events.find("/user/hand/right"), std::string::npos);
+    EXPECT_EQ(count(untouched.events, "\"haptic\""), 0) << "vibration with nothing touched";
+}
+
+TEST_F(HeadsetAppTest, TwoHandsMoveAndScaleTheClay) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    // Both hands take hold 20 cm apart, then part to 30 cm with their midpoint 3 cm to the right.
+    std::string grab = controller(2, "left", position(-0.1, -0.15, -0.25)) + controller(2, "right", position(0.1, -0.15, -0.25)) +
+                       controller(6, "left", "\"squeeze\": 1.0") + controller(6, "right", "\"squeeze\": 1.0");
+    for (int i = 1; i <= 10; ++i) {
+        const double half = 0.1 + 0.05 * i / 10.0, shift = 0.03 * i / 10.0;
+        grab += controller(8 + i, "left", position(shift - half, -0.15, -0.25)) + controller(8 + i, "right", position(shift + half, -0.15, -0.25));
+    }
+    grab += controller(22, "left", "\"squeeze\": 0.0") + controller(22, "right", "\"squeeze\": 0.0");
+    const Run still = sculpt("still", "");
+    const Run moved = sculpt("moved", grab);
+    ASSERT_EQ(moved.status, 0) << moved.output;
+    const Difference before = clayBox(still.left), after = clayBox(moved.left);
+    const double widthRatio = double(after.x1 - after.x0) / double(before.x1 - before.x0);
+    EXPECT_GT(widthRatio, 1.3) << "the clay was not scaled up";
+    EXPECT_LT(widthRatio, 1.7);
+    EXPECT_GT(0.5 * (after.x0 + after.x1), 0.5 * (before.x0 + before.x1) + 5) << "the clay did not move right";
+    EXPECT_NE(moved.output.find("0 strokes"), std::string::npos) << "a grab sculpted\n" << moved.output;
+}
+
+TEST_F(HeadsetAppTest, ThePanelsPointerClicksUndo) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    // The left hand 20 cm in front of the panel (HeadsetSession::panelPose: 0.6 rad about Y at
+    // (-0.32, -0.05, -0.42)), aiming straight at its Undo button (pixels 18..54 x 225..244 of
+    // 480 x 560, the panel's fixed layout), clicks with the trigger after the carve.
+    const std::string aim = "\"orientation\": [0.0, 0.29552, 0.0, 0.95534]";
+    const std::string click = controller(45, "left", position(-0.3123, -0.0216, -0.1829) + ", " + aim) +
+                              controller(48, "left", "\"trigger\": 1.0") + controller(52, "left", "\"trigger\": 0.0") +
+                              controller(56, "left", position(-0.1, 0.0, 1.0));
+    const Run untouched = sculpt("untouched", "");
+    const Run carvedOnly = sculpt("carved", carve());
+    const Run undone = sculpt("undone", carve() + click);
+    ASSERT_EQ(undone.status, 0) << undone.output;
+    EXPECT_GT(difference(untouched.left, carvedOnly.left).count, 200) << "the carve did nothing to undo";
+    EXPECT_LT(difference(untouched.left, undone.left).count, 20) << "the panel's Undo did not restore the clay";
+    EXPECT_LT(difference(untouched.right, undone.right).count, 20);
+}
+
+TEST_F(HeadsetAppTest, KhronosCoreValidationReportsNothing) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    const fs::path report = mDir / "validation.txt";
+    const Run r = sculpt("validated", carve(), "--xr-validation",
+                         "XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME=" + report.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("Core Validation"), std::string::npos) << "the layer did not load\n" << r.output;
+    // The layer writes its file only when it has something to say.
+    const std::string said = fs::exists(report) ? slurp(report) : std::string();
+    EXPECT_TRUE(said.empty()) << said;
+    EXPECT_NE(r.events.find("\"EXITING\""), std::string::npos);
+}
+
+TEST_F(HeadsetAppTest, WithoutARuntimeItSaysSoInOneLineAndSculptsOnTheDesktop) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    const fs::path log = mDir / "log.txt";
+    const std::string cmd = "env -u XR_RUNTIME_JSON XDG_CONFIG_HOME=" + (mDir / "config").string() + " XDG_CONFIG_DIRS=" +
+                            (mDir / "etc").string() + " " KIZAMU_EXECUTABLE " sculpt --xr --device none --frames 3 --session-root " +
+                            (mDir / "sessions").string() + " >" + log.string() + " 2>&1";
+    const int status = std::system(cmd.c_str());
+    const std::string out = slurp(log);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+    if (fs::exists("/etc/openxr/1/active_runtime.json")) GTEST_SKIP() << "this machine has an OpenXR runtime installed";
+    EXPECT_EQ(count(out, "xr: "), 1) << out;
+    EXPECT_NE(out.find("no OpenXR runtime is installed"), std::string::npos) << out;
+    EXPECT_NE(out.find("sculpt: session"), std::string::npos) << out;
+}
+
+}  // namespace
+}  // namespace kizamu
