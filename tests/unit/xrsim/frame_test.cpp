@@ -1,0 +1,255 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file frame_test.cpp
+/// @brief The frame loop and swapchain rules, the read-back of projection views (a clear colour
+/// rendered into a swapchain image through an FBO), views and spaces, and the capture files.
+#include "tests/unit/xrsim/xrsim_fixture.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <tuple>
+
+#include <unistd.h>
+
+namespace kizamu::xrsim::test {
+namespace {
+
+/// Acquires, waits, renders `clear` into the rectangle through an FBO, and releases.
+void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& images,
+                int x, int y, int w, int h, const float clear[4]) {
+    uint32_t index = 0;
+    ASSERT_EQ(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    ASSERT_EQ(XR_SUCCESS, xrWaitSwapchainImage(sc, &wi));
+    GLuint fbo = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                           images[index].image, 0);
+    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(x, y, w, h);
+    glClearColor(clear[0], clear[1], clear[2], clear[3]);
+    glClear(GL_COLOR_BUFFER_BIT);
+    glDisable(GL_SCISSOR_TEST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    ASSERT_EQ(XR_SUCCESS, xrReleaseSwapchainImage(sc, nullptr));
+}
+
+std::vector<XrSwapchainImageOpenGLKHR> images(XrSwapchain sc) {
+    uint32_t n = 0;
+    EXPECT_EQ(XR_SUCCESS, xrEnumerateSwapchainImages(sc, 0, &n, nullptr));
+    std::vector<XrSwapchainImageOpenGLKHR> out(n, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
+    EXPECT_EQ(XR_SUCCESS, xrEnumerateSwapchainImages(
+                              sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(out.data())));
+    return out;
+}
+
+/// A projection layer of two views side by side in one swapchain (each eye w x h).
+struct Projection {
+    XrCompositionLayerProjectionView views[2];
+    XrCompositionLayerProjection layer{XR_TYPE_COMPOSITION_LAYER_PROJECTION};
+    Projection(XrSpace space, XrSwapchain sc, int w, int h) {
+        for (int eye = 0; eye < 2; ++eye) {
+            views[eye] = {XR_TYPE_COMPOSITION_LAYER_PROJECTION_VIEW};
+            views[eye].pose.orientation.w = 1.0f;
+            views[eye].fov = {-0.78f, 0.78f, 0.78f, -0.78f};
+            views[eye].subImage.swapchain = sc;
+            views[eye].subImage.imageRect = {{eye * w, 0}, {w, h}};
+        }
+        layer.space = space;
+        layer.viewCount = 2;
+        layer.views = views;
+    }
+    const XrCompositionLayerBaseHeader* header() const {
+        return reinterpret_cast<const XrCompositionLayerBaseHeader*>(&layer);
+    }
+};
+
+TEST_F(XrSimTest, FrameLoopOrderIsEnforced) {
+    createInstance();
+    createSession();
+    KIZAMU_ASSERT_XR(XR_SUCCESS, beginSession());
+    KIZAMU_EXPECT_XR(XR_ERROR_CALL_ORDER_INVALID, beginFrame());
+    KIZAMU_EXPECT_XR(XR_ERROR_CALL_ORDER_INVALID, endFrame());
+    KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+    KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
+    KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+    KIZAMU_EXPECT_XR(XR_FRAME_DISCARDED, beginFrame());
+    KIZAMU_EXPECT_XR(XR_SUCCESS, endFrame());
+    KIZAMU_EXPECT_XR(XR_ERROR_CALL_ORDER_INVALID, endFrame());
+}
+
+TEST_F(XrSimTest, SwapchainOrderIsEnforced) {
+    runToFocused();
+    uint32_t n = 0;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateSwapchainFormats(session, 0, &n, nullptr));
+    std::vector<int64_t> formats(n);
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateSwapchainFormats(session, n, &n, formats.data()));
+    ASSERT_EQ(formats, (std::vector<int64_t>{GL_SRGB8_ALPHA8, GL_RGBA8}));
+    const XrSwapchain sc = createSwapchain(GL_SRGB8_ALPHA8, 32, 32);
+    EXPECT_EQ(images(sc).size(), 3u);
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    KIZAMU_EXPECT_XR(XR_ERROR_CALL_ORDER_INVALID, xrWaitSwapchainImage(sc, &wi));
+    uint32_t index = 0;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
+    EXPECT_EQ(index, 0u);
+    KIZAMU_EXPECT_XR(XR_ERROR_CALL_ORDER_INVALID, xrReleaseSwapchainImage(sc, nullptr));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
+    EXPECT_EQ(index, 2u);
+    KIZAMU_EXPECT_XR(XR_ERROR_CALL_ORDER_INVALID, xrAcquireSwapchainImage(sc, nullptr, &index));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrWaitSwapchainImage(sc, &wi));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrReleaseSwapchainImage(sc, nullptr));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
+    EXPECT_EQ(index, 0u);
+
+    XrSwapchainCreateInfo ci{XR_TYPE_SWAPCHAIN_CREATE_INFO};
+    ci.format = GL_RGB8;
+    ci.sampleCount = ci.faceCount = ci.arraySize = ci.mipCount = 1;
+    ci.width = ci.height = 16;
+    XrSwapchain bad = XR_NULL_HANDLE;
+    KIZAMU_EXPECT_XR(XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED, xrCreateSwapchain(session, &ci, &bad));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrDestroySwapchain(sc));
+    KIZAMU_EXPECT_XR(XR_ERROR_HANDLE_INVALID, xrAcquireSwapchainImage(sc, nullptr, &index));
+}
+
+TEST_F(XrSimTest, LayerWithoutAReleasedImageIsInvalid) {
+    runToFocused();
+    const XrSwapchain sc = createSwapchain(GL_RGBA8, 64, 32);
+    const Projection p(local, sc, 32, 32);
+    KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+    KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
+    KIZAMU_EXPECT_XR(XR_ERROR_LAYER_INVALID, endFrame({p.header()}));
+    const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
+    renderInto(sc, images(sc), 0, 0, 64, 32, grey);
+    Projection outside(local, sc, 40, 32);
+    KIZAMU_EXPECT_XR(XR_ERROR_SWAPCHAIN_RECT_INVALID, endFrame({outside.header()}));
+    KIZAMU_EXPECT_XR(XR_SUCCESS, endFrame({p.header()}));
+}
+
+TEST_F(XrSimTest, SubmittedViewsAreReadBackTopRowFirst) {
+    runToFocused();
+    const std::vector<int64_t> formats = {GL_SRGB8_ALPHA8, GL_RGBA8};
+    for (int64_t format : formats) {
+        kizamuXrSimReset();
+        const XrSwapchain sc = createSwapchain(format, 64, 32);
+        const auto imgs = images(sc);
+        // Left eye red over green (GL's y grows upwards), right eye blue, all in one image.
+        const float red[4] = {1, 0, 0, 1}, green[4] = {0, 1, 0, 1}, blue[4] = {0, 0, 1, 1};
+        KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+        KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
+        uint32_t index = 0;
+        KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
+        XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+        wi.timeout = XR_INFINITE_DURATION;
+        KIZAMU_ASSERT_XR(XR_SUCCESS, xrWaitSwapchainImage(sc, &wi));
+        GLuint fbo = 0;
+        glGenFramebuffers(1, &fbo);
+        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                               imgs[index].image, 0);
+        glEnable(GL_SCISSOR_TEST);
+        for (const auto& [x, y, w, h, c] :
+             {std::tuple{0, 16, 32, 16, red}, std::tuple{0, 0, 32, 16, green},
+              std::tuple{32, 0, 32, 32, blue}}) {
+            glScissor(x, y, w, h);
+            glClearColor(c[0], c[1], c[2], c[3]);
+            glClear(GL_COLOR_BUFFER_BIT);
+        }
+        glDisable(GL_SCISSOR_TEST);
+        glBindFramebuffer(GL_FRAMEBUFFER, 0);
+        glDeleteFramebuffers(1, &fbo);
+        KIZAMU_ASSERT_XR(XR_SUCCESS, xrReleaseSwapchainImage(sc, nullptr));
+        const Projection p(local, sc, 32, 32);
+        KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
+
+        int w = 0, h = 0;
+        const unsigned char* rgba = nullptr;
+        ASSERT_EQ(kizamuXrSimLastView(0, &w, &h, &rgba), 0);
+        ASSERT_EQ(w, 32);
+        ASSERT_EQ(h, 32);
+        auto at = [&](int x, int y) {
+            const unsigned char* q = rgba + (static_cast<size_t>(y) * w + x) * 4;
+            return std::tuple{int(q[0]), int(q[1]), int(q[2]), int(q[3])};
+        };
+        EXPECT_EQ(at(0, 0), std::tuple(255, 0, 0, 255)) << "format " << format;
+        EXPECT_EQ(at(31, 31), std::tuple(0, 255, 0, 255)) << "format " << format;
+        ASSERT_EQ(kizamuXrSimLastView(1, &w, &h, &rgba), 0);
+        EXPECT_EQ(at(5, 5), std::tuple(0, 0, 255, 255)) << "format " << format;
+        KIZAMU_ASSERT_XR(XR_SUCCESS, xrDestroySwapchain(sc));
+    }
+    EXPECT_EQ(kizamuXrSimLastView(2, nullptr, nullptr, nullptr), 2);
+}
+
+TEST_F(XrSimTest, ViewsAreEyesEitherSideOfTheHead) {
+    runToFocused();
+    XrViewLocateInfo li{XR_TYPE_VIEW_LOCATE_INFO};
+    li.viewConfigurationType = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
+    li.displayTime = lastDisplayTime;
+    li.space = local;
+    XrViewState vs{XR_TYPE_VIEW_STATE};
+    XrView views[2] = {{XR_TYPE_VIEW}, {XR_TYPE_VIEW}};
+    uint32_t n = 0;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrLocateViews(session, &li, &vs, 2, &n, views));
+    ASSERT_EQ(n, 2u);
+    EXPECT_FLOAT_EQ(views[0].pose.position.x, -0.032f);
+    EXPECT_FLOAT_EQ(views[1].pose.position.x, 0.032f);
+    EXPECT_FLOAT_EQ(views[0].pose.orientation.w, 1.0f);
+    EXPECT_NEAR(views[0].fov.angleLeft, -0.7853982f, 1e-6);
+    EXPECT_NEAR(views[1].fov.angleUp, 0.7853982f, 1e-6);
+    EXPECT_TRUE(vs.viewStateFlags & XR_VIEW_STATE_POSITION_VALID_BIT);
+
+    // The head moved up 1.5 m: the VIEW space sits there in LOCAL.
+    const float up[3] = {0.0f, 1.5f, 0.0f}, identity[4] = {0, 0, 0, 1};
+    kizamuXrSimSetHeadPose(up, identity);
+    XrReferenceSpaceCreateInfo si{XR_TYPE_REFERENCE_SPACE_CREATE_INFO};
+    si.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_VIEW;
+    si.poseInReferenceSpace.orientation.w = 1.0f;
+    XrSpace view = XR_NULL_HANDLE;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrCreateReferenceSpace(session, &si, &view));
+    XrSpaceLocation loc{XR_TYPE_SPACE_LOCATION};
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrLocateSpace(view, local, lastDisplayTime, &loc));
+    EXPECT_FLOAT_EQ(loc.pose.position.y, 1.5f);
+    si.referenceSpaceType = XR_REFERENCE_SPACE_TYPE_UNBOUNDED_MSFT;
+    KIZAMU_EXPECT_XR(XR_ERROR_REFERENCE_SPACE_UNSUPPORTED,
+                     xrCreateReferenceSpace(session, &si, &view));
+}
+
+TEST_F(XrSimTest, CaptureWritesEventsAndViewPngs) {
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("kizamu_xrsim_capture_" + std::to_string(getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    setenv("KIZAMU_XRSIM_CAPTURE", dir.c_str(), 1);
+    runToFocused();
+    unsetenv("KIZAMU_XRSIM_CAPTURE");
+    const XrSwapchain sc = createSwapchain(GL_RGBA8, 32, 16);
+    const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
+    for (int frame = 0; frame < 90; ++frame) {
+        KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+        KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
+        renderInto(sc, images(sc), 0, 0, 32, 16, grey);
+        const Projection p(local, sc, 16, 16);
+        KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
+    }
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrDestroySession(session));
+    EXPECT_TRUE(std::filesystem::file_size(dir / "left.png") > 0);
+    EXPECT_TRUE(std::filesystem::file_size(dir / "right.png") > 0);
+    std::ifstream events(dir / "events.jsonl");
+    std::stringstream all;
+    all << events.rdbuf();
+    EXPECT_NE(all.str().find("{\"event\":\"state\",\"state\":\"FOCUSED\",\"time\":1000000000}"),
+              std::string::npos)
+        << all.str();
+    EXPECT_NE(all.str().find("{\"event\":\"frame\",\"n\":90,"), std::string::npos) << all.str();
+    std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace kizamu::xrsim::test
