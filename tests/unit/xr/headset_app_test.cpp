@@ -62,7 +62,7 @@ std::string carve() {
     return e + controller(40, "right", "\"trigger\": 0.0") + controller(41, "right", position(0.0, 0.0, 1.0));
 }
 
-struct Run {
+struct XrRun {
     int status = -1;
     std::string output, events;
     render::Image left, right;
@@ -80,7 +80,7 @@ protected:
 
     /// Runs kizamu sculpt --xr for kFrames frames with the controller events `events` (plus the
     /// hands put away) and reads what the runtime captured.
-    Run sculpt(const std::string& name, const std::string& events, const std::string& args = "", const std::string& env = "") {
+    XrRun sculpt(const std::string& name, const std::string& events, const std::string& args = "", const std::string& env = "") {
         const fs::path capture = mDir / name;
         fs::create_directories(capture);
         const fs::path script = mDir / (name + ".input.jsonl");
@@ -91,7 +91,7 @@ protected:
                                 (mDir / "sessions").string() + " --frames " + std::to_string(kFrames) + " --input " +
                                 script.string() + " --screenshot " + (capture / "mirror.png").string() + " " + args + " >" +
                                 log.string() + " 2>&1";
-        Run r;
+        XrRun r;
         const int status = std::system(cmd.c_str());
         r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
         r.output = slurp(log);
@@ -140,7 +140,7 @@ int count(const std::string& text, const std::string& what) {
 
 TEST_F(HeadsetAppTest, TheSessionReachesFocusedAndEndsCleanly) {
     if (!haveDisplay()) GTEST_SKIP() << "no display";
-    const Run r = sculpt("lifecycle", "");
+    const XrRun r = sculpt("lifecycle", "");
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("xr: OpenXR: Kizamu simulated runtime"), std::string::npos) << r.output;
     // The specification's order, through to the end the app asked for.
@@ -158,8 +158,8 @@ TEST_F(HeadsetAppTest, TheSessionReachesFocusedAndEndsCleanly) {
 
 TEST_F(HeadsetAppTest, AScriptedControllerCarvesAGrooveSeenInBothEyesAndVibratesOnContact) {
     if (!haveDisplay()) GTEST_SKIP() << "no display";
-    const Run untouched = sculpt("untouched", "");
-    const Run carved = sculpt("carved", carve());
+    const XrRun untouched = sculpt("untouched", "");
+    const XrRun carved = sculpt("carved", carve());
     ASSERT_EQ(carved.status, 0) << carved.output;
     EXPECT_NE(carved.output.find("1 strokes"), std::string::npos) << carved.output;
     for (const auto& [name, a, b] : {std::tuple{"left", &untouched.left, &carved.left}, std::tuple{"right", &untouched.right, &carved.right}}) {
@@ -186,8 +186,8 @@ TEST_F(HeadsetAppTest, TwoHandsMoveAndScaleTheClay) {
         grab += controller(8 + i, "left", position(shift - half, -0.15, -0.25)) + controller(8 + i, "right", position(shift + half, -0.15, -0.25));
     }
     grab += controller(22, "left", "\"squeeze\": 0.0") + controller(22, "right", "\"squeeze\": 0.0");
-    const Run still = sculpt("still", "");
-    const Run moved = sculpt("moved", grab);
+    const XrRun still = sculpt("still", "");
+    const XrRun moved = sculpt("moved", grab);
     ASSERT_EQ(moved.status, 0) << moved.output;
     const Difference before = clayBox(still.left), after = clayBox(moved.left);
     const double widthRatio = double(after.x1 - after.x0) / double(before.x1 - before.x0);
@@ -206,9 +206,9 @@ TEST_F(HeadsetAppTest, ThePanelsPointerClicksUndo) {
     const std::string click = controller(45, "left", position(-0.3123, -0.0216, -0.1829) + ", " + aim) +
                               controller(48, "left", "\"trigger\": 1.0") + controller(52, "left", "\"trigger\": 0.0") +
                               controller(56, "left", position(-0.1, 0.0, 1.0));
-    const Run untouched = sculpt("untouched", "");
-    const Run carvedOnly = sculpt("carved", carve());
-    const Run undone = sculpt("undone", carve() + click);
+    const XrRun untouched = sculpt("untouched", "");
+    const XrRun carvedOnly = sculpt("carved", carve());
+    const XrRun undone = sculpt("undone", carve() + click);
     ASSERT_EQ(undone.status, 0) << undone.output;
     EXPECT_GT(difference(untouched.left, carvedOnly.left).count, 200) << "the carve did nothing to undo";
     EXPECT_LT(difference(untouched.left, undone.left).count, 20) << "the panel's Undo did not restore the clay";
@@ -218,7 +218,7 @@ TEST_F(HeadsetAppTest, ThePanelsPointerClicksUndo) {
 TEST_F(HeadsetAppTest, KhronosCoreValidationReportsNothing) {
     if (!haveDisplay()) GTEST_SKIP() << "no display";
     const fs::path report = mDir / "validation.txt";
-    const Run r = sculpt("validated", carve(), "--xr-validation",
+    const XrRun r = sculpt("validated", carve(), "--xr-validation",
                          "XR_CORE_VALIDATION_EXPORT_TYPE=text XR_CORE_VALIDATION_FILE_NAME=" + report.string());
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("Core Validation"), std::string::npos) << "the layer did not load\n" << r.output;
