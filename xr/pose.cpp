@@ -43,11 +43,12 @@ glm::dmat4 Similarity::matrix() const {
     return m;
 }
 
-Similarity defaultClayPlacement(const glm::dvec3& centre) {
+Similarity defaultClayPlacement(const glm::dvec3& centre, double domainSize) {
     Similarity s;
+    s.scale = domainSize > 0.25 ? 0.25 / domainSize : 1.0;
     // Z up (clay) to Y up (OpenXR): a quarter turn about +X takes +Z to +Y and +Y to −Z.
     s.rotation = glm::angleAxis(-0.5 * M_PI, glm::dvec3(1.0, 0.0, 0.0));
-    s.translation = glm::dvec3(0.0, -0.15, -0.35) - s.rotation * centre;
+    s.translation = glm::dvec3(0.0, -0.15, -0.35) - s.scale * (s.rotation * centre);
     return s;
 }
 

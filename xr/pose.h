@@ -44,9 +44,10 @@ struct Similarity {
 };
 
 /// Where the clay first appears: its domain centre `centre` (clay world, m) 0.35 m in front of
-/// and 0.15 m below the reference space's origin, its +Z turned to the space's +Y (up), at
-/// real size.
-Similarity defaultClayPlacement(const glm::dvec3& centre);
+/// and 0.15 m below the reference space's origin, its +Z turned to the space's +Y (up), at real
+/// size, or smaller so that a domain of `domainSize` metres appears at most 0.25 m across (a
+/// big model comes within arm's reach; two hands scale it back up).
+Similarity defaultClayPlacement(const glm::dvec3& centre, double domainSize);
 
 /// The view matrix of an eye at `eye` (reference space), as OpenGL wants it (eye looking down −Z).
 glm::mat4 viewMatrix(const Pose& eye);

@@ -7,6 +7,9 @@
 #include "bench/haptics_bench.h"
 #if KIZAMU_BENCH_HAVE_RENDER
 #include "bench/render_bench.h"
+#if KIZAMU_HAVE_RENDER
+#include "app/xr_bench.h"
+#endif
 #endif
 #include "bench/live_bench.h"
 #include "bench/mesh_bench.h"
@@ -162,6 +165,21 @@ void addBenchCommand(CLI::App& app) {
         ->capture_default_str();
     renderCmd->callback([renderOptions] {
         const int rc = bench::runRenderBench(*renderOptions);
+        if (rc != 0) throw CLI::RuntimeError(rc);
+    });
+#endif
+#if KIZAMU_HAVE_RENDER
+    auto* xrCmd = bench->add_subcommand(
+        "xr", "The headset's stereo frame against an OpenXR runtime (the simulated one by default) and the frames from a "
+              "controller's carve to the headset showing it; needs an X display");
+    auto xrOptions = std::make_shared<XrBenchOptions>();
+    xrCmd->add_flag("--json", xrOptions->json, "One JSON object per figure per line, nothing else on stdout");
+    xrCmd->add_option("--frames", xrOptions->frames, "Stereo frames timed (the figure is their median)")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    xrCmd->add_option("--edits", xrOptions->edits, "Carve dabs timed for the latency")->check(CLI::Range(1, 10000))->capture_default_str();
+    xrCmd->callback([xrOptions] {
+        const int rc = runXrBench(*xrOptions);
         if (rc != 0) throw CLI::RuntimeError(rc);
     });
 #endif

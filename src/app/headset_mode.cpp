@@ -62,7 +62,7 @@ struct HeadsetMode::Impl {
 };
 
 HeadsetMode::HeadsetMode(const HeadsetModeOptions& options)
-    : mImpl(std::make_unique<Impl>(options)), mPlacement(xr::defaultClayPlacement(options.clayCentre)) {}
+    : mImpl(std::make_unique<Impl>(options)), mPlacement(xr::defaultClayPlacement(options.clayCentre, options.domainSize)) {}
 
 HeadsetMode::~HeadsetMode() = default;
 

@@ -28,6 +28,7 @@ struct HeadsetModeOptions {
     xr::Hand dominant = xr::Hand::Right;
     bool validation = false;  ///< Khronos' core validation layer, when installed
     glm::dvec3 clayCentre{0.0};  ///< the clay world's point placed in front of the artist
+    double domainSize = 0.2;     ///< m, the clay's domain (a big one first appears smaller)
 };
 
 class HeadsetMode {

@@ -229,6 +229,7 @@ void SculptApp::startHeadset() {
         const auto guard = mReader->acquire();
         const adf::Domain& d = guard.adf().domain();
         ho.clayCentre = d.originWorld + glm::dvec3(0.5 * d.sizeWorld);
+        ho.domainSize = d.sizeWorld;
     }
     try {
         mHeadset = std::make_unique<HeadsetMode>(ho);

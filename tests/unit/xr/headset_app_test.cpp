@@ -243,5 +243,23 @@ TEST_F(HeadsetAppTest, WithoutARuntimeItSaysSoInOneLineAndSculptsOnTheDesktop) {
     EXPECT_NE(out.find("sculpt: session"), std::string::npos) << out;
 }
 
+TEST_F(HeadsetAppTest, TheBenchmarkReportsItsFigures) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    const fs::path log = mDir / "bench.jsonl";
+    const std::string cmd = "XR_RUNTIME_JSON=" KIZAMU_XRSIM_MANIFEST " " KIZAMU_EXECUTABLE " bench xr --json --frames 5 --edits 2 >" +
+                            log.string() + " 2>/dev/null";
+    const int status = std::system(cmd.c_str());
+    const std::string out = slurp(log);
+    ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << out;
+    for (const char* figure : {"\"xr.frame_ms\"", "\"xr.edit_to_visible_frames\""}) {
+        const std::size_t at = out.find(figure);
+        ASSERT_NE(at, std::string::npos) << figure << " missing:\n" << out;
+        const std::size_t value = out.find("\"value\":", at);
+        ASSERT_NE(value, std::string::npos) << out;
+        const double v = std::strtod(out.c_str() + value + 8, nullptr);
+        EXPECT_TRUE(std::isfinite(v) && v >= 0.0) << figure << " = " << v;
+    }
+}
+
 }  // namespace
 }  // namespace kizamu
