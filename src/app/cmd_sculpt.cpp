@@ -37,6 +37,10 @@ void addSculptCommand(CLI::App& app) {
         ->check(CLI::IsMember({"left", "right"}))
         ->capture_default_str();
     cmd->add_flag("--xr-validation", o->xrValidation, "With --xr: enable Khronos' OpenXR core validation layer");
+    cmd->add_flag("--register-stylus", o->registerStylus,
+                  "With --xr and a device: start by registering the stylus in the headset (touch its tip to the "
+                  "controller's at four places, pulling the trigger each time); kept in "
+                  "$XDG_CONFIG_HOME/kizamu/stylus-registration.json");
     cmd->add_option("--width", o->width, "Window width")->check(CLI::Range(64, 16384))->capture_default_str();
     cmd->add_option("--height", o->height, "Window height")->check(CLI::Range(64, 16384))->capture_default_str();
     cmd->callback([o] {

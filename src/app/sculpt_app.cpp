@@ -9,6 +9,7 @@
 #include "app/headset_mode.h"
 #include "engine/engine.h"
 #include "haptics/engine_client.h"
+#include "haptics/haptic_trace.h"
 #include "haptics/servo_loop.h"
 #include "interact/input_script.h"
 #include "interact/input_state.h"
@@ -23,6 +24,8 @@
 #include "ui/glfw_window.h"
 #include "ui/imgui_layer.h"
 #include "util/cpu_set.h"
+#include "util/file_error.h"
+#include "xr/stylus_workspace.h"
 
 #include <epoxy/gl.h>
 #include <glm/gtc/matrix_transform.hpp>
@@ -120,6 +123,17 @@ struct Haptics {
     std::unique_ptr<haptics::EngineHapticClient> client;
     std::unique_ptr<haptics::ServoLoop> loop;
     haptics::HapticToolSettings tool;
+    /// The servo thread's ticks (single producer, the UI thread consumes): where the stylus is.
+    std::unique_ptr<haptics::TraceRing> ticks = std::make_unique<haptics::TraceRing>(1024);
+    haptics::TraceRecord latest;  ///< the newest tick the UI thread took
+    bool ticked = false;
+};
+
+/// Touches of the stylus's tip to the controller's, collected until there are enough to register.
+struct StylusTouches {
+    static constexpr std::size_t kNeeded = 4;
+    std::vector<glm::dvec3> device, space;
+    bool triggerWas = false;
 };
 
 class SculptApp {
@@ -180,6 +194,11 @@ private:
     std::unique_ptr<Haptics> mHaptics;
     std::unique_ptr<HeadsetMode> mHeadset;
     bool mHeadsetResizing = false;  ///< the thumbstick is changing the tool's size
+    bool mHeadsetGrabWas = false;
+    std::optional<xr::StylusRegistration> mStylusRegistration;  ///< the stylus's workspace in the headset's space
+    std::optional<StylusTouches> mRegistering;                  ///< a registration in progress
+    /// The stylus in the headset: its ticks drained, registration touches taken, its tool shown.
+    void stylusInHeadset(const xr::SculptIntent& in);
     bool mScriptNeedsHeadsetWarned = false;
     mesh::MeshMirror mMirror;
     std::size_t mTriangles = 0;
@@ -216,8 +235,9 @@ SculptApp::SculptApp(const SculptOptions& o)
     mMouse.setTool(mTool.tool);
     mLook.ground = true;
     startEngine();
+    if (o.xr) startHeadset();  // first: a registered stylus is mapped through the headset's space
     startHaptics();
-    if (o.xr) startHeadset();
+    if (o.registerStylus && mHeadset) mRegistering.emplace();
     setTitle();
 }
 
@@ -234,6 +254,11 @@ void SculptApp::startHeadset() {
     try {
         mHeadset = std::make_unique<HeadsetMode>(ho);
         std::printf("xr: %s\n", mHeadset->describe().c_str());
+        try {
+            mStylusRegistration = xr::loadStylusRegistration(xr::defaultRegistrationPath());
+        } catch (const FileError& e) {
+            mStatus = std::string(e.what()) + " (registering the stylus again replaces it)";
+        }
     } catch (const std::exception& e) {
         // No runtime, no headset, no OpenGL binding: the desktop window is the way to sculpt.
         std::fprintf(stderr, "xr: no headset (%s); sculpting in the desktop window\n", e.what());
@@ -326,11 +351,14 @@ void SculptApp::startHaptics() {
     }
     const haptics::DeviceSpec& spec = h->device.device().spec();
     h->tool.mapping = haptics::WorkspaceMapping::fit(spec, d.originWorld, d.originWorld + glm::dvec3(d.sizeWorld));
+    // In the headset, a registered stylus feels the clay where the headset shows it.
+    if (mHeadset && mStylusRegistration) h->tool.mapping = xr::stylusMapping(mStylusRegistration->deviceToSpace, mHeadset->placement());
     h->tool.planar = h->device.planar;
     haptics::ProxySettings ps;
     ps.toolRadius = mTool.tool.radius;
     h->renderer = std::make_unique<haptics::ProxyRenderer>(h->tool.mapping.worldSpec(spec), 1e-3, ps);
     h->client = std::make_unique<haptics::EngineHapticClient>(mEngine->snapshots(), mEngine->samples(1), *h->renderer, h->tool);
+    h->client->setTrace(h->ticks.get());
     h->loop = std::make_unique<haptics::ServoLoop>(h->device.device(), *h->client);
     const haptics::ServoStartReport r = h->loop->start();
     if (!r.realtime && !r.warnings.empty()) mStatus = "haptics without real-time priority: " + r.warnings.front();
@@ -555,6 +583,10 @@ void SculptApp::sculptInHeadset() {
     if (in.undo) launch(mEngine->undo(), "undo");
 
     mToolMark.reset();
+    if (mHaptics) {
+        stylusInHeadset(in);
+        return;
+    }
     if (!in.hasTool) {
         mHeadset->contact(0.0, mTool.tool.radius);
         return;
@@ -575,15 +607,80 @@ void SculptApp::sculptInHeadset() {
                                                                   : render::ToolBody::Sphere;
     mToolMark = mark;
     // The contact cue: how far the tool's sphere reaches into the clay (the same distance
-    // query the stylus's force uses). A stylus, when there is one, carries the forces instead.
-    if (!mHaptics) mHeadset->contact(mTool.tool.radius - double(under.distance), mTool.tool.radius);
-    if (mHaptics) return;  // the stylus drives the tool
+    // query the stylus's force uses).
+    mHeadset->contact(mTool.tool.radius - double(under.distance), mTool.tool.radius);
     engine::ToolSample sample;
     sample.timeNs = nowNs();
     sample.posWorld = in.toolClay;
     sample.strength = std::max(in.strength, 0.05f);
     sample.buttons = in.sculpting ? uint32_t(engine::kButtonPrimary) : 0u;
     mEngine->samples(0).push(sample);
+}
+
+void SculptApp::stylusInHeadset(const xr::SculptIntent& in) {
+    Haptics& h = *mHaptics;
+    for (haptics::TraceRecord r; h.ticks->pop(r);) {
+        h.latest = r;
+        h.ticked = true;
+    }
+    // The simulated stylus's hand is the controller (a real stylus ignores it): the
+    // controller's grip, in the stylus's workspace, with the trigger as its button.
+    if (in.hasTool) {
+        const uint32_t buttons = in.sculpting && !mRegistering ? uint32_t(engine::kButtonPrimary) : 0u;
+        h.hand.set(h.tool.mapping.toDevice(in.toolClay), buttons, haptics::ServoLoop::clockNs());
+    }
+    // A grab moves the clay under the stylus: its map follows when the hands let go.
+    if (mHeadsetGrabWas && !in.grabbing && mStylusRegistration) {
+        h.loop->stop();
+        mHaptics.reset();
+        startHaptics();
+        mHeadsetGrabWas = false;
+        return;
+    }
+    mHeadsetGrabWas = in.grabbing;
+    if (mRegistering && in.hasTool && h.ticked) {
+        StylusTouches& t = *mRegistering;
+        const bool trigger = in.strength > 0.5f;
+        if (trigger && !t.triggerWas) {  // a touch: the stylus tip and the controller's, together
+            t.device.push_back(h.tool.mapping.toDevice(h.latest.device));
+            t.space.push_back(mHeadset->placement().apply(in.toolClay));
+            mStatus = "stylus registration: touch " + std::to_string(t.device.size()) + " of " + std::to_string(t.kNeeded);
+        }
+        t.triggerWas = trigger;
+        if (t.device.size() >= t.kNeeded) {
+            try {
+                const xr::StylusRegistration r = xr::registerStylus(t.device, t.space);
+                xr::saveStylusRegistration(xr::defaultRegistrationPath(), r, h.device.device().spec().name);
+                mStylusRegistration = r;
+                mStatus = "stylus registered: " + std::to_string(r.rmsM * 1000.0).substr(0, 5) + " mm rms, kept in " +
+                          xr::defaultRegistrationPath();
+                std::printf("xr: %s\n", mStatus.c_str());
+                mRegistering.reset();
+                h.loop->stop();
+                mHaptics.reset();
+                startHaptics();  // the new map
+                return;
+            } catch (const std::exception& e) {
+                mStatus = std::string("stylus registration failed: ") + e.what();
+                std::printf("xr: %s\n", mStatus.c_str());
+                mRegistering.emplace();
+            }
+        }
+    }
+    if (!h.ticked) return;
+    adf::Sample under;
+    {
+        const auto guard = mReader->acquire();
+        adf::AdfAccessor clay(guard.adf());
+        under = clay.sample(glm::vec3(h.latest.proxy));
+    }
+    render::ToolMark mark;
+    mark.centre = glm::vec3(h.latest.proxy);
+    const float g = glm::length(under.gradient);
+    mark.normal = g > 1e-6f ? under.gradient / g : glm::vec3(0.0f, 0.0f, 1.0f);
+    mark.radius = float(mTool.tool.radius);
+    mark.body = render::ToolBody::Sphere;
+    mToolMark = mark;
 }
 
 void SculptApp::drawHeadset() {
@@ -714,6 +811,19 @@ void SculptApp::panel() {
     } else {
         ImGui::TextUnformatted(mHeadset ? "haptics off: the controller sculpts and vibrates on contact"
                                         : "haptics off: the mouse sculpts alone");
+    }
+    if (mHeadset && mHaptics) {
+        if (mRegistering) {
+            ImGui::TextWrapped("Registering the stylus: hold its tip to the controller's and pull the trigger, at %zu places "
+                               "not on one line (%zu so far).",
+                               StylusTouches::kNeeded, mRegistering->device.size());
+            if (ImGui::Button("Cancel registration")) mRegistering.reset();
+        } else {
+            if (ImGui::Button("Register the stylus")) mRegistering.emplace();
+            ImGui::SameLine();
+            if (mStylusRegistration) ImGui::Text("registered, %.1f mm rms", mStylusRegistration->rmsM * 1000.0);
+            else ImGui::TextUnformatted("not registered: fitted to the clay");
+        }
     }
     if (mHeadset)
         ImGui::Text("%s, %s, %.1f ms a frame", mHeadset->describe().c_str(), mHeadset->focused() ? "focused" : "not focused",

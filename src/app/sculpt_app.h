@@ -36,6 +36,7 @@ struct SculptOptions {
     bool xr = false;               ///< sculpt in a headset (OpenXR); the window mirrors the left eye
     std::string hand = "right";    ///< with xr: the tool's hand (left or right)
     bool xrValidation = false;     ///< with xr: Khronos' core validation layer
+    bool registerStylus = false;   ///< with xr and a device: start by registering the stylus in the headset's space
 };
 
 /// Runs the window until it closes or `frames` have been drawn. Returns the exit code.

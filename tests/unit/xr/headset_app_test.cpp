@@ -9,6 +9,7 @@
 // layer enabled and silent.
 #include "render/image.h"
 
+#include <glm/vec3.hpp>
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -76,7 +77,9 @@ protected:
         fs::remove_all(mDir);
         fs::create_directories(mDir);
     }
-    void TearDown() override { fs::remove_all(mDir); }
+    void TearDown() override {
+        if (!std::getenv("KIZAMU_KEEP")) fs::remove_all(mDir);
+    }
 
     /// Runs kizamu sculpt --xr for kFrames frames with the controller events `events` (plus the
     /// hands put away) and reads what the runtime captured.
@@ -87,7 +90,8 @@ protected:
         std::ofstream(script) << "{\"kizamu_input\": 1}\n" << events << kHandsAway;
         const fs::path log = capture / "log.txt";
         const std::string cmd = "XR_RUNTIME_JSON=" KIZAMU_XRSIM_MANIFEST " KIZAMU_XRSIM_CAPTURE=" + capture.string() + " " + env +
-                                " " KIZAMU_EXECUTABLE " sculpt --xr --device none --width 640 --height 480 --session-root " +
+                                " " KIZAMU_EXECUTABLE " sculpt --xr " + (args.find("--device") == std::string::npos ? "--device none " : "") +
+                                "--width 640 --height 480 --session-root " +
                                 (mDir / "sessions").string() + " --frames " + std::to_string(kFrames) + " --input " +
                                 script.string() + " --screenshot " + (capture / "mirror.png").string() + " " + args + " >" +
                                 log.string() + " 2>&1";
@@ -241,6 +245,40 @@ TEST_F(HeadsetAppTest, WithoutARuntimeItSaysSoInOneLineAndSculptsOnTheDesktop) {
     EXPECT_EQ(count(out, "xr: "), 1) << out;
     EXPECT_NE(out.find("no OpenXR runtime is installed"), std::string::npos) << out;
     EXPECT_NE(out.find("sculpt: session"), std::string::npos) << out;
+}
+
+TEST_F(HeadsetAppTest, AStylusRegisteredInTheHeadsetCarvesWhereTheClayIsSeen) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    // The simulated stylus's hand is the controller: four touches in the air around the block
+    // (inside its domain, not on one plane), the trigger pulled at each.
+    std::string touches;
+    int frame = 2;
+    for (const auto& p : {glm::dvec3(0.08, -0.07, -0.27), glm::dvec3(-0.08, -0.07, -0.27), glm::dvec3(0.08, -0.07, -0.43),
+                          glm::dvec3(-0.08, -0.23, -0.27)}) {
+        touches += controller(frame, "right", position(p.x, p.y, p.z)) + controller(frame + 9, "right", "\"trigger\": 1.0") +
+                   controller(frame + 12, "right", "\"trigger\": 0.0");
+        frame += 15;
+    }
+    const std::string config = "XDG_CONFIG_HOME=" + (mDir / "config").string();
+    const XrRun registering = sculpt("registering", touches, "--device sim --register-stylus", config);
+    ASSERT_EQ(registering.status, 0) << registering.output;
+    const std::size_t at = registering.output.find("stylus registered: ");
+    ASSERT_NE(at, std::string::npos) << registering.output;
+    EXPECT_LT(std::strtod(registering.output.c_str() + at + 19, nullptr), 2.0) << "rms (mm) too large: " << registering.output;
+    ASSERT_TRUE(fs::exists(mDir / "config" / "kizamu" / "stylus-registration.json"));
+
+    // With the registration kept, the stylus (its hand still the controller) starts its groove
+    // where the controller alone starts it (it carves at the proxy's removal rate, so its
+    // groove is shorter than the controller's sweep).
+    const XrRun untouched = sculpt("untouched", "");
+    const XrRun alone = sculpt("alone", carve());
+    const XrRun stylus = sculpt("stylus", carve(), "--device sim", config);
+    ASSERT_EQ(stylus.status, 0) << stylus.output;
+    const Difference a = difference(untouched.left, alone.left), b = difference(untouched.left, stylus.left);
+    ASSERT_GT(b.count, 100) << "the stylus carved nothing\n" << stylus.output;
+    EXPECT_NEAR(a.x0, b.x0, 12.0);
+    EXPECT_NEAR(0.5 * (a.y0 + a.y1), 0.5 * (b.y0 + b.y1), 12.0);
+    EXPECT_EQ(count(stylus.events, "\"haptic\""), 0) << "the controller vibrated while the stylus carries the forces";
 }
 
 TEST_F(HeadsetAppTest, TheBenchmarkReportsItsFigures) {
