@@ -132,8 +132,9 @@ struct Haptics {
 /// Touches of the stylus's tip to the controller's, collected until there are enough to register.
 struct StylusTouches {
     static constexpr std::size_t kNeeded = 4;
+    static constexpr double kStillSpeed = 0.005;  ///< m/s on the device: the tips are held together
     std::vector<glm::dvec3> device, space;
-    bool triggerWas = false;
+    bool triggerWas = false, pending = false;
 };
 
 class SculptApp {
@@ -641,7 +642,13 @@ void SculptApp::stylusInHeadset(const xr::SculptIntent& in) {
     if (mRegistering && in.hasTool && h.ticked) {
         StylusTouches& t = *mRegistering;
         const bool trigger = in.strength > 0.5f;
-        if (trigger && !t.triggerWas) {  // a touch: the stylus tip and the controller's, together
+        // A touch is taken once the stylus is still (a hand settling the two tips together) while
+        // the trigger is held; letting go first takes nothing.
+        if (trigger && !t.triggerWas) t.pending = true;
+        if (!trigger) t.pending = false;
+        const double speed = glm::length(h.latest.velocity) / h.tool.mapping.scale;  // m/s on the device
+        if (t.pending && speed < StylusTouches::kStillSpeed) {
+            t.pending = false;
             t.device.push_back(h.tool.mapping.toDevice(h.latest.device));
             t.space.push_back(mHeadset->placement().apply(in.toolClay));
             mStatus = "stylus registration: touch " + std::to_string(t.device.size()) + " of " + std::to_string(t.kNeeded);
