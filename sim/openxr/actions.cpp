@@ -101,7 +101,8 @@ ActionValue computeValue(Runtime& rt, const SessionObject& s, XrAction handle,
                     v.vectorValue = xy;
                 break;
             }
-            default: break;
+            default:
+                break;
         }
     }
     return v;
@@ -258,7 +259,8 @@ XrResult xrCreateAction(XrActionSet actionSet, const XrActionCreateInfo* createI
         const XrPath p = createInfo->subactionPaths[i];
         const std::string* s = pathString(rt, p);
         if (s == nullptr) return XR_ERROR_PATH_INVALID;
-        if (!isTopLevelUserPath(*s) || std::count(a.subactionPaths.begin(), a.subactionPaths.end(), p))
+        if (!isTopLevelUserPath(*s) ||
+            std::count(a.subactionPaths.begin(), a.subactionPaths.end(), p))
             return XR_ERROR_PATH_UNSUPPORTED;
         a.subactionPaths.push_back(p);
     }
@@ -459,7 +461,8 @@ XrResult xrEnumerateBoundSourcesForAction(XrSession session,
     ActionObject* a = nullptr;
     if (const XrResult r = findAttachedAction(rt, *s, enumerateInfo->action, &a); r != XR_SUCCESS)
         return r;
-    const std::vector<std::string> found = boundSources(rt, *s, enumerateInfo->action, XR_NULL_PATH);
+    const std::vector<std::string> found =
+        boundSources(rt, *s, enumerateInfo->action, XR_NULL_PATH);
     return twoCall(sourceCapacityInput, sourceCountOutput, static_cast<uint32_t>(found.size()),
                    [&](uint32_t i) { sources[i] = internPath(rt, found[i]); });
 }
@@ -503,7 +506,8 @@ XrResult xrApplyHapticFeedback(XrSession session, const XrHapticActionInfo* hapt
     SessionObject* s = nullptr;
     if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
     ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a); r != XR_SUCCESS)
+    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a);
+        r != XR_SUCCESS)
         return r;
     if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
     if (const XrResult r = checkSubactionPath(rt, *a, hapticActionInfo->subactionPath);
@@ -523,7 +527,8 @@ XrResult xrStopHapticFeedback(XrSession session, const XrHapticActionInfo* hapti
     SessionObject* s = nullptr;
     if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
     ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a); r != XR_SUCCESS)
+    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a);
+        r != XR_SUCCESS)
         return r;
     if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
     if (const XrResult r = checkSubactionPath(rt, *a, hapticActionInfo->subactionPath);

@@ -63,7 +63,8 @@ XrResult xrSetInputDeviceStateBoolEXT(XrSession session, XrPath topLevelPath,
     std::lock_guard lock(rt.mutex);
     SessionObject* s = nullptr;
     std::string src;
-    if (const XrResult r = lookupSource(rt, session, topLevelPath, inputSourcePath, "click", &s, &src);
+    if (const XrResult r =
+            lookupSource(rt, session, topLevelPath, inputSourcePath, "click", &s, &src);
         r != XR_SUCCESS)
         return r;
     s->inputs[src] = state != XR_FALSE ? 1.0f : 0.0f;
@@ -76,7 +77,8 @@ XrResult xrSetInputDeviceStateFloatEXT(XrSession session, XrPath topLevelPath,
     std::lock_guard lock(rt.mutex);
     SessionObject* s = nullptr;
     std::string src;
-    if (const XrResult r = lookupSource(rt, session, topLevelPath, inputSourcePath, "value", &s, &src);
+    if (const XrResult r =
+            lookupSource(rt, session, topLevelPath, inputSourcePath, "value", &s, &src);
         r != XR_SUCCESS)
         return r;
     s->inputs[src] = state;
@@ -89,7 +91,8 @@ XrResult xrSetInputDeviceStateVector2fEXT(XrSession session, XrPath topLevelPath
     std::lock_guard lock(rt.mutex);
     SessionObject* s = nullptr;
     std::string src;
-    if (const XrResult r = lookupSource(rt, session, topLevelPath, inputSourcePath, nullptr, &s, &src);
+    if (const XrResult r =
+            lookupSource(rt, session, topLevelPath, inputSourcePath, nullptr, &s, &src);
         r != XR_SUCCESS)
         return r;
     s->inputs[src + "/x"] = state.x;
@@ -99,21 +102,22 @@ XrResult xrSetInputDeviceStateVector2fEXT(XrSession session, XrPath topLevelPath
 
 /// `pose` is relative to `space` (located now); XR_ERROR_HANDLE_INVALID for a space of another
 /// session; XR_ERROR_POSE_INVALID for a non-unit orientation.
-XrResult xrSetInputDeviceLocationEXT(XrSession session, XrPath topLevelPath,
-                                     XrPath inputSourcePath, XrSpace space, XrPosef pose) {
+XrResult xrSetInputDeviceLocationEXT(XrSession session, XrPath topLevelPath, XrPath inputSourcePath,
+                                     XrSpace space, XrPosef pose) {
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     SessionObject* s = nullptr;
     std::string src;
-    if (const XrResult r = lookupSource(rt, session, topLevelPath, inputSourcePath, "pose", &s, &src);
+    if (const XrResult r =
+            lookupSource(rt, session, topLevelPath, inputSourcePath, "pose", &s, &src);
         r != XR_SUCCESS)
         return r;
     const SpaceObject* sp = rt.find<SpaceObject>(space);
     if (sp == nullptr || sp->session != session || sp->action != XR_NULL_HANDLE)
         return XR_ERROR_HANDLE_INVALID;
     if (!isValidPose(pose)) return XR_ERROR_POSE_INVALID;
-    const XrPosef base = sp->referenceType == XR_REFERENCE_SPACE_TYPE_VIEW ? rt.headPose
-                                                                           : identityPose();
+    const XrPosef base =
+        sp->referenceType == XR_REFERENCE_SPACE_TYPE_VIEW ? rt.headPose : identityPose();
     s->poses[src] = compose(compose(base, sp->offset), pose);
     return XR_SUCCESS;
 }

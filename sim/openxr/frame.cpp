@@ -37,7 +37,8 @@ XrResult checkLayer(Runtime& rt, XrSession session, const XrCompositionLayerBase
         const auto* p = reinterpret_cast<const XrCompositionLayerProjection*>(layer);
         if (p->viewCount != 2) return XR_ERROR_VALIDATION_FAILURE;
         for (uint32_t i = 0; i < p->viewCount; ++i)
-            if (const XrResult r = checkSubImage(rt, session, p->views[i].subImage); r != XR_SUCCESS)
+            if (const XrResult r = checkSubImage(rt, session, p->views[i].subImage);
+                r != XR_SUCCESS)
                 return r;
         return XR_SUCCESS;
     }
@@ -56,8 +57,8 @@ void readBack(Runtime& rt, const XrCompositionLayerProjection& layer) {
         view.width = sub.imageRect.extent.width;
         view.height = sub.imageRect.extent.height;
         readTexture(sc.textures[static_cast<size_t>(sc.lastReleased)], sc.arraySize > 1,
-                    sub.imageArrayIndex, sub.imageRect.offset.x, sub.imageRect.offset.y,
-                    view.width, view.height, view.rgba);
+                    sub.imageArrayIndex, sub.imageRect.offset.x, sub.imageRect.offset.y, view.width,
+                    view.height, view.rgba);
     }
 }
 
@@ -76,10 +77,9 @@ XrResult xrWaitFrame(XrSession session, const XrFrameWaitInfo*, XrFrameState* fr
     ++s->pendingWaits;
     frameState->predictedDisplayTime = s->now;
     frameState->predictedDisplayPeriod = kFramePeriod;
-    frameState->shouldRender = s->state == XR_SESSION_STATE_VISIBLE ||
-                                       s->state == XR_SESSION_STATE_FOCUSED
-                                   ? XR_TRUE
-                                   : XR_FALSE;
+    frameState->shouldRender =
+        s->state == XR_SESSION_STATE_VISIBLE || s->state == XR_SESSION_STATE_FOCUSED ? XR_TRUE
+                                                                                     : XR_FALSE;
     return XR_SUCCESS;
 }
 

@@ -41,11 +41,11 @@
 
 namespace kizamu::xrsim {
 
-inline constexpr XrTime kStartTime = 1'000'000'000;       ///< first predicted display time
-inline constexpr XrDuration kFramePeriod = 11'111'111;    ///< 1/90 s
-inline constexpr XrSystemId kSystemId = 1;                ///< the one HMD
-inline constexpr float kEyeOffset = 0.032f;               ///< m, each eye from the head on X
-inline constexpr float kFovHalfAngle = 0.785398163f;      ///< rad (45°)
+inline constexpr XrTime kStartTime = 1'000'000'000;     ///< first predicted display time
+inline constexpr XrDuration kFramePeriod = 11'111'111;  ///< 1/90 s
+inline constexpr XrSystemId kSystemId = 1;              ///< the one HMD
+inline constexpr float kEyeOffset = 0.032f;             ///< m, each eye from the head on X
+inline constexpr float kFovHalfAngle = 0.785398163f;    ///< rad (45°)
 inline constexpr uint32_t kMaxLayers = 16;
 inline constexpr uint32_t kSwapchainImages = 3;
 inline constexpr uint32_t kMaxImageSize = 4096;
@@ -84,12 +84,12 @@ struct SessionObject {
     uint32_t pendingWaits = 0;  ///< xrWaitFrame calls not yet consumed by xrBeginFrame
     bool frameBegun = false;
     uint64_t framesWaited = 0;
-    XrTime now = kStartTime;    ///< the last predicted display time
+    XrTime now = kStartTime;  ///< the last predicted display time
     std::set<XrActionSet> attachedSets;
     XrPath profile = XR_NULL_PATH;  ///< the current interaction profile, chosen at attach
-    std::unordered_map<std::string, float> inputs;     ///< component path -> value (bool 0/1)
-    std::unordered_map<std::string, XrPosef> poses;    ///< pose path -> pose in LOCAL
-    std::unordered_map<std::string, bool> inactive;    ///< top-level path -> switched off
+    std::unordered_map<std::string, float> inputs;   ///< component path -> value (bool 0/1)
+    std::unordered_map<std::string, XrPosef> poses;  ///< pose path -> pose in LOCAL
+    std::unordered_map<std::string, bool> inactive;  ///< top-level path -> switched off
     std::map<std::pair<XrAction, XrPath>, ActionValue> actionValues;
 };
 
@@ -98,7 +98,7 @@ struct SpaceObject {
     XrReferenceSpaceType referenceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
     XrAction action = XR_NULL_HANDLE;  ///< non-null: an action space
     XrPath subactionPath = XR_NULL_PATH;
-    XrPosef offset{};                  ///< pose in the reference or action space
+    XrPosef offset{};  ///< pose in the reference or action space
 };
 
 struct SwapchainObject {
@@ -140,7 +140,7 @@ struct Runtime {
     std::mutex mutex;
     uint64_t nextHandle = 1;
     std::unordered_map<uint64_t, Object> objects;
-    std::vector<std::string> paths;                   ///< atom - 1 -> string
+    std::vector<std::string> paths;  ///< atom - 1 -> string
     std::unordered_map<std::string, XrPath> pathAtoms;
     uint64_t framesEnded = 0;
     std::array<ViewImage, 2> lastViews;

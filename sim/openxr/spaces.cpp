@@ -23,8 +23,8 @@ const XrReferenceSpaceType kReferenceSpaces[] = {
 /// The pose of a space in LOCAL; false when it cannot be located (an inactive action).
 bool spacePose(Runtime& rt, const SessionObject& s, const SpaceObject& space, XrPosef* out) {
     if (space.action != XR_NULL_HANDLE) return actionSpacePose(rt, s, space, out);
-    const XrPosef base = space.referenceType == XR_REFERENCE_SPACE_TYPE_VIEW ? rt.headPose
-                                                                              : identityPose();
+    const XrPosef base =
+        space.referenceType == XR_REFERENCE_SPACE_TYPE_VIEW ? rt.headPose : identityPose();
     *out = compose(base, space.offset);
     return true;
 }
@@ -123,12 +123,12 @@ XrResult xrLocateSpace(XrSpace space, XrSpace baseSpace, XrTime time, XrSpaceLoc
     SpaceObject *sp = nullptr, *base = nullptr;
     SessionObject *s = nullptr, *baseSession = nullptr;
     if (const XrResult r = findSpace(rt, space, &sp, &s); r != XR_SUCCESS) return r;
-    if (const XrResult r = findSpace(rt, baseSpace, &base, &baseSession); r != XR_SUCCESS)
-        return r;
+    if (const XrResult r = findSpace(rt, baseSpace, &base, &baseSession); r != XR_SUCCESS) return r;
     if (sp->session != base->session) return XR_ERROR_VALIDATION_FAILURE;
     if (time <= 0) return XR_ERROR_TIME_INVALID;
     XrPosef spaceLocal{}, baseLocal{};
-    const bool located = spacePose(rt, *s, *sp, &spaceLocal) && spacePose(rt, *s, *base, &baseLocal);
+    const bool located =
+        spacePose(rt, *s, *sp, &spaceLocal) && spacePose(rt, *s, *base, &baseLocal);
     location->locationFlags = 0;
     location->pose = identityPose();
     if (located) {
@@ -177,7 +177,8 @@ XrResult xrLocateViews(XrSession session, const XrViewLocateInfo* viewLocateInfo
                       XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT
                 : 0;
     return twoCall(viewCapacityInput, viewCountOutput, 2, [&](uint32_t i) {
-        const XrPosef eyeInHead{{0.0f, 0.0f, 0.0f, 1.0f}, {i == 0 ? -kEyeOffset : kEyeOffset, 0.0f, 0.0f}};
+        const XrPosef eyeInHead{{0.0f, 0.0f, 0.0f, 1.0f},
+                                {i == 0 ? -kEyeOffset : kEyeOffset, 0.0f, 0.0f}};
         views[i].pose = located ? compose(inverse(spaceLocal), compose(rt.headPose, eyeInHead))
                                 : identityPose();
         views[i].fov = XrFovf{-kFovHalfAngle, kFovHalfAngle, kFovHalfAngle, -kFovHalfAngle};

@@ -95,8 +95,7 @@ XrResult xrEnumerateSwapchainImages(XrSwapchain swapchain, uint32_t imageCapacit
     if (imageCapacityInput > 0 && images[0].type != XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR)
         return XR_ERROR_VALIDATION_FAILURE;
     auto* gl = reinterpret_cast<XrSwapchainImageOpenGLKHR*>(images);
-    return twoCall(imageCapacityInput, imageCountOutput,
-                   static_cast<uint32_t>(sc->textures.size()),
+    return twoCall(imageCapacityInput, imageCountOutput, static_cast<uint32_t>(sc->textures.size()),
                    [&](uint32_t i) { gl[i].image = sc->textures[i]; });
 }
 

@@ -17,8 +17,8 @@ namespace kizamu::xrsim::test {
 namespace {
 
 /// Acquires, waits, renders `clear` into the rectangle through an FBO, and releases.
-void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& images,
-                int x, int y, int w, int h, const float clear[4]) {
+void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& images, int x, int y,
+                int w, int h, const float clear[4]) {
     uint32_t index = 0;
     ASSERT_EQ(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
     XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
@@ -27,8 +27,8 @@ void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& im
     GLuint fbo = 0;
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                           images[index].image, 0);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, images[index].image,
+                           0);
     ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
     glEnable(GL_SCISSOR_TEST);
     glScissor(x, y, w, h);
@@ -44,8 +44,9 @@ std::vector<XrSwapchainImageOpenGLKHR> images(XrSwapchain sc) {
     uint32_t n = 0;
     EXPECT_EQ(XR_SUCCESS, xrEnumerateSwapchainImages(sc, 0, &n, nullptr));
     std::vector<XrSwapchainImageOpenGLKHR> out(n, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
-    EXPECT_EQ(XR_SUCCESS, xrEnumerateSwapchainImages(
-                              sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(out.data())));
+    EXPECT_EQ(XR_SUCCESS,
+              xrEnumerateSwapchainImages(
+                  sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(out.data())));
     return out;
 }
 
@@ -222,8 +223,8 @@ TEST_F(XrSimTest, ViewsAreEyesEitherSideOfTheHead) {
 }
 
 TEST_F(XrSimTest, CaptureWritesEventsAndViewPngs) {
-    const std::filesystem::path dir =
-        std::filesystem::temp_directory_path() / ("kizamu_xrsim_capture_" + std::to_string(getpid()));
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("kizamu_xrsim_capture_" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     setenv("KIZAMU_XRSIM_CAPTURE", dir.c_str(), 1);

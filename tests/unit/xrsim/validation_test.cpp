@@ -91,8 +91,9 @@ TEST_F(XrSimValidationTest, FullLifecycleReportsNoErrors) {
     uint32_t n = 0;
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateSwapchainImages(sc, 0, &n, nullptr));
     std::vector<XrSwapchainImageOpenGLKHR> images(n, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateSwapchainImages(
-                                     sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())));
+    KIZAMU_ASSERT_XR(XR_SUCCESS,
+                     xrEnumerateSwapchainImages(
+                         sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())));
 
     bool exiting = false;
     bool running = false;
