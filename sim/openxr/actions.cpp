@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <type_traits>
 
 namespace kizamu::xrsim {
 namespace {
@@ -134,19 +135,40 @@ void recordHaptic(Runtime& rt, const SessionObject& s, XrAction action, XrPath s
     }
 }
 
-/// Common checks of the xrGetActionState* calls: the session, the attached action, its type and
-/// the subaction path.
-XrResult stateLookup(Runtime& rt, XrSession session, const XrActionStateGetInfo* getInfo,
-                     XrActionType type, ActionValue* out) {
+/// The checks every use of an action on a session makes: the session, the action with its set
+/// attached to it (XR_ERROR_ACTIONSET_NOT_ATTACHED), its type (XR_ERROR_ACTION_TYPE_MISMATCH)
+/// and the subaction path.
+XrResult findActionUse(Runtime& rt, XrSession session, XrAction action, XrPath subactionPath,
+                       XrActionType type, SessionObject** out) {
     SessionObject* s = nullptr;
     if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
     ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, getInfo->action, &a); r != XR_SUCCESS)
-        return r;
+    if (const XrResult r = findAttachedAction(rt, *s, action, &a); r != XR_SUCCESS) return r;
     if (a->type != type) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (const XrResult r = checkSubactionPath(rt, *a, getInfo->subactionPath); r != XR_SUCCESS)
+    if (const XrResult r = checkSubactionPath(rt, *a, subactionPath); r != XR_SUCCESS) return r;
+    *out = s;
+    return XR_SUCCESS;
+}
+
+/// One xrGetActionState* call: the checks of findActionUse, then `state` from the last sync;
+/// `current` gives currentState from the value (poses have none).
+template <class State, class Current>
+XrResult getState(XrSession session, const XrActionStateGetInfo* getInfo, XrActionType type,
+                  State* state, Current current) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    SessionObject* s = nullptr;
+    if (const XrResult r =
+            findActionUse(rt, session, getInfo->action, getInfo->subactionPath, type, &s);
+        r != XR_SUCCESS)
         return r;
-    *out = actionValue(*s, getInfo->action, getInfo->subactionPath);
+    const ActionValue v = actionValue(*s, getInfo->action, getInfo->subactionPath);
+    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
+    if constexpr (!std::is_same_v<State, XrActionStatePose>) {
+        state->currentState = current(v);
+        state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
+        state->lastChangeTime = v.lastChange;
+    }
     return XR_SUCCESS;
 }
 
@@ -354,55 +376,26 @@ XrResult xrGetCurrentInteractionProfile(XrSession session, XrPath topLevelUserPa
 
 XrResult xrGetActionStateBoolean(XrSession session, const XrActionStateGetInfo* getInfo,
                                  XrActionStateBoolean* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_BOOLEAN_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->currentState = v.boolValue ? XR_TRUE : XR_FALSE;
-    state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
-    state->lastChangeTime = v.lastChange;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_BOOLEAN_INPUT, state,
+                    [](const ActionValue& v) { return v.boolValue ? XR_TRUE : XR_FALSE; });
 }
 
 XrResult xrGetActionStateFloat(XrSession session, const XrActionStateGetInfo* getInfo,
                                XrActionStateFloat* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_FLOAT_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->currentState = v.floatValue;
-    state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
-    state->lastChangeTime = v.lastChange;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_FLOAT_INPUT, state,
+                    [](const ActionValue& v) { return v.floatValue; });
 }
 
 XrResult xrGetActionStateVector2f(XrSession session, const XrActionStateGetInfo* getInfo,
                                   XrActionStateVector2f* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_VECTOR2F_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->currentState = v.vectorValue;
-    state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
-    state->lastChangeTime = v.lastChange;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_VECTOR2F_INPUT, state,
+                    [](const ActionValue& v) { return v.vectorValue; });
 }
 
 XrResult xrGetActionStatePose(XrSession session, const XrActionStateGetInfo* getInfo,
                               XrActionStatePose* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_POSE_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_POSE_INPUT, state,
+                    [](const ActionValue&) { return 0; });
 }
 
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED for a set not attached to the session;
@@ -504,13 +497,9 @@ XrResult xrApplyHapticFeedback(XrSession session, const XrHapticActionInfo* hapt
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a);
-        r != XR_SUCCESS)
-        return r;
-    if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (const XrResult r = checkSubactionPath(rt, *a, hapticActionInfo->subactionPath);
+    if (const XrResult r =
+            findActionUse(rt, session, hapticActionInfo->action, hapticActionInfo->subactionPath,
+                          XR_ACTION_TYPE_VIBRATION_OUTPUT, &s);
         r != XR_SUCCESS)
         return r;
     if (hapticFeedback->type != XR_TYPE_HAPTIC_VIBRATION) return XR_ERROR_VALIDATION_FAILURE;
@@ -525,13 +514,9 @@ XrResult xrStopHapticFeedback(XrSession session, const XrHapticActionInfo* hapti
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a);
-        r != XR_SUCCESS)
-        return r;
-    if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (const XrResult r = checkSubactionPath(rt, *a, hapticActionInfo->subactionPath);
+    if (const XrResult r =
+            findActionUse(rt, session, hapticActionInfo->action, hapticActionInfo->subactionPath,
+                          XR_ACTION_TYPE_VIBRATION_OUTPUT, &s);
         r != XR_SUCCESS)
         return r;
     recordHaptic(rt, *s, hapticActionInfo->action, hapticActionInfo->subactionPath, 0.0f, 0,

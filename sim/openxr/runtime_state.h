@@ -179,6 +179,17 @@ const std::string* pathString(const Runtime& rt, XrPath atom);
 /// XR_ERROR_SESSION_LOST once lost; XR_SUCCESS with *out set otherwise.
 XrResult findSession(Runtime& rt, XrSession handle, SessionObject** out);
 
+/// Looks up an object a session owns (a space or a swapchain) with its session:
+/// XR_ERROR_HANDLE_INVALID when either is not live, XR_ERROR_SESSION_LOST once it is lost.
+template <class T, class H>
+XrResult findSessionChild(Runtime& rt, H handle, T** child, SessionObject** session) {
+    T* c = rt.find<T>(handle);
+    if (c == nullptr) return XR_ERROR_HANDLE_INVALID;
+    if (const XrResult r = findSession(rt, c->session, session); r != XR_SUCCESS) return r;
+    *child = c;
+    return XR_SUCCESS;
+}
+
 /// Moves `session` to `state`: queues XrEventDataSessionStateChanged on its instance and logs it
 /// to the capture directory.
 void setSessionState(Runtime& rt, XrSession handle, SessionObject& session, XrSessionState state);

@@ -29,13 +29,6 @@ bool spacePose(Runtime& rt, const SessionObject& s, const SpaceObject& space, Xr
     return true;
 }
 
-/// The live space and its (not lost) session.
-XrResult findSpace(Runtime& rt, XrSpace handle, SpaceObject** space, SessionObject** session) {
-    *space = rt.find<SpaceObject>(handle);
-    if (*space == nullptr) return XR_ERROR_HANDLE_INVALID;
-    return findSession(rt, (*space)->session, session);
-}
-
 }  // namespace
 
 XrResult xrEnumerateReferenceSpaces(XrSession session, uint32_t spaceCapacityInput,
@@ -122,8 +115,9 @@ XrResult xrLocateSpace(XrSpace space, XrSpace baseSpace, XrTime time, XrSpaceLoc
     std::lock_guard lock(rt.mutex);
     SpaceObject *sp = nullptr, *base = nullptr;
     SessionObject *s = nullptr, *baseSession = nullptr;
-    if (const XrResult r = findSpace(rt, space, &sp, &s); r != XR_SUCCESS) return r;
-    if (const XrResult r = findSpace(rt, baseSpace, &base, &baseSession); r != XR_SUCCESS) return r;
+    if (const XrResult r = findSessionChild(rt, space, &sp, &s); r != XR_SUCCESS) return r;
+    if (const XrResult r = findSessionChild(rt, baseSpace, &base, &baseSession); r != XR_SUCCESS)
+        return r;
     if (sp->session != base->session) return XR_ERROR_VALIDATION_FAILURE;
     if (time <= 0) return XR_ERROR_TIME_INVALID;
     XrPosef spaceLocal{}, baseLocal{};

@@ -17,17 +17,6 @@ namespace {
 /// Supported formats, preferred first.
 const int64_t kFormats[] = {GL_SRGB8_ALPHA8, GL_RGBA8};
 
-/// The live swapchain and its (not lost) session; XR_ERROR_HANDLE_INVALID or
-/// XR_ERROR_SESSION_LOST otherwise.
-XrResult findSwapchain(Runtime& rt, XrSwapchain handle, SwapchainObject** out) {
-    SwapchainObject* sc = rt.find<SwapchainObject>(handle);
-    if (sc == nullptr) return XR_ERROR_HANDLE_INVALID;
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, sc->session, &s); r != XR_SUCCESS) return r;
-    *out = sc;
-    return XR_SUCCESS;
-}
-
 }  // namespace
 
 XrResult xrEnumerateSwapchainFormats(XrSession session, uint32_t formatCapacityInput,
@@ -91,7 +80,8 @@ XrResult xrEnumerateSwapchainImages(XrSwapchain swapchain, uint32_t imageCapacit
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     SwapchainObject* sc = nullptr;
-    if (const XrResult r = findSwapchain(rt, swapchain, &sc); r != XR_SUCCESS) return r;
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
     if (imageCapacityInput > 0 && images[0].type != XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR)
         return XR_ERROR_VALIDATION_FAILURE;
     auto* gl = reinterpret_cast<XrSwapchainImageOpenGLKHR*>(images);
@@ -105,7 +95,8 @@ XrResult xrAcquireSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageAc
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     SwapchainObject* sc = nullptr;
-    if (const XrResult r = findSwapchain(rt, swapchain, &sc); r != XR_SUCCESS) return r;
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
     if (sc->acquired.size() == sc->textures.size()) return XR_ERROR_CALL_ORDER_INVALID;
     *index = sc->nextImage;
     sc->acquired.push_back(sc->nextImage);
@@ -119,7 +110,8 @@ XrResult xrWaitSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageWaitI
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     SwapchainObject* sc = nullptr;
-    if (const XrResult r = findSwapchain(rt, swapchain, &sc); r != XR_SUCCESS) return r;
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
     if (sc->waited == sc->acquired.size()) return XR_ERROR_CALL_ORDER_INVALID;
     ++sc->waited;
     return XR_SUCCESS;
@@ -130,7 +122,8 @@ XrResult xrReleaseSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageRe
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     SwapchainObject* sc = nullptr;
-    if (const XrResult r = findSwapchain(rt, swapchain, &sc); r != XR_SUCCESS) return r;
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
     if (sc->waited == 0) return XR_ERROR_CALL_ORDER_INVALID;
     sc->lastReleased = sc->acquired.front();
     sc->acquired.pop_front();
