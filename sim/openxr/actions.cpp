@@ -334,44 +334,40 @@ XrResult xrSuggestInteractionProfileBindings(
 /// queues XrEventDataInteractionProfileChanged when there is one.
 XrResult xrAttachSessionActionSets(XrSession session,
                                    const XrSessionActionSetsAttachInfo* attachInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (!s->attachedSets.empty()) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
-    for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
-        const ActionSetObject* set = rt.find<ActionSetObject>(attachInfo->actionSets[i]);
-        if (set == nullptr || set->instance != s->instance) return XR_ERROR_HANDLE_INVALID;
-    }
-    for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
-        rt.find<ActionSetObject>(attachInfo->actionSets[i])->attached = true;
-        s->attachedSets.insert(attachInfo->actionSets[i]);
-    }
-    InstanceObject& inst = *rt.find<InstanceObject>(s->instance);
-    s->profile = chooseProfile(rt, inst);
-    if (s->profile != XR_NULL_PATH) {
-        XrEventDataInteractionProfileChanged e{XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED};
-        e.session = session;
-        queueEvent(inst, &e, sizeof(e));
-    }
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (!s.attachedSets.empty()) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
+        for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
+            const ActionSetObject* set = rt.find<ActionSetObject>(attachInfo->actionSets[i]);
+            if (set == nullptr || set->instance != s.instance) return XR_ERROR_HANDLE_INVALID;
+        }
+        for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
+            rt.find<ActionSetObject>(attachInfo->actionSets[i])->attached = true;
+            s.attachedSets.insert(attachInfo->actionSets[i]);
+        }
+        InstanceObject& inst = *rt.find<InstanceObject>(s.instance);
+        s.profile = chooseProfile(rt, inst);
+        if (s.profile != XR_NULL_PATH) {
+            XrEventDataInteractionProfileChanged e{XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED};
+            e.session = session;
+            queueEvent(inst, &e, sizeof(e));
+        }
+        return XR_SUCCESS;
+    });
 }
 
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED before attach; XR_ERROR_PATH_INVALID / UNSUPPORTED for a
 /// path that is not a top-level user path. Hands get the current profile, other paths none.
 XrResult xrGetCurrentInteractionProfile(XrSession session, XrPath topLevelUserPath,
                                         XrInteractionProfileState* interactionProfile) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (s->attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    const std::string* top = pathString(rt, topLevelUserPath);
-    if (top == nullptr) return XR_ERROR_PATH_INVALID;
-    if (!isTopLevelUserPath(*top)) return XR_ERROR_PATH_UNSUPPORTED;
-    const bool hand = *top == kHandLeft || *top == kHandRight;
-    interactionProfile->interactionProfile = hand ? s->profile : XR_NULL_PATH;
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (s.attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+        const std::string* top = pathString(rt, topLevelUserPath);
+        if (top == nullptr) return XR_ERROR_PATH_INVALID;
+        if (!isTopLevelUserPath(*top)) return XR_ERROR_PATH_UNSUPPORTED;
+        const bool hand = *top == kHandLeft || *top == kHandRight;
+        interactionProfile->interactionProfile = hand ? s.profile : XR_NULL_PATH;
+        return XR_SUCCESS;
+    });
 }
 
 XrResult xrGetActionStateBoolean(XrSession session, const XrActionStateGetInfo* getInfo,
@@ -402,43 +398,41 @@ XrResult xrGetActionStatePose(XrSession session, const XrActionStateGetInfo* get
 /// XR_ERROR_PATH_UNSUPPORTED for an active subaction path that is not a top-level user path;
 /// XR_SESSION_NOT_FOCUSED (and every action inactive) when the session is not FOCUSED.
 XrResult xrSyncActions(XrSession session, const XrActionsSyncInfo* syncInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    std::map<XrActionSet, XrPath> active;  // set -> subaction filter (XR_NULL_PATH: all)
-    for (uint32_t i = 0; i < syncInfo->countActiveActionSets; ++i) {
-        const XrActiveActionSet& as = syncInfo->activeActionSets[i];
-        if (rt.find<ActionSetObject>(as.actionSet) == nullptr) return XR_ERROR_HANDLE_INVALID;
-        if (!s->attachedSets.count(as.actionSet)) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-        if (as.subactionPath != XR_NULL_PATH) {
-            const std::string* p = pathString(rt, as.subactionPath);
-            if (p == nullptr) return XR_ERROR_PATH_INVALID;
-            if (!isTopLevelUserPath(*p)) return XR_ERROR_PATH_UNSUPPORTED;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        std::map<XrActionSet, XrPath> active;  // set -> subaction filter (XR_NULL_PATH: all)
+        for (uint32_t i = 0; i < syncInfo->countActiveActionSets; ++i) {
+            const XrActiveActionSet& as = syncInfo->activeActionSets[i];
+            if (rt.find<ActionSetObject>(as.actionSet) == nullptr) return XR_ERROR_HANDLE_INVALID;
+            if (!s.attachedSets.count(as.actionSet)) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+            if (as.subactionPath != XR_NULL_PATH) {
+                const std::string* p = pathString(rt, as.subactionPath);
+                if (p == nullptr) return XR_ERROR_PATH_INVALID;
+                if (!isTopLevelUserPath(*p)) return XR_ERROR_PATH_UNSUPPORTED;
+            }
+            // The same set twice with different subaction paths syncs all of it.
+            const auto [it, inserted] = active.emplace(as.actionSet, as.subactionPath);
+            if (!inserted && it->second != as.subactionPath) it->second = XR_NULL_PATH;
         }
-        // The same set twice with different subaction paths syncs all of it.
-        const auto [it, inserted] = active.emplace(as.actionSet, as.subactionPath);
-        if (!inserted && it->second != as.subactionPath) it->second = XR_NULL_PATH;
-    }
-    const bool focused = s->state == XR_SESSION_STATE_FOCUSED;
-    for (const auto& [id, object] : rt.objects) {
-        const auto* a = std::get_if<ActionObject>(&object);
-        if (a == nullptr || !s->attachedSets.count(a->set)) continue;
-        const auto handle = reinterpret_cast<XrAction>(id);
-        const auto set = active.find(a->set);
-        std::vector<XrPath> keys{XR_NULL_PATH};
-        keys.insert(keys.end(), a->subactionPaths.begin(), a->subactionPaths.end());
-        for (XrPath key : keys) {
-            ActionValue v;
-            if (focused && set != active.end())
-                v = computeValue(rt, *s, handle, *a, key, set->second);
-            const ActionValue old = actionValue(*s, handle, key);
-            v.changed = old.isActive && v.isActive && !sameValue(old, v);
-            v.lastChange = v.changed || (v.isActive && !old.isActive) ? s->now : old.lastChange;
-            s->actionValues[{handle, key}] = v;
+        const bool focused = s.state == XR_SESSION_STATE_FOCUSED;
+        for (const auto& [id, object] : rt.objects) {
+            const auto* a = std::get_if<ActionObject>(&object);
+            if (a == nullptr || !s.attachedSets.count(a->set)) continue;
+            const auto handle = reinterpret_cast<XrAction>(id);
+            const auto set = active.find(a->set);
+            std::vector<XrPath> keys{XR_NULL_PATH};
+            keys.insert(keys.end(), a->subactionPaths.begin(), a->subactionPaths.end());
+            for (XrPath key : keys) {
+                ActionValue v;
+                if (focused && set != active.end())
+                    v = computeValue(rt, s, handle, *a, key, set->second);
+                const ActionValue old = actionValue(s, handle, key);
+                v.changed = old.isActive && v.isActive && !sameValue(old, v);
+                v.lastChange = v.changed || (v.isActive && !old.isActive) ? s.now : old.lastChange;
+                s.actionValues[{handle, key}] = v;
+            }
         }
-    }
-    return focused ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
+        return focused ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
+    });
 }
 
 /// The resolved source paths of the action in the current profile;
@@ -447,17 +441,16 @@ XrResult xrEnumerateBoundSourcesForAction(XrSession session,
                                           const XrBoundSourcesForActionEnumerateInfo* enumerateInfo,
                                           uint32_t sourceCapacityInput, uint32_t* sourceCountOutput,
                                           XrPath* sources) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, enumerateInfo->action, &a); r != XR_SUCCESS)
-        return r;
-    const std::vector<std::string> found =
-        boundSources(rt, *s, enumerateInfo->action, XR_NULL_PATH);
-    return twoCall(sourceCapacityInput, sourceCountOutput, static_cast<uint32_t>(found.size()),
-                   [&](uint32_t i) { sources[i] = internPath(rt, found[i]); });
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        ActionObject* a = nullptr;
+        if (const XrResult r = findAttachedAction(rt, s, enumerateInfo->action, &a);
+            r != XR_SUCCESS)
+            return r;
+        const std::vector<std::string> found =
+            boundSources(rt, s, enumerateInfo->action, XR_NULL_PATH);
+        return twoCall(sourceCapacityInput, sourceCountOutput, static_cast<uint32_t>(found.size()),
+                       [&](uint32_t i) { sources[i] = internPath(rt, found[i]); });
+    });
 }
 
 /// E.g. "Right Hand Index Controller Trigger Value" with every component asked for;
@@ -467,26 +460,24 @@ XrResult xrGetInputSourceLocalizedName(XrSession session,
                                        const XrInputSourceLocalizedNameGetInfo* getInfo,
                                        uint32_t bufferCapacityInput, uint32_t* bufferCountOutput,
                                        char* buffer) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (s->attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    const std::string* path = pathString(rt, getInfo->sourcePath);
-    if (path == nullptr || topLevelPath(*path).empty()) return XR_ERROR_PATH_INVALID;
-    std::string name;
-    auto append = [&](const std::string& piece) {
-        if (piece.empty()) return;
-        if (!name.empty()) name += ' ';
-        name += piece;
-    };
-    const XrInputSourceLocalizedNameFlags which = getInfo->whichComponents;
-    if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_USER_PATH_BIT) append(userPathName(*path));
-    if ((which & XR_INPUT_SOURCE_LOCALIZED_NAME_INTERACTION_PROFILE_BIT) &&
-        s->profile != XR_NULL_PATH)
-        append(profileName(*pathString(rt, s->profile)));
-    if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_COMPONENT_BIT) append(componentName(*path));
-    return twoCallString(name, bufferCapacityInput, bufferCountOutput, buffer);
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (s.attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+        const std::string* path = pathString(rt, getInfo->sourcePath);
+        if (path == nullptr || topLevelPath(*path).empty()) return XR_ERROR_PATH_INVALID;
+        std::string name;
+        auto append = [&](const std::string& piece) {
+            if (piece.empty()) return;
+            if (!name.empty()) name += ' ';
+            name += piece;
+        };
+        const XrInputSourceLocalizedNameFlags which = getInfo->whichComponents;
+        if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_USER_PATH_BIT) append(userPathName(*path));
+        if ((which & XR_INPUT_SOURCE_LOCALIZED_NAME_INTERACTION_PROFILE_BIT) &&
+            s.profile != XR_NULL_PATH)
+            append(profileName(*pathString(rt, s.profile)));
+        if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_COMPONENT_BIT) append(componentName(*path));
+        return twoCallString(name, bufferCapacityInput, bufferCountOutput, buffer);
+    });
 }
 
 /// Records the vibration (control API, capture) for each hand the action is bound to;

@@ -25,23 +25,21 @@ bool hasComponent(const std::string& path) {
 
 /// One xrSetInputDeviceState* / Location call: checks the session, the top-level path (a hand)
 /// and that the source lies under it, appends `component` to a source path that has none, then
-/// lets `store(session, source)` write the state and give the result.
+/// lets `store(rt, session, source)` write the state and give the result.
 template <class Store>
 XrResult setSourceState(XrSession session, XrPath topPath, XrPath inputSourcePath,
                         const char* component, Store store) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    const std::string* top = pathString(rt, topPath);
-    const std::string* src = pathString(rt, inputSourcePath);
-    if (top == nullptr || src == nullptr) return XR_ERROR_PATH_INVALID;
-    if ((*top != kHandLeft && *top != kHandRight) || topLevelPath(*src) != *top ||
-        src->size() == top->size())
-        return XR_ERROR_PATH_UNSUPPORTED;
-    std::string source = *src;
-    if (component != nullptr && !hasComponent(source)) source += std::string("/") + component;
-    return store(rt, *s, source);
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        const std::string* top = pathString(rt, topPath);
+        const std::string* src = pathString(rt, inputSourcePath);
+        if (top == nullptr || src == nullptr) return XR_ERROR_PATH_INVALID;
+        if ((*top != kHandLeft && *top != kHandRight) || topLevelPath(*src) != *top ||
+            src->size() == top->size())
+            return XR_ERROR_PATH_UNSUPPORTED;
+        std::string source = *src;
+        if (component != nullptr && !hasComponent(source)) source += std::string("/") + component;
+        return store(rt, s, source);
+    });
 }
 
 }  // namespace
@@ -49,17 +47,15 @@ XrResult setSourceState(XrSession session, XrPath topPath, XrPath inputSourcePat
 /// XR_ERROR_PATH_UNSUPPORTED for a top-level path that is not a hand or an unknown profile.
 XrResult xrSetInputDeviceActiveEXT(XrSession session, XrPath interactionProfile,
                                    XrPath topLevelPath, XrBool32 isActive) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    const std::string* profile = pathString(rt, interactionProfile);
-    const std::string* top = pathString(rt, topLevelPath);
-    if (profile == nullptr || top == nullptr) return XR_ERROR_PATH_INVALID;
-    if (!isKnownProfile(*profile) || (*top != kHandLeft && *top != kHandRight))
-        return XR_ERROR_PATH_UNSUPPORTED;
-    s->inactive[*top] = isActive == XR_FALSE;
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        const std::string* profile = pathString(rt, interactionProfile);
+        const std::string* top = pathString(rt, topLevelPath);
+        if (profile == nullptr || top == nullptr) return XR_ERROR_PATH_INVALID;
+        if (!isKnownProfile(*profile) || (*top != kHandLeft && *top != kHandRight))
+            return XR_ERROR_PATH_UNSUPPORTED;
+        s.inactive[*top] = isActive == XR_FALSE;
+        return XR_SUCCESS;
+    });
 }
 
 XrResult xrSetInputDeviceStateBoolEXT(XrSession session, XrPath topLevelPath,

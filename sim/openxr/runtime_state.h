@@ -179,6 +179,17 @@ const std::string* pathString(const Runtime& rt, XrPath atom);
 /// XR_ERROR_SESSION_LOST once lost; XR_SUCCESS with *out set otherwise.
 XrResult findSession(Runtime& rt, XrSession handle, SessionObject** out);
 
+/// Runs `body(rt, session)` for one entry point's call on a session, under the runtime's lock:
+/// XR_ERROR_HANDLE_INVALID or XR_ERROR_SESSION_LOST as findSession, else what `body` returns.
+template <class Body>
+XrResult onSession(XrSession handle, Body&& body) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSession(rt, handle, &s); r != XR_SUCCESS) return r;
+    return body(rt, *s);
+}
+
 /// Looks up an object a session owns (a space or a swapchain) with its session:
 /// XR_ERROR_HANDLE_INVALID when either is not live, XR_ERROR_SESSION_LOST once it is lost.
 template <class T, class H>

@@ -21,13 +21,11 @@ const int64_t kFormats[] = {GL_SRGB8_ALPHA8, GL_RGBA8};
 
 XrResult xrEnumerateSwapchainFormats(XrSession session, uint32_t formatCapacityInput,
                                      uint32_t* formatCountOutput, int64_t* formats) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    return twoCall(formatCapacityInput, formatCountOutput,
-                   static_cast<uint32_t>(std::size(kFormats)),
-                   [&](uint32_t i) { formats[i] = kFormats[i]; });
+    return onSession(session, [&](Runtime&, SessionObject&) -> XrResult {
+        return twoCall(formatCapacityInput, formatCountOutput,
+                       static_cast<uint32_t>(std::size(kFormats)),
+                       [&](uint32_t i) { formats[i] = kFormats[i]; });
+    });
 }
 
 /// XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED for another format; XR_ERROR_FEATURE_UNSUPPORTED for
@@ -36,30 +34,29 @@ XrResult xrEnumerateSwapchainFormats(XrSession session, uint32_t formatCapacityI
 /// current on the calling thread.
 XrResult xrCreateSwapchain(XrSession session, const XrSwapchainCreateInfo* createInfo,
                            XrSwapchain* swapchain) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (std::find(std::begin(kFormats), std::end(kFormats), createInfo->format) ==
-        std::end(kFormats))
-        return XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
-    if (createInfo->sampleCount > 1 || createInfo->faceCount != 1 || createInfo->createFlags != 0)
-        return XR_ERROR_FEATURE_UNSUPPORTED;
-    if (createInfo->width == 0 || createInfo->height == 0 || createInfo->arraySize == 0 ||
-        createInfo->mipCount == 0 || createInfo->width > kMaxImageSize ||
-        createInfo->height > kMaxImageSize)
-        return XR_ERROR_VALIDATION_FAILURE;
-    SwapchainObject sc;
-    sc.session = session;
-    sc.format = createInfo->format;
-    sc.width = createInfo->width;
-    sc.height = createInfo->height;
-    sc.arraySize = createInfo->arraySize;
-    sc.textures = createTextures(kSwapchainImages, sc.format, sc.width, sc.height, sc.arraySize,
-                                 createInfo->mipCount);
-    if (sc.textures.empty()) return XR_ERROR_GRAPHICS_DEVICE_INVALID;
-    *swapchain = rt.add<XrSwapchain>(std::move(sc));
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject&) -> XrResult {
+        if (std::find(std::begin(kFormats), std::end(kFormats), createInfo->format) ==
+            std::end(kFormats))
+            return XR_ERROR_SWAPCHAIN_FORMAT_UNSUPPORTED;
+        if (createInfo->sampleCount > 1 || createInfo->faceCount != 1 ||
+            createInfo->createFlags != 0)
+            return XR_ERROR_FEATURE_UNSUPPORTED;
+        if (createInfo->width == 0 || createInfo->height == 0 || createInfo->arraySize == 0 ||
+            createInfo->mipCount == 0 || createInfo->width > kMaxImageSize ||
+            createInfo->height > kMaxImageSize)
+            return XR_ERROR_VALIDATION_FAILURE;
+        SwapchainObject sc;
+        sc.session = session;
+        sc.format = createInfo->format;
+        sc.width = createInfo->width;
+        sc.height = createInfo->height;
+        sc.arraySize = createInfo->arraySize;
+        sc.textures = createTextures(kSwapchainImages, sc.format, sc.width, sc.height, sc.arraySize,
+                                     createInfo->mipCount);
+        if (sc.textures.empty()) return XR_ERROR_GRAPHICS_DEVICE_INVALID;
+        *swapchain = rt.add<XrSwapchain>(std::move(sc));
+        return XR_SUCCESS;
+    });
 }
 
 /// Deletes the textures too (in the current GL context).
