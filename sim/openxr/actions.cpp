@@ -114,27 +114,6 @@ bool sameValue(const ActionValue& a, const ActionValue& b) {
            a.vectorValue.x == b.vectorValue.x && a.vectorValue.y == b.vectorValue.y;
 }
 
-/// Records one haptic call for every hand the action's output is bound to.
-void recordHaptic(Runtime& rt, const SessionObject& s, XrAction action, XrPath subactionPath,
-                  float amplitude, XrDuration duration, float frequency) {
-    for (const std::string& src : boundSources(rt, s, action, subactionPath)) {
-        KizamuXrSimHaptic h{};
-        h.timeNs = s.now;
-        std::snprintf(h.hand, sizeof(h.hand), "%s", topLevelPath(src).c_str());
-        h.amplitude = amplitude;
-        h.durationNs = duration;
-        h.frequencyHz = frequency;
-        rt.haptics.push_back(h);
-        char line[256];
-        std::snprintf(line, sizeof(line),
-                      "{\"event\":\"haptic\",\"hand\":\"%s\",\"amplitude\":%g,\"duration_ns\":%lld,"
-                      "\"frequency\":%g,\"time\":%lld}",
-                      h.hand, static_cast<double>(amplitude), static_cast<long long>(duration),
-                      static_cast<double>(frequency), static_cast<long long>(s.now));
-        captureEvent(rt, line);
-    }
-}
-
 /// The checks every use of an action on a session makes: the session, the action with its set
 /// attached to it (XR_ERROR_ACTIONSET_NOT_ATTACHED), its type (XR_ERROR_ACTION_TYPE_MISMATCH)
 /// and the subaction path.
@@ -168,6 +147,36 @@ XrResult getState(XrSession session, const XrActionStateGetInfo* getInfo, XrActi
         state->currentState = current(v);
         state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
         state->lastChangeTime = v.lastChange;
+    }
+    return XR_SUCCESS;
+}
+
+/// One haptic call: the checks of findActionUse, then one record (control API, capture) for
+/// every hand the output is bound to (those under the subaction path when it is given).
+XrResult recordHaptic(XrSession session, const XrHapticActionInfo& info, float amplitude,
+                      XrDuration duration, float frequency) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    SessionObject* s = nullptr;
+    if (const XrResult r = findActionUse(rt, session, info.action, info.subactionPath,
+                                         XR_ACTION_TYPE_VIBRATION_OUTPUT, &s);
+        r != XR_SUCCESS)
+        return r;
+    for (const std::string& src : boundSources(rt, *s, info.action, info.subactionPath)) {
+        KizamuXrSimHaptic h{};
+        h.timeNs = s->now;
+        std::snprintf(h.hand, sizeof(h.hand), "%s", topLevelPath(src).c_str());
+        h.amplitude = amplitude;
+        h.durationNs = duration;
+        h.frequencyHz = frequency;
+        rt.haptics.push_back(h);
+        char line[256];
+        std::snprintf(line, sizeof(line),
+                      "{\"event\":\"haptic\",\"hand\":\"%s\",\"amplitude\":%g,"
+                      "\"duration_ns\":%lld,\"frequency\":%g,\"time\":%lld}",
+                      h.hand, static_cast<double>(amplitude), static_cast<long long>(duration),
+                      static_cast<double>(frequency), static_cast<long long>(s->now));
+        captureEvent(rt, line);
     }
     return XR_SUCCESS;
 }
@@ -291,11 +300,7 @@ XrResult xrCreateAction(XrActionSet actionSet, const XrActionCreateInfo* createI
 }
 
 XrResult xrDestroyAction(XrAction action) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    if (rt.find<ActionObject>(action) == nullptr) return XR_ERROR_HANDLE_INVALID;
-    rt.erase(action);
-    return XR_SUCCESS;
+    return destroyObject<ActionObject>(action);
 }
 
 /// XR_ERROR_ACTIONSETS_ALREADY_ATTACHED once any of the instance's sets is attached;
@@ -485,34 +490,14 @@ XrResult xrGetInputSourceLocalizedName(XrSession session,
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED, XR_ERROR_PATH_UNSUPPORTED as for the states.
 XrResult xrApplyHapticFeedback(XrSession session, const XrHapticActionInfo* hapticActionInfo,
                                const XrHapticBaseHeader* hapticFeedback) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r =
-            findActionUse(rt, session, hapticActionInfo->action, hapticActionInfo->subactionPath,
-                          XR_ACTION_TYPE_VIBRATION_OUTPUT, &s);
-        r != XR_SUCCESS)
-        return r;
     if (hapticFeedback->type != XR_TYPE_HAPTIC_VIBRATION) return XR_ERROR_VALIDATION_FAILURE;
     const auto* v = reinterpret_cast<const XrHapticVibration*>(hapticFeedback);
-    recordHaptic(rt, *s, hapticActionInfo->action, hapticActionInfo->subactionPath, v->amplitude,
-                 v->duration, v->frequency);
-    return XR_SUCCESS;
+    return recordHaptic(session, *hapticActionInfo, v->amplitude, v->duration, v->frequency);
 }
 
 /// Records a stop (amplitude 0, duration 0); errors as xrApplyHapticFeedback.
 XrResult xrStopHapticFeedback(XrSession session, const XrHapticActionInfo* hapticActionInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r =
-            findActionUse(rt, session, hapticActionInfo->action, hapticActionInfo->subactionPath,
-                          XR_ACTION_TYPE_VIBRATION_OUTPUT, &s);
-        r != XR_SUCCESS)
-        return r;
-    recordHaptic(rt, *s, hapticActionInfo->action, hapticActionInfo->subactionPath, 0.0f, 0,
-                 XR_FREQUENCY_UNSPECIFIED);
-    return XR_SUCCESS;
+    return recordHaptic(session, *hapticActionInfo, 0.0f, 0, XR_FREQUENCY_UNSPECIFIED);
 }
 
 }  // namespace kizamu::xrsim

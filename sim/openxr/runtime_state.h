@@ -190,6 +190,17 @@ XrResult onSession(XrSession handle, Body&& body) {
     return body(rt, *s);
 }
 
+/// Destroys the live object of type T behind `handle` (an action or a space: objects that own
+/// nothing), under the runtime's lock; XR_ERROR_HANDLE_INVALID when there is none.
+template <class T, class H>
+XrResult destroyObject(H handle) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    if (rt.find<T>(handle) == nullptr) return XR_ERROR_HANDLE_INVALID;
+    rt.erase(handle);
+    return XR_SUCCESS;
+}
+
 /// Looks up an object a session owns (a space or a swapchain) with its session:
 /// XR_ERROR_HANDLE_INVALID when either is not live, XR_ERROR_SESSION_LOST once it is lost.
 template <class T, class H>

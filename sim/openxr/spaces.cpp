@@ -135,11 +135,7 @@ XrResult xrLocateSpace(XrSpace space, XrSpace baseSpace, XrTime time, XrSpaceLoc
 }
 
 XrResult xrDestroySpace(XrSpace space) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    if (rt.find<SpaceObject>(space) == nullptr) return XR_ERROR_HANDLE_INVALID;
-    rt.erase(space);
-    return XR_SUCCESS;
+    return destroyObject<SpaceObject>(space);
 }
 
 /// Two views, left then right; XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED for anything but

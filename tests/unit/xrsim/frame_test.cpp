@@ -16,9 +16,15 @@
 namespace kizamu::xrsim::test {
 namespace {
 
-/// Acquires, waits, renders `clear` into the rectangle through an FBO, and releases.
-void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& images, int x, int y,
-                int w, int h, const float clear[4]) {
+/// A rectangle of a swapchain image (GL's origin: bottom left) cleared to a colour.
+struct Fill {
+    int x, y, width, height;
+    float rgba[4];
+};
+
+/// Acquires, waits, clears each of `fills` through an FBO, and releases.
+void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& images,
+                const std::vector<Fill>& fills) {
     uint32_t index = 0;
     ASSERT_EQ(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
     XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
@@ -31,9 +37,11 @@ void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& im
                            0);
     ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
     glEnable(GL_SCISSOR_TEST);
-    glScissor(x, y, w, h);
-    glClearColor(clear[0], clear[1], clear[2], clear[3]);
-    glClear(GL_COLOR_BUFFER_BIT);
+    for (const Fill& f : fills) {
+        glScissor(f.x, f.y, f.width, f.height);
+        glClearColor(f.rgba[0], f.rgba[1], f.rgba[2], f.rgba[3]);
+        glClear(GL_COLOR_BUFFER_BIT);
+    }
     glDisable(GL_SCISSOR_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDeleteFramebuffers(1, &fbo);
@@ -127,8 +135,7 @@ TEST_F(XrSimTest, LayerWithoutAReleasedImageIsInvalid) {
     KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
     KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
     KIZAMU_EXPECT_XR(XR_ERROR_LAYER_INVALID, endFrame({p.header()}));
-    const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
-    renderInto(sc, images(sc), 0, 0, 64, 32, grey);
+    renderInto(sc, images(sc), {{0, 0, 64, 32, {0.5f, 0.5f, 0.5f, 1.0f}}});
     Projection outside(local, sc, 40, 32);
     KIZAMU_EXPECT_XR(XR_ERROR_SWAPCHAIN_RECT_INVALID, endFrame({outside.header()}));
     KIZAMU_EXPECT_XR(XR_SUCCESS, endFrame({p.header()}));
@@ -141,32 +148,13 @@ TEST_F(XrSimTest, SubmittedViewsAreReadBackTopRowFirst) {
         kizamuXrSimReset();
         const XrSwapchain sc = createSwapchain(format, 64, 32);
         const auto imgs = images(sc);
-        // Left eye red over green (GL's y grows upwards), right eye blue, all in one image.
-        const float red[4] = {1, 0, 0, 1}, green[4] = {0, 1, 0, 1}, blue[4] = {0, 0, 1, 1};
         KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
         KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
-        uint32_t index = 0;
-        KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
-        XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
-        wi.timeout = XR_INFINITE_DURATION;
-        KIZAMU_ASSERT_XR(XR_SUCCESS, xrWaitSwapchainImage(sc, &wi));
-        GLuint fbo = 0;
-        glGenFramebuffers(1, &fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                               imgs[index].image, 0);
-        glEnable(GL_SCISSOR_TEST);
-        for (const auto& [x, y, w, h, c] :
-             {std::tuple{0, 16, 32, 16, red}, std::tuple{0, 0, 32, 16, green},
-              std::tuple{32, 0, 32, 32, blue}}) {
-            glScissor(x, y, w, h);
-            glClearColor(c[0], c[1], c[2], c[3]);
-            glClear(GL_COLOR_BUFFER_BIT);
-        }
-        glDisable(GL_SCISSOR_TEST);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        glDeleteFramebuffers(1, &fbo);
-        KIZAMU_ASSERT_XR(XR_SUCCESS, xrReleaseSwapchainImage(sc, nullptr));
+        // Left eye red over green (GL's y grows upwards), right eye blue, all in one image.
+        renderInto(sc, imgs,
+                   {{0, 16, 32, 16, {1, 0, 0, 1}},
+                    {0, 0, 32, 16, {0, 1, 0, 1}},
+                    {32, 0, 32, 32, {0, 0, 1, 1}}});
         const Projection p(local, sc, 32, 32);
         KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
 
@@ -231,11 +219,10 @@ TEST_F(XrSimTest, CaptureWritesEventsAndViewPngs) {
     runToFocused();
     unsetenv("KIZAMU_XRSIM_CAPTURE");
     const XrSwapchain sc = createSwapchain(GL_RGBA8, 32, 16);
-    const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
     for (int frame = 0; frame < 90; ++frame) {
         KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
         KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
-        renderInto(sc, images(sc), 0, 0, 32, 16, grey);
+        renderInto(sc, images(sc), {{0, 0, 32, 16, {0.5f, 0.5f, 0.5f, 1.0f}}});
         const Projection p(local, sc, 16, 16);
         KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
     }
