@@ -17,6 +17,18 @@ namespace {
 /// Supported formats, preferred first.
 const int64_t kFormats[] = {GL_SRGB8_ALPHA8, GL_RGBA8};
 
+/// Runs `body(swapchain)` under the runtime's lock for a live swapchain of a live session
+/// (XR_ERROR_HANDLE_INVALID, XR_ERROR_SESSION_LOST otherwise).
+template <class Body>
+XrResult onSwapchain(XrSwapchain handle, Body&& body) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    SwapchainObject* sc = nullptr;
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSessionChild(rt, handle, &sc, &s); r != XR_SUCCESS) return r;
+    return body(*sc);
+}
+
 }  // namespace
 
 XrResult xrEnumerateSwapchainFormats(XrSession session, uint32_t formatCapacityInput,
@@ -74,58 +86,47 @@ XrResult xrDestroySwapchain(XrSwapchain swapchain) {
 XrResult xrEnumerateSwapchainImages(XrSwapchain swapchain, uint32_t imageCapacityInput,
                                     uint32_t* imageCountOutput,
                                     XrSwapchainImageBaseHeader* images) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SwapchainObject* sc = nullptr;
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
-    if (imageCapacityInput > 0 && images[0].type != XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR)
-        return XR_ERROR_VALIDATION_FAILURE;
-    auto* gl = reinterpret_cast<XrSwapchainImageOpenGLKHR*>(images);
-    return twoCall(imageCapacityInput, imageCountOutput, static_cast<uint32_t>(sc->textures.size()),
-                   [&](uint32_t i) { gl[i].image = sc->textures[i]; });
+    return onSwapchain(swapchain, [&](SwapchainObject& sc) -> XrResult {
+        if (imageCapacityInput > 0 && images[0].type != XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR)
+            return XR_ERROR_VALIDATION_FAILURE;
+        auto* gl = reinterpret_cast<XrSwapchainImageOpenGLKHR*>(images);
+        return twoCall(imageCapacityInput, imageCountOutput,
+                       static_cast<uint32_t>(sc.textures.size()),
+                       [&](uint32_t i) { gl[i].image = sc.textures[i]; });
+    });
 }
 
 /// XR_ERROR_CALL_ORDER_INVALID when every image is already acquired and not released.
 XrResult xrAcquireSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageAcquireInfo*,
                                  uint32_t* index) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SwapchainObject* sc = nullptr;
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
-    if (sc->acquired.size() == sc->textures.size()) return XR_ERROR_CALL_ORDER_INVALID;
-    *index = sc->nextImage;
-    sc->acquired.push_back(sc->nextImage);
-    sc->nextImage = (sc->nextImage + 1) % static_cast<uint32_t>(sc->textures.size());
-    return XR_SUCCESS;
+    return onSwapchain(swapchain, [&](SwapchainObject& sc) -> XrResult {
+        if (sc.acquired.size() == sc.textures.size()) return XR_ERROR_CALL_ORDER_INVALID;
+        *index = sc.nextImage;
+        sc.acquired.push_back(sc.nextImage);
+        sc.nextImage = (sc.nextImage + 1) % static_cast<uint32_t>(sc.textures.size());
+        return XR_SUCCESS;
+    });
 }
 
 /// Waits (at once: the simulated compositor holds no image) on the oldest acquired image not
 /// yet waited; XR_ERROR_CALL_ORDER_INVALID when there is none.
 XrResult xrWaitSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageWaitInfo*) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SwapchainObject* sc = nullptr;
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
-    if (sc->waited == sc->acquired.size()) return XR_ERROR_CALL_ORDER_INVALID;
-    ++sc->waited;
-    return XR_SUCCESS;
+    return onSwapchain(swapchain, [&](SwapchainObject& sc) -> XrResult {
+        if (sc.waited == sc.acquired.size()) return XR_ERROR_CALL_ORDER_INVALID;
+        ++sc.waited;
+        return XR_SUCCESS;
+    });
 }
 
 /// Releases the oldest acquired image; XR_ERROR_CALL_ORDER_INVALID when it was not waited on.
 XrResult xrReleaseSwapchainImage(XrSwapchain swapchain, const XrSwapchainImageReleaseInfo*) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SwapchainObject* sc = nullptr;
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSessionChild(rt, swapchain, &sc, &s); r != XR_SUCCESS) return r;
-    if (sc->waited == 0) return XR_ERROR_CALL_ORDER_INVALID;
-    sc->lastReleased = sc->acquired.front();
-    sc->acquired.pop_front();
-    --sc->waited;
-    return XR_SUCCESS;
+    return onSwapchain(swapchain, [&](SwapchainObject& sc) -> XrResult {
+        if (sc.waited == 0) return XR_ERROR_CALL_ORDER_INVALID;
+        sc.lastReleased = sc.acquired.front();
+        sc.acquired.pop_front();
+        --sc.waited;
+        return XR_SUCCESS;
+    });
 }
 
 }  // namespace kizamu::xrsim
