@@ -46,16 +46,6 @@ XrResult findAttachedAction(Runtime& rt, const SessionObject& s, XrAction action
     return XR_SUCCESS;
 }
 
-/// XR_ERROR_PATH_INVALID for a path that is not an atom, XR_ERROR_PATH_UNSUPPORTED for one
-/// that is not among the action's subaction paths; XR_SUCCESS for XR_NULL_PATH.
-XrResult checkSubactionPath(const Runtime& rt, const ActionObject& a, XrPath path) {
-    if (path == XR_NULL_PATH) return XR_SUCCESS;
-    if (pathString(rt, path) == nullptr) return XR_ERROR_PATH_INVALID;
-    return std::count(a.subactionPaths.begin(), a.subactionPaths.end(), path) != 0
-               ? XR_SUCCESS
-               : XR_ERROR_PATH_UNSUPPORTED;
-}
-
 /// The session's state of `action` for `subactionPath` after the last sync (inactive before).
 ActionValue actionValue(const SessionObject& s, XrAction action, XrPath subactionPath) {
     const auto it = s.actionValues.find({action, subactionPath});
@@ -182,6 +172,14 @@ XrResult recordHaptic(XrSession session, const XrHapticActionInfo& info, float a
 }
 
 }  // namespace
+
+XrResult checkSubactionPath(const Runtime& rt, const ActionObject& a, XrPath path) {
+    if (path == XR_NULL_PATH) return XR_SUCCESS;
+    if (pathString(rt, path) == nullptr) return XR_ERROR_PATH_INVALID;
+    return std::count(a.subactionPaths.begin(), a.subactionPaths.end(), path) != 0
+               ? XR_SUCCESS
+               : XR_ERROR_PATH_UNSUPPORTED;
+}
 
 float readInput(const SessionObject& session, const std::string& path) {
     if (const auto it = session.inputs.find(path); it != session.inputs.end()) return it->second;

@@ -82,12 +82,9 @@ XrResult xrCreateActionSpace(XrSession session, const XrActionSpaceCreateInfo* c
         const ActionObject* a = rt.find<ActionObject>(createInfo->action);
         if (a == nullptr) return XR_ERROR_HANDLE_INVALID;
         if (a->type != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-        if (createInfo->subactionPath != XR_NULL_PATH) {
-            if (pathString(rt, createInfo->subactionPath) == nullptr) return XR_ERROR_PATH_INVALID;
-            if (std::find(a->subactionPaths.begin(), a->subactionPaths.end(),
-                          createInfo->subactionPath) == a->subactionPaths.end())
-                return XR_ERROR_PATH_UNSUPPORTED;
-        }
+        if (const XrResult r = checkSubactionPath(rt, *a, createInfo->subactionPath);
+            r != XR_SUCCESS)
+            return r;
         if (!isValidPose(createInfo->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
         SpaceObject sp;
         sp.session = session;
