@@ -55,10 +55,6 @@ TEST_F(XrSimValidationTest, LayerIsAvailable) {
 
 TEST_F(XrSimValidationTest, FullLifecycleReportsNoErrors) {
     createInstance({kLayer});
-    // Non-null Xlib values: the layer checks the binding's pointers; the runtime never reads them.
-    static int display = 0;
-    binding.xDisplay = reinterpret_cast<Display*>(&display);
-    binding.glxContext = reinterpret_cast<GLXContext>(&display);
     createSession();
 
     // Actions: one boolean and one pose, synced every frame.
