@@ -6,7 +6,12 @@
 #include "tests/unit/xrsim/xrsim_fixture.h"
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+
+#include <unistd.h>
 
 namespace kizamu::xrsim::test {
 namespace {
@@ -308,6 +313,12 @@ TEST_F(XrSimActionsTest, PoseActionsAreLocatedThroughActionSpaces) {
     // Not synced yet: not located.
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrLocateSpace(gripSpace, local, lastDisplayTime, &loc));
     EXPECT_EQ(loc.locationFlags, 0u);
+    // Synced: the controller starts at the origin.
+    KIZAMU_ASSERT_XR(XR_SUCCESS, sync(set));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrLocateSpace(gripSpace, local, lastDisplayTime, &loc));
+    EXPECT_TRUE(loc.locationFlags & XR_SPACE_LOCATION_POSITION_TRACKED_BIT);
+    EXPECT_EQ(loc.pose.position.x, 0.0f);
+    EXPECT_EQ(loc.pose.orientation.w, 1.0f);
 
     const XrPosef pose{{0.0f, 0.0f, 0.0f, 1.0f}, {0.1f, 1.2f, -0.3f}};
     KIZAMU_ASSERT_XR(
@@ -334,7 +345,13 @@ TEST_F(XrSimActionsTest, PoseActionsAreLocatedThroughActionSpaces) {
 }
 
 TEST_F(XrSimActionsTest, HapticsAreRecorded) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("kizamu_xrsim_haptics_" + std::to_string(getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    setenv("KIZAMU_XRSIM_CAPTURE", dir.c_str(), 1);
     createInstance();
+    unsetenv("KIZAMU_XRSIM_CAPTURE");
     createActions();
     KIZAMU_ASSERT_XR(XR_SUCCESS, suggestFor(kIndex));
     focusWithActions();
@@ -364,6 +381,14 @@ TEST_F(XrSimActionsTest, HapticsAreRecorded) {
     KIZAMU_ASSERT_XR(
         XR_SUCCESS, xrApplyHapticFeedback(session, &hi, reinterpret_cast<XrHapticBaseHeader*>(&v)));
     EXPECT_EQ(kizamuXrSimHapticCount(), 4);
+    std::ifstream events(dir / "events.jsonl");
+    std::stringstream all;
+    all << events.rdbuf();
+    EXPECT_NE(all.str().find("{\"event\":\"haptic\",\"hand\":\"/user/hand/right\","
+                             "\"amplitude\":0.5,\"duration_ns\":20000000,"),
+              std::string::npos)
+        << all.str();
+    std::filesystem::remove_all(dir);
     hi.action = trigger;
     KIZAMU_EXPECT_XR(
         XR_ERROR_ACTION_TYPE_MISMATCH,
