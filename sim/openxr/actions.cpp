@@ -35,7 +35,7 @@ bool isValidName(const char* name) {
     return true;
 }
 
-/// The attached action set of `action` in `session`: XR_ERROR_HANDLE_INVALID or
+/// The live action `action` whose set is attached to `s`; XR_ERROR_HANDLE_INVALID or
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED otherwise.
 XrResult findAttachedAction(Runtime& rt, const SessionObject& s, XrAction action,
                             ActionObject** out) {

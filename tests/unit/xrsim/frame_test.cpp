@@ -179,6 +179,48 @@ TEST_F(XrSimTest, SubmittedViewsAreReadBackTopRowFirst) {
     EXPECT_EQ(kizamuXrSimLastView(2, nullptr, nullptr, nullptr), 2);
 }
 
+TEST_F(XrSimTest, ArraySwapchainViewsAreReadFromTheirLayers) {
+    runToFocused();
+    XrSwapchainCreateInfo ci{XR_TYPE_SWAPCHAIN_CREATE_INFO};
+    ci.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT;
+    ci.format = GL_RGBA8;
+    ci.sampleCount = ci.faceCount = ci.mipCount = 1;
+    ci.arraySize = 2;
+    ci.width = ci.height = 8;
+    XrSwapchain sc = XR_NULL_HANDLE;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrCreateSwapchain(session, &ci, &sc));
+    const auto imgs = images(sc);
+    KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+    KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
+    uint32_t index = 0;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
+    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
+    wi.timeout = XR_INFINITE_DURATION;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrWaitSwapchainImage(sc, &wi));
+    GLuint fbo = 0;
+    glGenFramebuffers(1, &fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
+    for (int layer = 0; layer < 2; ++layer) {
+        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, imgs[index].image, 0,
+                                  layer);
+        glClearColor(layer == 0 ? 1.0f : 0.0f, 0.0f, layer == 1 ? 1.0f : 0.0f, 1.0f);
+        glClear(GL_COLOR_BUFFER_BIT);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glDeleteFramebuffers(1, &fbo);
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrReleaseSwapchainImage(sc, nullptr));
+    Projection p(local, sc, 8, 8);
+    p.views[1].subImage.imageRect.offset.x = 0;
+    p.views[1].subImage.imageArrayIndex = 1;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
+    int w = 0, h = 0;
+    const unsigned char* px = nullptr;
+    ASSERT_EQ(kizamuXrSimLastView(0, &w, &h, &px), 0);
+    EXPECT_EQ(std::tuple(px[0], px[2]), std::tuple(255, 0));
+    ASSERT_EQ(kizamuXrSimLastView(1, &w, &h, &px), 0);
+    EXPECT_EQ(std::tuple(px[0], px[2]), std::tuple(0, 255));
+}
+
 TEST_F(XrSimTest, GlxContextOfTheApplicationWorksToo) {
     if (std::getenv("DISPLAY") == nullptr) {
         if (std::getenv("KIZAMU_REQUIRE_DISPLAY"))
