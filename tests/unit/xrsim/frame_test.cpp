@@ -19,10 +19,12 @@
 namespace kizamu::xrsim::test {
 namespace {
 
-/// A rectangle of a swapchain image (GL's origin: bottom left) cleared to a colour.
+/// A rectangle of a swapchain image (GL's origin: bottom left) cleared to a colour, in the
+/// image's texture (layer -1) or in one layer of a texture array.
 struct Fill {
     int x, y, width, height;
     float rgba[4];
+    int layer = -1;
 };
 
 /// Acquires, waits, clears each of `fills` through an FBO, and releases.
@@ -36,11 +38,15 @@ void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& im
     GLuint fbo = 0;
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, images[index].image,
-                           0);
-    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
     glEnable(GL_SCISSOR_TEST);
     for (const Fill& f : fills) {
+        if (f.layer < 0)
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                                   images[index].image, 0);
+        else
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, images[index].image, 0,
+                                      f.layer);
+        EXPECT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
         glScissor(f.x, f.y, f.width, f.height);
         glClearColor(f.rgba[0], f.rgba[1], f.rgba[2], f.rgba[3]);
         glClear(GL_COLOR_BUFFER_BIT);
@@ -192,23 +198,7 @@ TEST_F(XrSimTest, ArraySwapchainViewsAreReadFromTheirLayers) {
     const auto imgs = images(sc);
     KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
     KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
-    uint32_t index = 0;
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
-    XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
-    wi.timeout = XR_INFINITE_DURATION;
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrWaitSwapchainImage(sc, &wi));
-    GLuint fbo = 0;
-    glGenFramebuffers(1, &fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    for (int layer = 0; layer < 2; ++layer) {
-        glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, imgs[index].image, 0,
-                                  layer);
-        glClearColor(layer == 0 ? 1.0f : 0.0f, 0.0f, layer == 1 ? 1.0f : 0.0f, 1.0f);
-        glClear(GL_COLOR_BUFFER_BIT);
-    }
-    glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    glDeleteFramebuffers(1, &fbo);
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrReleaseSwapchainImage(sc, nullptr));
+    renderInto(sc, imgs, {{0, 0, 8, 8, {1, 0, 0, 1}, 0}, {0, 0, 8, 8, {0, 0, 1, 1}, 1}});
     Projection p(local, sc, 8, 8);
     p.views[1].subImage.imageRect.offset.x = 0;
     p.views[1].subImage.imageArrayIndex = 1;
