@@ -58,6 +58,7 @@ struct Binding {
     XrPath path;
 };
 
+/// An XrInstance: enabled extensions, its event queue, suggested bindings, its session.
 struct InstanceObject {
     std::set<std::string> extensions;
     bool glRequirementsQueried = false;
@@ -76,6 +77,8 @@ struct ActionValue {
     XrTime lastChange = 0;
 };
 
+/// An XrSession: lifecycle and frame-loop state, its clock, attached action sets, the simulated
+/// controllers' state (set by automation.cpp) and the action states of the last sync.
 struct SessionObject {
     XrInstance instance = XR_NULL_HANDLE;
     XrSessionState state = XR_SESSION_STATE_UNKNOWN;
@@ -93,6 +96,7 @@ struct SessionObject {
     std::map<std::pair<XrAction, XrPath>, ActionValue> actionValues;
 };
 
+/// An XrSpace: a reference space, or an action space when `action` is set.
 struct SpaceObject {
     XrSession session = XR_NULL_HANDLE;
     XrReferenceSpaceType referenceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
@@ -101,6 +105,7 @@ struct SpaceObject {
     XrPosef offset{};  ///< pose in the reference or action space
 };
 
+/// An XrSwapchain: its GL textures and the acquire → wait → release bookkeeping.
 struct SwapchainObject {
     XrSession session = XR_NULL_HANDLE;
     int64_t format = 0;
@@ -112,12 +117,14 @@ struct SwapchainObject {
     int64_t lastReleased = -1;
 };
 
+/// An XrActionSet.
 struct ActionSetObject {
     XrInstance instance = XR_NULL_HANDLE;
     std::string name, localizedName;
     bool attached = false;  ///< to any session: the set and its actions are immutable
 };
 
+/// An XrAction.
 struct ActionObject {
     XrActionSet set = XR_NULL_HANDLE;
     std::string name;
