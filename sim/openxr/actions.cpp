@@ -20,6 +20,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <type_traits>
 
 namespace kizamu::xrsim {
 namespace {
@@ -34,7 +35,7 @@ bool isValidName(const char* name) {
     return true;
 }
 
-/// The attached action set of `action` in `session`: XR_ERROR_HANDLE_INVALID or
+/// The live action `action` whose set is attached to `s`; XR_ERROR_HANDLE_INVALID or
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED otherwise.
 XrResult findAttachedAction(Runtime& rt, const SessionObject& s, XrAction action,
                             ActionObject** out) {
@@ -43,16 +44,6 @@ XrResult findAttachedAction(Runtime& rt, const SessionObject& s, XrAction action
     if (!s.attachedSets.count(a->set)) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
     *out = a;
     return XR_SUCCESS;
-}
-
-/// XR_ERROR_PATH_INVALID for a path that is not an atom, XR_ERROR_PATH_UNSUPPORTED for one
-/// that is not among the action's subaction paths; XR_SUCCESS for XR_NULL_PATH.
-XrResult checkSubactionPath(const Runtime& rt, const ActionObject& a, XrPath path) {
-    if (path == XR_NULL_PATH) return XR_SUCCESS;
-    if (pathString(rt, path) == nullptr) return XR_ERROR_PATH_INVALID;
-    return std::count(a.subactionPaths.begin(), a.subactionPaths.end(), path) != 0
-               ? XR_SUCCESS
-               : XR_ERROR_PATH_UNSUPPORTED;
 }
 
 /// The session's state of `action` for `subactionPath` after the last sync (inactive before).
@@ -101,7 +92,8 @@ ActionValue computeValue(Runtime& rt, const SessionObject& s, XrAction handle,
                     v.vectorValue = xy;
                 break;
             }
-            default: break;
+            default:
+                break;
         }
     }
     return v;
@@ -112,12 +104,57 @@ bool sameValue(const ActionValue& a, const ActionValue& b) {
            a.vectorValue.x == b.vectorValue.x && a.vectorValue.y == b.vectorValue.y;
 }
 
-/// Records one haptic call for every hand the action's output is bound to.
-void recordHaptic(Runtime& rt, const SessionObject& s, XrAction action, XrPath subactionPath,
-                  float amplitude, XrDuration duration, float frequency) {
-    for (const std::string& src : boundSources(rt, s, action, subactionPath)) {
+/// The checks every use of an action on a session makes: the session, the action with its set
+/// attached to it (XR_ERROR_ACTIONSET_NOT_ATTACHED), its type (XR_ERROR_ACTION_TYPE_MISMATCH)
+/// and the subaction path.
+XrResult findActionUse(Runtime& rt, XrSession session, XrAction action, XrPath subactionPath,
+                       XrActionType type, SessionObject** out) {
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
+    ActionObject* a = nullptr;
+    if (const XrResult r = findAttachedAction(rt, *s, action, &a); r != XR_SUCCESS) return r;
+    if (a->type != type) return XR_ERROR_ACTION_TYPE_MISMATCH;
+    if (const XrResult r = checkSubactionPath(rt, *a, subactionPath); r != XR_SUCCESS) return r;
+    *out = s;
+    return XR_SUCCESS;
+}
+
+/// One xrGetActionState* call: the checks of findActionUse, then `state` from the last sync;
+/// `current` gives currentState from the value (poses have none).
+template <class State, class Current>
+XrResult getState(XrSession session, const XrActionStateGetInfo* getInfo, XrActionType type,
+                  State* state, Current current) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    SessionObject* s = nullptr;
+    if (const XrResult r =
+            findActionUse(rt, session, getInfo->action, getInfo->subactionPath, type, &s);
+        r != XR_SUCCESS)
+        return r;
+    const ActionValue v = actionValue(*s, getInfo->action, getInfo->subactionPath);
+    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
+    if constexpr (!std::is_same_v<State, XrActionStatePose>) {
+        state->currentState = current(v);
+        state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
+        state->lastChangeTime = v.lastChange;
+    }
+    return XR_SUCCESS;
+}
+
+/// One haptic call: the checks of findActionUse, then one record (control API, capture) for
+/// every hand the output is bound to (those under the subaction path when it is given).
+XrResult recordHaptic(XrSession session, const XrHapticActionInfo& info, float amplitude,
+                      XrDuration duration, float frequency) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    SessionObject* s = nullptr;
+    if (const XrResult r = findActionUse(rt, session, info.action, info.subactionPath,
+                                         XR_ACTION_TYPE_VIBRATION_OUTPUT, &s);
+        r != XR_SUCCESS)
+        return r;
+    for (const std::string& src : boundSources(rt, *s, info.action, info.subactionPath)) {
         KizamuXrSimHaptic h{};
-        h.timeNs = s.now;
+        h.timeNs = s->now;
         std::snprintf(h.hand, sizeof(h.hand), "%s", topLevelPath(src).c_str());
         h.amplitude = amplitude;
         h.durationNs = duration;
@@ -125,31 +162,24 @@ void recordHaptic(Runtime& rt, const SessionObject& s, XrAction action, XrPath s
         rt.haptics.push_back(h);
         char line[256];
         std::snprintf(line, sizeof(line),
-                      "{\"event\":\"haptic\",\"hand\":\"%s\",\"amplitude\":%g,\"duration_ns\":%lld,"
-                      "\"frequency\":%g,\"time\":%lld}",
+                      "{\"event\":\"haptic\",\"hand\":\"%s\",\"amplitude\":%g,"
+                      "\"duration_ns\":%lld,\"frequency\":%g,\"time\":%lld}",
                       h.hand, static_cast<double>(amplitude), static_cast<long long>(duration),
-                      static_cast<double>(frequency), static_cast<long long>(s.now));
+                      static_cast<double>(frequency), static_cast<long long>(s->now));
         captureEvent(rt, line);
     }
-}
-
-/// Common checks of the xrGetActionState* calls: the session, the attached action, its type and
-/// the subaction path.
-XrResult stateLookup(Runtime& rt, XrSession session, const XrActionStateGetInfo* getInfo,
-                     XrActionType type, ActionValue* out) {
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, getInfo->action, &a); r != XR_SUCCESS)
-        return r;
-    if (a->type != type) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (const XrResult r = checkSubactionPath(rt, *a, getInfo->subactionPath); r != XR_SUCCESS)
-        return r;
-    *out = actionValue(*s, getInfo->action, getInfo->subactionPath);
     return XR_SUCCESS;
 }
 
 }  // namespace
+
+XrResult checkSubactionPath(const Runtime& rt, const ActionObject& a, XrPath path) {
+    if (path == XR_NULL_PATH) return XR_SUCCESS;
+    if (pathString(rt, path) == nullptr) return XR_ERROR_PATH_INVALID;
+    return std::count(a.subactionPaths.begin(), a.subactionPaths.end(), path) != 0
+               ? XR_SUCCESS
+               : XR_ERROR_PATH_UNSUPPORTED;
+}
 
 float readInput(const SessionObject& session, const std::string& path) {
     if (const auto it = session.inputs.find(path); it != session.inputs.end()) return it->second;
@@ -258,7 +288,8 @@ XrResult xrCreateAction(XrActionSet actionSet, const XrActionCreateInfo* createI
         const XrPath p = createInfo->subactionPaths[i];
         const std::string* s = pathString(rt, p);
         if (s == nullptr) return XR_ERROR_PATH_INVALID;
-        if (!isTopLevelUserPath(*s) || std::count(a.subactionPaths.begin(), a.subactionPaths.end(), p))
+        if (!isTopLevelUserPath(*s) ||
+            std::count(a.subactionPaths.begin(), a.subactionPaths.end(), p))
             return XR_ERROR_PATH_UNSUPPORTED;
         a.subactionPaths.push_back(p);
     }
@@ -267,11 +298,7 @@ XrResult xrCreateAction(XrActionSet actionSet, const XrActionCreateInfo* createI
 }
 
 XrResult xrDestroyAction(XrAction action) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    if (rt.find<ActionObject>(action) == nullptr) return XR_ERROR_HANDLE_INVALID;
-    rt.erase(action);
-    return XR_SUCCESS;
+    return destroyObject<ActionObject>(action);
 }
 
 /// XR_ERROR_ACTIONSETS_ALREADY_ATTACHED once any of the instance's sets is attached;
@@ -310,140 +337,105 @@ XrResult xrSuggestInteractionProfileBindings(
 /// queues XrEventDataInteractionProfileChanged when there is one.
 XrResult xrAttachSessionActionSets(XrSession session,
                                    const XrSessionActionSetsAttachInfo* attachInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (!s->attachedSets.empty()) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
-    for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
-        const ActionSetObject* set = rt.find<ActionSetObject>(attachInfo->actionSets[i]);
-        if (set == nullptr || set->instance != s->instance) return XR_ERROR_HANDLE_INVALID;
-    }
-    for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
-        rt.find<ActionSetObject>(attachInfo->actionSets[i])->attached = true;
-        s->attachedSets.insert(attachInfo->actionSets[i]);
-    }
-    InstanceObject& inst = *rt.find<InstanceObject>(s->instance);
-    s->profile = chooseProfile(rt, inst);
-    if (s->profile != XR_NULL_PATH) {
-        XrEventDataInteractionProfileChanged e{XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED};
-        e.session = session;
-        queueEvent(inst, &e, sizeof(e));
-    }
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (!s.attachedSets.empty()) return XR_ERROR_ACTIONSETS_ALREADY_ATTACHED;
+        for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
+            const ActionSetObject* set = rt.find<ActionSetObject>(attachInfo->actionSets[i]);
+            if (set == nullptr || set->instance != s.instance) return XR_ERROR_HANDLE_INVALID;
+        }
+        for (uint32_t i = 0; i < attachInfo->countActionSets; ++i) {
+            rt.find<ActionSetObject>(attachInfo->actionSets[i])->attached = true;
+            s.attachedSets.insert(attachInfo->actionSets[i]);
+        }
+        InstanceObject& inst = *rt.find<InstanceObject>(s.instance);
+        s.profile = chooseProfile(rt, inst);
+        if (s.profile != XR_NULL_PATH) {
+            XrEventDataInteractionProfileChanged e{XR_TYPE_EVENT_DATA_INTERACTION_PROFILE_CHANGED};
+            e.session = session;
+            queueEvent(inst, &e, sizeof(e));
+        }
+        return XR_SUCCESS;
+    });
 }
 
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED before attach; XR_ERROR_PATH_INVALID / UNSUPPORTED for a
 /// path that is not a top-level user path. Hands get the current profile, other paths none.
 XrResult xrGetCurrentInteractionProfile(XrSession session, XrPath topLevelUserPath,
                                         XrInteractionProfileState* interactionProfile) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (s->attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    const std::string* top = pathString(rt, topLevelUserPath);
-    if (top == nullptr) return XR_ERROR_PATH_INVALID;
-    if (!isTopLevelUserPath(*top)) return XR_ERROR_PATH_UNSUPPORTED;
-    const bool hand = *top == kHandLeft || *top == kHandRight;
-    interactionProfile->interactionProfile = hand ? s->profile : XR_NULL_PATH;
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (s.attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+        const std::string* top = pathString(rt, topLevelUserPath);
+        if (top == nullptr) return XR_ERROR_PATH_INVALID;
+        if (!isTopLevelUserPath(*top)) return XR_ERROR_PATH_UNSUPPORTED;
+        const bool hand = *top == kHandLeft || *top == kHandRight;
+        interactionProfile->interactionProfile = hand ? s.profile : XR_NULL_PATH;
+        return XR_SUCCESS;
+    });
 }
 
 XrResult xrGetActionStateBoolean(XrSession session, const XrActionStateGetInfo* getInfo,
                                  XrActionStateBoolean* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_BOOLEAN_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->currentState = v.boolValue ? XR_TRUE : XR_FALSE;
-    state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
-    state->lastChangeTime = v.lastChange;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_BOOLEAN_INPUT, state,
+                    [](const ActionValue& v) { return v.boolValue ? XR_TRUE : XR_FALSE; });
 }
 
 XrResult xrGetActionStateFloat(XrSession session, const XrActionStateGetInfo* getInfo,
                                XrActionStateFloat* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_FLOAT_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->currentState = v.floatValue;
-    state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
-    state->lastChangeTime = v.lastChange;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_FLOAT_INPUT, state,
+                    [](const ActionValue& v) { return v.floatValue; });
 }
 
 XrResult xrGetActionStateVector2f(XrSession session, const XrActionStateGetInfo* getInfo,
                                   XrActionStateVector2f* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_VECTOR2F_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->currentState = v.vectorValue;
-    state->changedSinceLastSync = v.changed ? XR_TRUE : XR_FALSE;
-    state->lastChangeTime = v.lastChange;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_VECTOR2F_INPUT, state,
+                    [](const ActionValue& v) { return v.vectorValue; });
 }
 
 XrResult xrGetActionStatePose(XrSession session, const XrActionStateGetInfo* getInfo,
                               XrActionStatePose* state) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    ActionValue v;
-    const XrResult r = stateLookup(rt, session, getInfo, XR_ACTION_TYPE_POSE_INPUT, &v);
-    if (r != XR_SUCCESS) return r;
-    state->isActive = v.isActive ? XR_TRUE : XR_FALSE;
-    return XR_SUCCESS;
+    return getState(session, getInfo, XR_ACTION_TYPE_POSE_INPUT, state,
+                    [](const ActionValue&) { return 0; });
 }
 
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED for a set not attached to the session;
 /// XR_ERROR_PATH_UNSUPPORTED for an active subaction path that is not a top-level user path;
 /// XR_SESSION_NOT_FOCUSED (and every action inactive) when the session is not FOCUSED.
 XrResult xrSyncActions(XrSession session, const XrActionsSyncInfo* syncInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    std::map<XrActionSet, XrPath> active;  // set -> subaction filter (XR_NULL_PATH: all)
-    for (uint32_t i = 0; i < syncInfo->countActiveActionSets; ++i) {
-        const XrActiveActionSet& as = syncInfo->activeActionSets[i];
-        if (rt.find<ActionSetObject>(as.actionSet) == nullptr) return XR_ERROR_HANDLE_INVALID;
-        if (!s->attachedSets.count(as.actionSet)) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-        if (as.subactionPath != XR_NULL_PATH) {
-            const std::string* p = pathString(rt, as.subactionPath);
-            if (p == nullptr) return XR_ERROR_PATH_INVALID;
-            if (!isTopLevelUserPath(*p)) return XR_ERROR_PATH_UNSUPPORTED;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        std::map<XrActionSet, XrPath> active;  // set -> subaction filter (XR_NULL_PATH: all)
+        for (uint32_t i = 0; i < syncInfo->countActiveActionSets; ++i) {
+            const XrActiveActionSet& as = syncInfo->activeActionSets[i];
+            if (rt.find<ActionSetObject>(as.actionSet) == nullptr) return XR_ERROR_HANDLE_INVALID;
+            if (!s.attachedSets.count(as.actionSet)) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+            if (as.subactionPath != XR_NULL_PATH) {
+                const std::string* p = pathString(rt, as.subactionPath);
+                if (p == nullptr) return XR_ERROR_PATH_INVALID;
+                if (!isTopLevelUserPath(*p)) return XR_ERROR_PATH_UNSUPPORTED;
+            }
+            // The same set twice with different subaction paths syncs all of it.
+            const auto [it, inserted] = active.emplace(as.actionSet, as.subactionPath);
+            if (!inserted && it->second != as.subactionPath) it->second = XR_NULL_PATH;
         }
-        // The same set twice with different subaction paths syncs all of it.
-        const auto [it, inserted] = active.emplace(as.actionSet, as.subactionPath);
-        if (!inserted && it->second != as.subactionPath) it->second = XR_NULL_PATH;
-    }
-    const bool focused = s->state == XR_SESSION_STATE_FOCUSED;
-    for (const auto& [id, object] : rt.objects) {
-        const auto* a = std::get_if<ActionObject>(&object);
-        if (a == nullptr || !s->attachedSets.count(a->set)) continue;
-        const auto handle = reinterpret_cast<XrAction>(id);
-        const auto set = active.find(a->set);
-        std::vector<XrPath> keys{XR_NULL_PATH};
-        keys.insert(keys.end(), a->subactionPaths.begin(), a->subactionPaths.end());
-        for (XrPath key : keys) {
-            ActionValue v;
-            if (focused && set != active.end())
-                v = computeValue(rt, *s, handle, *a, key, set->second);
-            const ActionValue old = actionValue(*s, handle, key);
-            v.changed = old.isActive && v.isActive && !sameValue(old, v);
-            v.lastChange = v.changed || (v.isActive && !old.isActive) ? s->now : old.lastChange;
-            s->actionValues[{handle, key}] = v;
+        const bool focused = s.state == XR_SESSION_STATE_FOCUSED;
+        for (const auto& [id, object] : rt.objects) {
+            const auto* a = std::get_if<ActionObject>(&object);
+            if (a == nullptr || !s.attachedSets.count(a->set)) continue;
+            const auto handle = reinterpret_cast<XrAction>(id);
+            const auto set = active.find(a->set);
+            std::vector<XrPath> keys{XR_NULL_PATH};
+            keys.insert(keys.end(), a->subactionPaths.begin(), a->subactionPaths.end());
+            for (XrPath key : keys) {
+                ActionValue v;
+                if (focused && set != active.end())
+                    v = computeValue(rt, s, handle, *a, key, set->second);
+                const ActionValue old = actionValue(s, handle, key);
+                v.changed = old.isActive && v.isActive && !sameValue(old, v);
+                v.lastChange = v.changed || (v.isActive && !old.isActive) ? s.now : old.lastChange;
+                s.actionValues[{handle, key}] = v;
+            }
         }
-    }
-    return focused ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
+        return focused ? XR_SUCCESS : XR_SESSION_NOT_FOCUSED;
+    });
 }
 
 /// The resolved source paths of the action in the current profile;
@@ -452,16 +444,16 @@ XrResult xrEnumerateBoundSourcesForAction(XrSession session,
                                           const XrBoundSourcesForActionEnumerateInfo* enumerateInfo,
                                           uint32_t sourceCapacityInput, uint32_t* sourceCountOutput,
                                           XrPath* sources) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, enumerateInfo->action, &a); r != XR_SUCCESS)
-        return r;
-    const std::vector<std::string> found = boundSources(rt, *s, enumerateInfo->action, XR_NULL_PATH);
-    return twoCall(sourceCapacityInput, sourceCountOutput, static_cast<uint32_t>(found.size()),
-                   [&](uint32_t i) { sources[i] = internPath(rt, found[i]); });
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        ActionObject* a = nullptr;
+        if (const XrResult r = findAttachedAction(rt, s, enumerateInfo->action, &a);
+            r != XR_SUCCESS)
+            return r;
+        const std::vector<std::string> found =
+            boundSources(rt, s, enumerateInfo->action, XR_NULL_PATH);
+        return twoCall(sourceCapacityInput, sourceCountOutput, static_cast<uint32_t>(found.size()),
+                       [&](uint32_t i) { sources[i] = internPath(rt, found[i]); });
+    });
 }
 
 /// E.g. "Right Hand Index Controller Trigger Value" with every component asked for;
@@ -471,26 +463,24 @@ XrResult xrGetInputSourceLocalizedName(XrSession session,
                                        const XrInputSourceLocalizedNameGetInfo* getInfo,
                                        uint32_t bufferCapacityInput, uint32_t* bufferCountOutput,
                                        char* buffer) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (s->attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
-    const std::string* path = pathString(rt, getInfo->sourcePath);
-    if (path == nullptr || topLevelPath(*path).empty()) return XR_ERROR_PATH_INVALID;
-    std::string name;
-    auto append = [&](const std::string& piece) {
-        if (piece.empty()) return;
-        if (!name.empty()) name += ' ';
-        name += piece;
-    };
-    const XrInputSourceLocalizedNameFlags which = getInfo->whichComponents;
-    if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_USER_PATH_BIT) append(userPathName(*path));
-    if ((which & XR_INPUT_SOURCE_LOCALIZED_NAME_INTERACTION_PROFILE_BIT) &&
-        s->profile != XR_NULL_PATH)
-        append(profileName(*pathString(rt, s->profile)));
-    if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_COMPONENT_BIT) append(componentName(*path));
-    return twoCallString(name, bufferCapacityInput, bufferCountOutput, buffer);
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (s.attachedSets.empty()) return XR_ERROR_ACTIONSET_NOT_ATTACHED;
+        const std::string* path = pathString(rt, getInfo->sourcePath);
+        if (path == nullptr || topLevelPath(*path).empty()) return XR_ERROR_PATH_INVALID;
+        std::string name;
+        auto append = [&](const std::string& piece) {
+            if (piece.empty()) return;
+            if (!name.empty()) name += ' ';
+            name += piece;
+        };
+        const XrInputSourceLocalizedNameFlags which = getInfo->whichComponents;
+        if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_USER_PATH_BIT) append(userPathName(*path));
+        if ((which & XR_INPUT_SOURCE_LOCALIZED_NAME_INTERACTION_PROFILE_BIT) &&
+            s.profile != XR_NULL_PATH)
+            append(profileName(*pathString(rt, s.profile)));
+        if (which & XR_INPUT_SOURCE_LOCALIZED_NAME_COMPONENT_BIT) append(componentName(*path));
+        return twoCallString(name, bufferCapacityInput, bufferCountOutput, buffer);
+    });
 }
 
 /// Records the vibration (control API, capture) for each hand the action is bound to;
@@ -498,40 +488,14 @@ XrResult xrGetInputSourceLocalizedName(XrSession session,
 /// XR_ERROR_ACTIONSET_NOT_ATTACHED, XR_ERROR_PATH_UNSUPPORTED as for the states.
 XrResult xrApplyHapticFeedback(XrSession session, const XrHapticActionInfo* hapticActionInfo,
                                const XrHapticBaseHeader* hapticFeedback) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a); r != XR_SUCCESS)
-        return r;
-    if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (const XrResult r = checkSubactionPath(rt, *a, hapticActionInfo->subactionPath);
-        r != XR_SUCCESS)
-        return r;
     if (hapticFeedback->type != XR_TYPE_HAPTIC_VIBRATION) return XR_ERROR_VALIDATION_FAILURE;
     const auto* v = reinterpret_cast<const XrHapticVibration*>(hapticFeedback);
-    recordHaptic(rt, *s, hapticActionInfo->action, hapticActionInfo->subactionPath, v->amplitude,
-                 v->duration, v->frequency);
-    return XR_SUCCESS;
+    return recordHaptic(session, *hapticActionInfo, v->amplitude, v->duration, v->frequency);
 }
 
 /// Records a stop (amplitude 0, duration 0); errors as xrApplyHapticFeedback.
 XrResult xrStopHapticFeedback(XrSession session, const XrHapticActionInfo* hapticActionInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    ActionObject* a = nullptr;
-    if (const XrResult r = findAttachedAction(rt, *s, hapticActionInfo->action, &a); r != XR_SUCCESS)
-        return r;
-    if (a->type != XR_ACTION_TYPE_VIBRATION_OUTPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (const XrResult r = checkSubactionPath(rt, *a, hapticActionInfo->subactionPath);
-        r != XR_SUCCESS)
-        return r;
-    recordHaptic(rt, *s, hapticActionInfo->action, hapticActionInfo->subactionPath, 0.0f, 0,
-                 XR_FREQUENCY_UNSPECIFIED);
-    return XR_SUCCESS;
+    return recordHaptic(session, *hapticActionInfo, 0.0f, 0, XR_FREQUENCY_UNSPECIFIED);
 }
 
 }  // namespace kizamu::xrsim

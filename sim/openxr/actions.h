@@ -18,6 +18,10 @@ namespace kizamu::xrsim {
 /// sibling click.
 float readInput(const SessionObject& session, const std::string& path);
 
+/// XR_ERROR_PATH_INVALID for a path that is not an atom, XR_ERROR_PATH_UNSUPPORTED for one
+/// that is not among the action's subaction paths; XR_SUCCESS for XR_NULL_PATH.
+XrResult checkSubactionPath(const Runtime& rt, const ActionObject& action, XrPath path);
+
 /// The sources `action` is bound to in the session's current interaction profile, resolved
 /// by the shorthand rules (interaction_profiles.h), whose top-level path is `subactionPath`
 /// (any with XR_NULL_PATH).

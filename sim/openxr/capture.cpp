@@ -32,15 +32,24 @@ void captureViews(const Runtime& rt) {
 
 const char* sessionStateName(XrSessionState state) {
     switch (state) {
-        case XR_SESSION_STATE_IDLE: return "IDLE";
-        case XR_SESSION_STATE_READY: return "READY";
-        case XR_SESSION_STATE_SYNCHRONIZED: return "SYNCHRONIZED";
-        case XR_SESSION_STATE_VISIBLE: return "VISIBLE";
-        case XR_SESSION_STATE_FOCUSED: return "FOCUSED";
-        case XR_SESSION_STATE_STOPPING: return "STOPPING";
-        case XR_SESSION_STATE_LOSS_PENDING: return "LOSS_PENDING";
-        case XR_SESSION_STATE_EXITING: return "EXITING";
-        default: return "UNKNOWN";
+        case XR_SESSION_STATE_IDLE:
+            return "IDLE";
+        case XR_SESSION_STATE_READY:
+            return "READY";
+        case XR_SESSION_STATE_SYNCHRONIZED:
+            return "SYNCHRONIZED";
+        case XR_SESSION_STATE_VISIBLE:
+            return "VISIBLE";
+        case XR_SESSION_STATE_FOCUSED:
+            return "FOCUSED";
+        case XR_SESSION_STATE_STOPPING:
+            return "STOPPING";
+        case XR_SESSION_STATE_LOSS_PENDING:
+            return "LOSS_PENDING";
+        case XR_SESSION_STATE_EXITING:
+            return "EXITING";
+        default:
+            return "UNKNOWN";
     }
 }
 

@@ -37,7 +37,8 @@ XrResult checkLayer(Runtime& rt, XrSession session, const XrCompositionLayerBase
         const auto* p = reinterpret_cast<const XrCompositionLayerProjection*>(layer);
         if (p->viewCount != 2) return XR_ERROR_VALIDATION_FAILURE;
         for (uint32_t i = 0; i < p->viewCount; ++i)
-            if (const XrResult r = checkSubImage(rt, session, p->views[i].subImage); r != XR_SUCCESS)
+            if (const XrResult r = checkSubImage(rt, session, p->views[i].subImage);
+                r != XR_SUCCESS)
                 return r;
         return XR_SUCCESS;
     }
@@ -56,8 +57,8 @@ void readBack(Runtime& rt, const XrCompositionLayerProjection& layer) {
         view.width = sub.imageRect.extent.width;
         view.height = sub.imageRect.extent.height;
         readTexture(sc.textures[static_cast<size_t>(sc.lastReleased)], sc.arraySize > 1,
-                    sub.imageArrayIndex, sub.imageRect.offset.x, sub.imageRect.offset.y,
-                    view.width, view.height, view.rgba);
+                    sub.imageArrayIndex, sub.imageRect.offset.x, sub.imageRect.offset.y, view.width,
+                    view.height, view.rgba);
     }
 }
 
@@ -66,36 +67,31 @@ void readBack(Runtime& rt, const XrCompositionLayerProjection& layer) {
 /// XR_ERROR_SESSION_NOT_RUNNING when the session is not running. shouldRender is true in
 /// VISIBLE and FOCUSED.
 XrResult xrWaitFrame(XrSession session, const XrFrameWaitInfo*, XrFrameState* frameState) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
-    s->now = kStartTime + static_cast<XrTime>(s->framesWaited) * kFramePeriod;
-    ++s->framesWaited;
-    ++s->pendingWaits;
-    frameState->predictedDisplayTime = s->now;
-    frameState->predictedDisplayPeriod = kFramePeriod;
-    frameState->shouldRender = s->state == XR_SESSION_STATE_VISIBLE ||
-                                       s->state == XR_SESSION_STATE_FOCUSED
-                                   ? XR_TRUE
-                                   : XR_FALSE;
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime&, SessionObject& s) -> XrResult {
+        if (!s.running) return XR_ERROR_SESSION_NOT_RUNNING;
+        s.now = kStartTime + static_cast<XrTime>(s.framesWaited) * kFramePeriod;
+        ++s.framesWaited;
+        ++s.pendingWaits;
+        frameState->predictedDisplayTime = s.now;
+        frameState->predictedDisplayPeriod = kFramePeriod;
+        frameState->shouldRender =
+            s.state == XR_SESSION_STATE_VISIBLE || s.state == XR_SESSION_STATE_FOCUSED ? XR_TRUE
+                                                                                       : XR_FALSE;
+        return XR_SUCCESS;
+    });
 }
 
 /// XR_ERROR_SESSION_NOT_RUNNING when not running; XR_ERROR_CALL_ORDER_INVALID without a
 /// preceding xrWaitFrame; XR_FRAME_DISCARDED when the previous frame was begun and not ended.
 XrResult xrBeginFrame(XrSession session, const XrFrameBeginInfo*) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
-    if (s->pendingWaits == 0) return XR_ERROR_CALL_ORDER_INVALID;
-    --s->pendingWaits;
-    if (s->frameBegun) return XR_FRAME_DISCARDED;
-    s->frameBegun = true;
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime&, SessionObject& s) -> XrResult {
+        if (!s.running) return XR_ERROR_SESSION_NOT_RUNNING;
+        if (s.pendingWaits == 0) return XR_ERROR_CALL_ORDER_INVALID;
+        --s.pendingWaits;
+        if (s.frameBegun) return XR_FRAME_DISCARDED;
+        s.frameBegun = true;
+        return XR_SUCCESS;
+    });
 }
 
 /// XR_ERROR_SESSION_NOT_RUNNING; XR_ERROR_CALL_ORDER_INVALID without xrBeginFrame;
@@ -104,33 +100,32 @@ XrResult xrBeginFrame(XrSession session, const XrFrameBeginInfo*) {
 /// checkLayer (XR_ERROR_LAYER_INVALID for a swapchain with no released image). Reads back the
 /// projection views; the first frame ended makes a SYNCHRONIZED session VISIBLE and FOCUSED.
 XrResult xrEndFrame(XrSession session, const XrFrameEndInfo* frameEndInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
-    if (!s->frameBegun) return XR_ERROR_CALL_ORDER_INVALID;
-    if (frameEndInfo->displayTime <= 0) return XR_ERROR_TIME_INVALID;
-    if (frameEndInfo->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE)
-        return XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED;
-    if (frameEndInfo->layerCount > kMaxLayers) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
-    for (uint32_t i = 0; i < frameEndInfo->layerCount; ++i)
-        if (const XrResult r = checkLayer(rt, session, frameEndInfo->layers[i]); r != XR_SUCCESS)
-            return r;
-    for (uint32_t i = 0; i < frameEndInfo->layerCount; ++i)
-        if (frameEndInfo->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION)
-            readBack(rt, *reinterpret_cast<const XrCompositionLayerProjection*>(
-                             frameEndInfo->layers[i]));
-    s->frameBegun = false;
-    ++rt.framesEnded;
-    if (rt.framesEnded % 90 == 0)
-        captureEvent(rt, "{\"event\":\"frame\",\"n\":" + std::to_string(rt.framesEnded) +
-                             ",\"time\":" + std::to_string(s->now) + "}");
-    if (s->state == XR_SESSION_STATE_SYNCHRONIZED) {
-        setSessionState(rt, session, *s, XR_SESSION_STATE_VISIBLE);
-        setSessionState(rt, session, *s, XR_SESSION_STATE_FOCUSED);
-    }
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (!s.running) return XR_ERROR_SESSION_NOT_RUNNING;
+        if (!s.frameBegun) return XR_ERROR_CALL_ORDER_INVALID;
+        if (frameEndInfo->displayTime <= 0) return XR_ERROR_TIME_INVALID;
+        if (frameEndInfo->environmentBlendMode != XR_ENVIRONMENT_BLEND_MODE_OPAQUE)
+            return XR_ERROR_ENVIRONMENT_BLEND_MODE_UNSUPPORTED;
+        if (frameEndInfo->layerCount > kMaxLayers) return XR_ERROR_LAYER_LIMIT_EXCEEDED;
+        for (uint32_t i = 0; i < frameEndInfo->layerCount; ++i)
+            if (const XrResult r = checkLayer(rt, session, frameEndInfo->layers[i]);
+                r != XR_SUCCESS)
+                return r;
+        for (uint32_t i = 0; i < frameEndInfo->layerCount; ++i)
+            if (frameEndInfo->layers[i]->type == XR_TYPE_COMPOSITION_LAYER_PROJECTION)
+                readBack(rt, *reinterpret_cast<const XrCompositionLayerProjection*>(
+                                 frameEndInfo->layers[i]));
+        s.frameBegun = false;
+        ++rt.framesEnded;
+        if (rt.framesEnded % 90 == 0)
+            captureEvent(rt, "{\"event\":\"frame\",\"n\":" + std::to_string(rt.framesEnded) +
+                                 ",\"time\":" + std::to_string(s.now) + "}");
+        if (s.state == XR_SESSION_STATE_SYNCHRONIZED) {
+            setSessionState(rt, session, s, XR_SESSION_STATE_VISIBLE);
+            setSessionState(rt, session, s, XR_SESSION_STATE_FOCUSED);
+        }
+        return XR_SUCCESS;
+    });
 }
 
 }  // namespace kizamu::xrsim

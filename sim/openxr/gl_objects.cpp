@@ -43,8 +43,8 @@ std::vector<uint32_t> createTextures(uint32_t count, int64_t internalFormat, uin
             h = h > 1 ? h / 2 : 1;
         }
         glTexParameteri(target, GL_TEXTURE_MAX_LEVEL, static_cast<GLint>(mipCount - 1));
-        glTexParameteri(target, GL_TEXTURE_MIN_FILTER, mipCount > 1 ? GL_LINEAR_MIPMAP_LINEAR
-                                                                    : GL_LINEAR);
+        glTexParameteri(target, GL_TEXTURE_MIN_FILTER,
+                        mipCount > 1 ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR);
         glTexParameteri(target, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     }
     glBindTexture(target, static_cast<GLuint>(previous));

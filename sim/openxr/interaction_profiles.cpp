@@ -31,29 +31,29 @@ const std::vector<Profile>& profiles() {
           {kBoth, "/input/aim/pose"},
           {kBoth, "/output/haptic"}}},
         {"/interaction_profiles/oculus/touch_controller",
-         {{kLeft, "/input/x/click"},         {kLeft, "/input/x/touch"},
-          {kLeft, "/input/y/click"},         {kLeft, "/input/y/touch"},
-          {kLeft, "/input/menu/click"},      {kRight, "/input/a/click"},
-          {kRight, "/input/a/touch"},        {kRight, "/input/b/click"},
-          {kRight, "/input/b/touch"},        {kRight, "/input/system/click"},
-          {kBoth, "/input/squeeze/value"},   {kBoth, "/input/trigger/value"},
-          {kBoth, "/input/trigger/touch"},   {kBoth, "/input/thumbstick/x"},
-          {kBoth, "/input/thumbstick/y"},    {kBoth, "/input/thumbstick/click"},
+         {{kLeft, "/input/x/click"},          {kLeft, "/input/x/touch"},
+          {kLeft, "/input/y/click"},          {kLeft, "/input/y/touch"},
+          {kLeft, "/input/menu/click"},       {kRight, "/input/a/click"},
+          {kRight, "/input/a/touch"},         {kRight, "/input/b/click"},
+          {kRight, "/input/b/touch"},         {kRight, "/input/system/click"},
+          {kBoth, "/input/squeeze/value"},    {kBoth, "/input/trigger/value"},
+          {kBoth, "/input/trigger/touch"},    {kBoth, "/input/thumbstick/x"},
+          {kBoth, "/input/thumbstick/y"},     {kBoth, "/input/thumbstick/click"},
           {kBoth, "/input/thumbstick/touch"}, {kBoth, "/input/thumbrest/touch"},
-          {kBoth, "/input/grip/pose"},       {kBoth, "/input/aim/pose"},
+          {kBoth, "/input/grip/pose"},        {kBoth, "/input/aim/pose"},
           {kBoth, "/output/haptic"}}},
         {"/interaction_profiles/valve/index_controller",
-         {{kBoth, "/input/system/click"},    {kBoth, "/input/system/touch"},
-          {kBoth, "/input/a/click"},         {kBoth, "/input/a/touch"},
-          {kBoth, "/input/b/click"},         {kBoth, "/input/b/touch"},
-          {kBoth, "/input/squeeze/value"},   {kBoth, "/input/squeeze/force"},
-          {kBoth, "/input/trigger/click"},   {kBoth, "/input/trigger/value"},
-          {kBoth, "/input/trigger/touch"},   {kBoth, "/input/thumbstick/x"},
-          {kBoth, "/input/thumbstick/y"},    {kBoth, "/input/thumbstick/click"},
+         {{kBoth, "/input/system/click"},     {kBoth, "/input/system/touch"},
+          {kBoth, "/input/a/click"},          {kBoth, "/input/a/touch"},
+          {kBoth, "/input/b/click"},          {kBoth, "/input/b/touch"},
+          {kBoth, "/input/squeeze/value"},    {kBoth, "/input/squeeze/force"},
+          {kBoth, "/input/trigger/click"},    {kBoth, "/input/trigger/value"},
+          {kBoth, "/input/trigger/touch"},    {kBoth, "/input/thumbstick/x"},
+          {kBoth, "/input/thumbstick/y"},     {kBoth, "/input/thumbstick/click"},
           {kBoth, "/input/thumbstick/touch"}, {kBoth, "/input/trackpad/x"},
-          {kBoth, "/input/trackpad/y"},      {kBoth, "/input/trackpad/force"},
-          {kBoth, "/input/trackpad/touch"},  {kBoth, "/input/grip/pose"},
-          {kBoth, "/input/aim/pose"},        {kBoth, "/output/haptic"}}},
+          {kBoth, "/input/trackpad/y"},       {kBoth, "/input/trackpad/force"},
+          {kBoth, "/input/trackpad/touch"},   {kBoth, "/input/grip/pose"},
+          {kBoth, "/input/aim/pose"},         {kBoth, "/output/haptic"}}},
     };
     return kProfiles;
 }
@@ -97,7 +97,9 @@ std::string capitalised(std::string_view words) {
 
 }  // namespace
 
-bool isKnownProfile(std::string_view profile) { return findProfile(profile) != nullptr; }
+bool isKnownProfile(std::string_view profile) {
+    return findProfile(profile) != nullptr;
+}
 
 bool isValidBinding(std::string_view profile, std::string_view path) {
     const Profile* p = findProfile(profile);
@@ -123,10 +125,17 @@ std::string resolveBinding(std::string_view profile, std::string_view path, XrAc
     };
     std::vector<const char*> order;
     switch (type) {
-        case XR_ACTION_TYPE_BOOLEAN_INPUT: order = {"click", "value", "force"}; break;
-        case XR_ACTION_TYPE_FLOAT_INPUT: order = {"value", "click", "force"}; break;
-        case XR_ACTION_TYPE_POSE_INPUT: order = {"pose"}; break;
-        default: break;
+        case XR_ACTION_TYPE_BOOLEAN_INPUT:
+            order = {"click", "value", "force"};
+            break;
+        case XR_ACTION_TYPE_FLOAT_INPUT:
+            order = {"value", "click", "force"};
+            break;
+        case XR_ACTION_TYPE_POSE_INPUT:
+            order = {"pose"};
+            break;
+        default:
+            break;
     }
     for (const char* c : order)
         if (has(c)) return std::string(path) + "/" + c;
@@ -134,8 +143,8 @@ std::string resolveBinding(std::string_view profile, std::string_view path, XrAc
 }
 
 std::string topLevelPath(std::string_view path) {
-    for (const char* top : {kHandLeft, kHandRight, "/user/head", "/user/gamepad",
-                            "/user/treadmill"}) {
+    for (const char* top :
+         {kHandLeft, kHandRight, "/user/head", "/user/gamepad", "/user/treadmill"}) {
         const std::string_view t(top);
         if (path.substr(0, t.size()) == t && (path.size() == t.size() || path[t.size()] == '/'))
             return std::string(t);

@@ -25,7 +25,8 @@ struct ProcEntry {
 const ProcEntry kProcs[] = {
     {"xrGetInstanceProcAddr", fn(&xrGetInstanceProcAddr), nullptr},
     {"xrEnumerateApiLayerProperties", fn(&xrEnumerateApiLayerProperties), nullptr},
-    {"xrEnumerateInstanceExtensionProperties", fn(&xrEnumerateInstanceExtensionProperties), nullptr},
+    {"xrEnumerateInstanceExtensionProperties", fn(&xrEnumerateInstanceExtensionProperties),
+     nullptr},
     {"xrCreateInstance", fn(&xrCreateInstance), nullptr},
     {"xrDestroyInstance", fn(&xrDestroyInstance), nullptr},
     {"xrGetInstanceProperties", fn(&xrGetInstanceProperties), nullptr},
@@ -83,7 +84,8 @@ const ProcEntry kProcs[] = {
     {"xrSetInputDeviceStateBoolEXT", fn(&xrSetInputDeviceStateBoolEXT), kExtAutomation},
     {"xrSetInputDeviceStateFloatEXT", fn(&xrSetInputDeviceStateFloatEXT), kExtAutomation},
     {"xrSetInputDeviceStateVector2fEXT", fn(&xrSetInputDeviceStateVector2fEXT), kExtAutomation},
-    {"xrSetInputDeviceLocationEXT", fn(&xrSetInputDeviceLocationEXT), kExtAutomation},};
+    {"xrSetInputDeviceLocationEXT", fn(&xrSetInputDeviceLocationEXT), kExtAutomation},
+};
 
 /// The functions that may be queried with XR_NULL_HANDLE for the instance.
 bool isGlobalFunction(const char* name) {

@@ -16,20 +16,18 @@ namespace {
 
 const char* resultName(XrResult value) {
 #define KIZAMU_XRSIM_RESULT_CASE(name, number) \
-    case name: return #name;
-    switch (value) {
-        XR_LIST_ENUM_XrResult(KIZAMU_XRSIM_RESULT_CASE)
-        default: return nullptr;
-    }
+    case name:                                 \
+        return #name;
+    switch (value) { XR_LIST_ENUM_XrResult(KIZAMU_XRSIM_RESULT_CASE) default : return nullptr; }
 #undef KIZAMU_XRSIM_RESULT_CASE
 }
 
 const char* structureName(XrStructureType value) {
 #define KIZAMU_XRSIM_STRUCTURE_CASE(name, number) \
-    case name: return #name;
+    case name:                                    \
+        return #name;
     switch (value) {
-        XR_LIST_ENUM_XrStructureType(KIZAMU_XRSIM_STRUCTURE_CASE)
-        default: return nullptr;
+        XR_LIST_ENUM_XrStructureType(KIZAMU_XRSIM_STRUCTURE_CASE) default : return nullptr;
     }
 #undef KIZAMU_XRSIM_STRUCTURE_CASE
 }

@@ -24,7 +24,9 @@ XrVector3f rotate(const XrQuaternionf& q, const XrVector3f& v) {
 
 }  // namespace
 
-XrPosef identityPose() { return XrPosef{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}}; }
+XrPosef identityPose() {
+    return XrPosef{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
+}
 
 XrPosef compose(const XrPosef& a, const XrPosef& b) {
     const XrVector3f r = rotate(a.orientation, b.position);
@@ -33,8 +35,7 @@ XrPosef compose(const XrPosef& a, const XrPosef& b) {
 }
 
 XrPosef inverse(const XrPosef& p) {
-    const XrQuaternionf conj{-p.orientation.x, -p.orientation.y, -p.orientation.z,
-                             p.orientation.w};
+    const XrQuaternionf conj{-p.orientation.x, -p.orientation.y, -p.orientation.z, p.orientation.w};
     const XrVector3f t = rotate(conj, p.position);
     return XrPosef{conj, {-t.x, -t.y, -t.z}};
 }

@@ -67,9 +67,8 @@ void stopSession(Runtime& rt, XrSession handle, SessionObject& session) {
 XrResult twoCallString(const std::string& value, uint32_t capacity, uint32_t* countOutput,
                        char* buffer) {
     const auto count = static_cast<uint32_t>(value.size() + 1);
-    return twoCall(capacity, countOutput, count, [&](uint32_t i) {
-        buffer[i] = i < value.size() ? value[i] : '\0';
-    });
+    return twoCall(capacity, countOutput, count,
+                   [&](uint32_t i) { buffer[i] = i < value.size() ? value[i] : '\0'; });
 }
 
 const XrBaseInStructure* findInChain(const void* next, XrStructureType type) {

@@ -41,11 +41,11 @@
 
 namespace kizamu::xrsim {
 
-inline constexpr XrTime kStartTime = 1'000'000'000;       ///< first predicted display time
-inline constexpr XrDuration kFramePeriod = 11'111'111;    ///< 1/90 s
-inline constexpr XrSystemId kSystemId = 1;                ///< the one HMD
-inline constexpr float kEyeOffset = 0.032f;               ///< m, each eye from the head on X
-inline constexpr float kFovHalfAngle = 0.785398163f;      ///< rad (45°)
+inline constexpr XrTime kStartTime = 1'000'000'000;     ///< first predicted display time
+inline constexpr XrDuration kFramePeriod = 11'111'111;  ///< 1/90 s
+inline constexpr XrSystemId kSystemId = 1;              ///< the one HMD
+inline constexpr float kEyeOffset = 0.032f;             ///< m, each eye from the head on X
+inline constexpr float kFovHalfAngle = 0.785398163f;    ///< rad (45°)
 inline constexpr uint32_t kMaxLayers = 16;
 inline constexpr uint32_t kSwapchainImages = 3;
 inline constexpr uint32_t kMaxImageSize = 4096;
@@ -58,6 +58,7 @@ struct Binding {
     XrPath path;
 };
 
+/// An XrInstance: enabled extensions, its event queue, suggested bindings, its session.
 struct InstanceObject {
     std::set<std::string> extensions;
     bool glRequirementsQueried = false;
@@ -76,6 +77,8 @@ struct ActionValue {
     XrTime lastChange = 0;
 };
 
+/// An XrSession: lifecycle and frame-loop state, its clock, attached action sets, the simulated
+/// controllers' state (set by automation.cpp) and the action states of the last sync.
 struct SessionObject {
     XrInstance instance = XR_NULL_HANDLE;
     XrSessionState state = XR_SESSION_STATE_UNKNOWN;
@@ -84,23 +87,25 @@ struct SessionObject {
     uint32_t pendingWaits = 0;  ///< xrWaitFrame calls not yet consumed by xrBeginFrame
     bool frameBegun = false;
     uint64_t framesWaited = 0;
-    XrTime now = kStartTime;    ///< the last predicted display time
+    XrTime now = kStartTime;  ///< the last predicted display time
     std::set<XrActionSet> attachedSets;
     XrPath profile = XR_NULL_PATH;  ///< the current interaction profile, chosen at attach
-    std::unordered_map<std::string, float> inputs;     ///< component path -> value (bool 0/1)
-    std::unordered_map<std::string, XrPosef> poses;    ///< pose path -> pose in LOCAL
-    std::unordered_map<std::string, bool> inactive;    ///< top-level path -> switched off
+    std::unordered_map<std::string, float> inputs;   ///< component path -> value (bool 0/1)
+    std::unordered_map<std::string, XrPosef> poses;  ///< pose path -> pose in LOCAL
+    std::unordered_map<std::string, bool> inactive;  ///< top-level path -> switched off
     std::map<std::pair<XrAction, XrPath>, ActionValue> actionValues;
 };
 
+/// An XrSpace: a reference space, or an action space when `action` is set.
 struct SpaceObject {
     XrSession session = XR_NULL_HANDLE;
     XrReferenceSpaceType referenceType = XR_REFERENCE_SPACE_TYPE_LOCAL;
     XrAction action = XR_NULL_HANDLE;  ///< non-null: an action space
     XrPath subactionPath = XR_NULL_PATH;
-    XrPosef offset{};                  ///< pose in the reference or action space
+    XrPosef offset{};  ///< pose in the reference or action space
 };
 
+/// An XrSwapchain: its GL textures and the acquire → wait → release bookkeeping.
 struct SwapchainObject {
     XrSession session = XR_NULL_HANDLE;
     int64_t format = 0;
@@ -112,12 +117,14 @@ struct SwapchainObject {
     int64_t lastReleased = -1;
 };
 
+/// An XrActionSet.
 struct ActionSetObject {
     XrInstance instance = XR_NULL_HANDLE;
     std::string name, localizedName;
     bool attached = false;  ///< to any session: the set and its actions are immutable
 };
 
+/// An XrAction.
 struct ActionObject {
     XrActionSet set = XR_NULL_HANDLE;
     std::string name;
@@ -140,7 +147,7 @@ struct Runtime {
     std::mutex mutex;
     uint64_t nextHandle = 1;
     std::unordered_map<uint64_t, Object> objects;
-    std::vector<std::string> paths;                   ///< atom - 1 -> string
+    std::vector<std::string> paths;  ///< atom - 1 -> string
     std::unordered_map<std::string, XrPath> pathAtoms;
     uint64_t framesEnded = 0;
     std::array<ViewImage, 2> lastViews;
@@ -178,6 +185,39 @@ const std::string* pathString(const Runtime& rt, XrPath atom);
 /// Looks up a session for a call on it: XR_ERROR_HANDLE_INVALID when it is not live,
 /// XR_ERROR_SESSION_LOST once lost; XR_SUCCESS with *out set otherwise.
 XrResult findSession(Runtime& rt, XrSession handle, SessionObject** out);
+
+/// Runs `body(rt, session)` for one entry point's call on a session, under the runtime's lock:
+/// XR_ERROR_HANDLE_INVALID or XR_ERROR_SESSION_LOST as findSession, else what `body` returns.
+template <class Body>
+XrResult onSession(XrSession handle, Body&& body) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    SessionObject* s = nullptr;
+    if (const XrResult r = findSession(rt, handle, &s); r != XR_SUCCESS) return r;
+    return body(rt, *s);
+}
+
+/// Destroys the live object of type T behind `handle` (an action or a space: objects that own
+/// nothing), under the runtime's lock; XR_ERROR_HANDLE_INVALID when there is none.
+template <class T, class H>
+XrResult destroyObject(H handle) {
+    Runtime& rt = runtime();
+    std::lock_guard lock(rt.mutex);
+    if (rt.find<T>(handle) == nullptr) return XR_ERROR_HANDLE_INVALID;
+    rt.erase(handle);
+    return XR_SUCCESS;
+}
+
+/// Looks up an object a session owns (a space or a swapchain) with its session:
+/// XR_ERROR_HANDLE_INVALID when either is not live, XR_ERROR_SESSION_LOST once it is lost.
+template <class T, class H>
+XrResult findSessionChild(Runtime& rt, H handle, T** child, SessionObject** session) {
+    T* c = rt.find<T>(handle);
+    if (c == nullptr) return XR_ERROR_HANDLE_INVALID;
+    if (const XrResult r = findSession(rt, c->session, session); r != XR_SUCCESS) return r;
+    *child = c;
+    return XR_SUCCESS;
+}
 
 /// Moves `session` to `state`: queues XrEventDataSessionStateChanged on its instance and logs it
 /// to the capture directory.

@@ -77,45 +77,39 @@ XrResult xrDestroySession(XrSession session) {
 /// XR_ERROR_SESSION_RUNNING when running; XR_ERROR_SESSION_NOT_READY when not READY;
 /// XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED for anything but PRIMARY_STEREO.
 XrResult xrBeginSession(XrSession session, const XrSessionBeginInfo* beginInfo) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (beginInfo->primaryViewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
-    if (s->running) return XR_ERROR_SESSION_RUNNING;
-    if (s->state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
-    s->running = true;
-    setSessionState(rt, session, *s, XR_SESSION_STATE_SYNCHRONIZED);
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (beginInfo->primaryViewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+            return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+        if (s.running) return XR_ERROR_SESSION_RUNNING;
+        if (s.state != XR_SESSION_STATE_READY) return XR_ERROR_SESSION_NOT_READY;
+        s.running = true;
+        setSessionState(rt, session, s, XR_SESSION_STATE_SYNCHRONIZED);
+        return XR_SUCCESS;
+    });
 }
 
 /// XR_ERROR_SESSION_NOT_RUNNING when not running; XR_ERROR_SESSION_NOT_STOPPING when not
 /// STOPPING. Then IDLE, and EXITING (every stop here means the user or the application quits).
 XrResult xrEndSession(XrSession session) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
-    if (s->state != XR_SESSION_STATE_STOPPING) return XR_ERROR_SESSION_NOT_STOPPING;
-    s->running = false;
-    s->pendingWaits = 0;
-    s->frameBegun = false;
-    setSessionState(rt, session, *s, XR_SESSION_STATE_IDLE);
-    setSessionState(rt, session, *s, XR_SESSION_STATE_EXITING);
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (!s.running) return XR_ERROR_SESSION_NOT_RUNNING;
+        if (s.state != XR_SESSION_STATE_STOPPING) return XR_ERROR_SESSION_NOT_STOPPING;
+        s.running = false;
+        s.pendingWaits = 0;
+        s.frameBegun = false;
+        setSessionState(rt, session, s, XR_SESSION_STATE_IDLE);
+        setSessionState(rt, session, s, XR_SESSION_STATE_EXITING);
+        return XR_SUCCESS;
+    });
 }
 
 /// XR_ERROR_SESSION_NOT_RUNNING when not running; else the session goes down to STOPPING.
 XrResult xrRequestExitSession(XrSession session) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (!s->running) return XR_ERROR_SESSION_NOT_RUNNING;
-    stopSession(rt, session, *s);
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (!s.running) return XR_ERROR_SESSION_NOT_RUNNING;
+        stopSession(rt, session, s);
+        return XR_SUCCESS;
+    });
 }
 
 }  // namespace kizamu::xrsim

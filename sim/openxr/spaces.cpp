@@ -23,95 +23,77 @@ const XrReferenceSpaceType kReferenceSpaces[] = {
 /// The pose of a space in LOCAL; false when it cannot be located (an inactive action).
 bool spacePose(Runtime& rt, const SessionObject& s, const SpaceObject& space, XrPosef* out) {
     if (space.action != XR_NULL_HANDLE) return actionSpacePose(rt, s, space, out);
-    const XrPosef base = space.referenceType == XR_REFERENCE_SPACE_TYPE_VIEW ? rt.headPose
-                                                                              : identityPose();
+    const XrPosef base =
+        space.referenceType == XR_REFERENCE_SPACE_TYPE_VIEW ? rt.headPose : identityPose();
     *out = compose(base, space.offset);
     return true;
-}
-
-/// The live space and its (not lost) session.
-XrResult findSpace(Runtime& rt, XrSpace handle, SpaceObject** space, SessionObject** session) {
-    *space = rt.find<SpaceObject>(handle);
-    if (*space == nullptr) return XR_ERROR_HANDLE_INVALID;
-    return findSession(rt, (*space)->session, session);
 }
 
 }  // namespace
 
 XrResult xrEnumerateReferenceSpaces(XrSession session, uint32_t spaceCapacityInput,
                                     uint32_t* spaceCountOutput, XrReferenceSpaceType* spaces) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    return twoCall(spaceCapacityInput, spaceCountOutput,
-                   static_cast<uint32_t>(std::size(kReferenceSpaces)),
-                   [&](uint32_t i) { spaces[i] = kReferenceSpaces[i]; });
+    return onSession(session, [&](Runtime&, SessionObject&) -> XrResult {
+        return twoCall(spaceCapacityInput, spaceCountOutput,
+                       static_cast<uint32_t>(std::size(kReferenceSpaces)),
+                       [&](uint32_t i) { spaces[i] = kReferenceSpaces[i]; });
+    });
 }
 
 /// XR_ERROR_REFERENCE_SPACE_UNSUPPORTED for another type; XR_ERROR_POSE_INVALID for an
 /// orientation that is not a unit quaternion.
 XrResult xrCreateReferenceSpace(XrSession session, const XrReferenceSpaceCreateInfo* createInfo,
                                 XrSpace* space) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (std::find(std::begin(kReferenceSpaces), std::end(kReferenceSpaces),
-                  createInfo->referenceSpaceType) == std::end(kReferenceSpaces))
-        return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
-    if (!isValidPose(createInfo->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
-    SpaceObject sp;
-    sp.session = session;
-    sp.referenceType = createInfo->referenceSpaceType;
-    sp.offset = createInfo->poseInReferenceSpace;
-    *space = rt.add<XrSpace>(std::move(sp));
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject&) -> XrResult {
+        if (std::find(std::begin(kReferenceSpaces), std::end(kReferenceSpaces),
+                      createInfo->referenceSpaceType) == std::end(kReferenceSpaces))
+            return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
+        if (!isValidPose(createInfo->poseInReferenceSpace)) return XR_ERROR_POSE_INVALID;
+        SpaceObject sp;
+        sp.session = session;
+        sp.referenceType = createInfo->referenceSpaceType;
+        sp.offset = createInfo->poseInReferenceSpace;
+        *space = rt.add<XrSpace>(std::move(sp));
+        return XR_SUCCESS;
+    });
 }
 
 /// STAGE is 2 m x 2 m; the others have no bounds (XR_SPACE_BOUNDS_UNAVAILABLE, zero extent).
 XrResult xrGetReferenceSpaceBoundsRect(XrSession session, XrReferenceSpaceType referenceSpaceType,
                                        XrExtent2Df* bounds) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (std::find(std::begin(kReferenceSpaces), std::end(kReferenceSpaces), referenceSpaceType) ==
-        std::end(kReferenceSpaces))
-        return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
-    if (referenceSpaceType == XR_REFERENCE_SPACE_TYPE_STAGE) {
-        *bounds = XrExtent2Df{2.0f, 2.0f};
-        return XR_SUCCESS;
-    }
-    *bounds = XrExtent2Df{0.0f, 0.0f};
-    return XR_SPACE_BOUNDS_UNAVAILABLE;
+    return onSession(session, [&](Runtime&, SessionObject&) -> XrResult {
+        if (std::find(std::begin(kReferenceSpaces), std::end(kReferenceSpaces),
+                      referenceSpaceType) == std::end(kReferenceSpaces))
+            return XR_ERROR_REFERENCE_SPACE_UNSUPPORTED;
+        if (referenceSpaceType == XR_REFERENCE_SPACE_TYPE_STAGE) {
+            *bounds = XrExtent2Df{2.0f, 2.0f};
+            return XR_SUCCESS;
+        }
+        *bounds = XrExtent2Df{0.0f, 0.0f};
+        return XR_SPACE_BOUNDS_UNAVAILABLE;
+    });
 }
 
 /// XR_ERROR_ACTION_TYPE_MISMATCH for an action that is not a pose; XR_ERROR_PATH_INVALID /
 /// UNSUPPORTED for a subaction path the action lacks; XR_ERROR_POSE_INVALID as above.
 XrResult xrCreateActionSpace(XrSession session, const XrActionSpaceCreateInfo* createInfo,
                              XrSpace* space) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    const ActionObject* a = rt.find<ActionObject>(createInfo->action);
-    if (a == nullptr) return XR_ERROR_HANDLE_INVALID;
-    if (a->type != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
-    if (createInfo->subactionPath != XR_NULL_PATH) {
-        if (pathString(rt, createInfo->subactionPath) == nullptr) return XR_ERROR_PATH_INVALID;
-        if (std::find(a->subactionPaths.begin(), a->subactionPaths.end(),
-                      createInfo->subactionPath) == a->subactionPaths.end())
-            return XR_ERROR_PATH_UNSUPPORTED;
-    }
-    if (!isValidPose(createInfo->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
-    SpaceObject sp;
-    sp.session = session;
-    sp.action = createInfo->action;
-    sp.subactionPath = createInfo->subactionPath;
-    sp.offset = createInfo->poseInActionSpace;
-    *space = rt.add<XrSpace>(std::move(sp));
-    return XR_SUCCESS;
+    return onSession(session, [&](Runtime& rt, SessionObject&) -> XrResult {
+        const ActionObject* a = rt.find<ActionObject>(createInfo->action);
+        if (a == nullptr) return XR_ERROR_HANDLE_INVALID;
+        if (a->type != XR_ACTION_TYPE_POSE_INPUT) return XR_ERROR_ACTION_TYPE_MISMATCH;
+        if (const XrResult r = checkSubactionPath(rt, *a, createInfo->subactionPath);
+            r != XR_SUCCESS)
+            return r;
+        if (!isValidPose(createInfo->poseInActionSpace)) return XR_ERROR_POSE_INVALID;
+        SpaceObject sp;
+        sp.session = session;
+        sp.action = createInfo->action;
+        sp.subactionPath = createInfo->subactionPath;
+        sp.offset = createInfo->poseInActionSpace;
+        *space = rt.add<XrSpace>(std::move(sp));
+        return XR_SUCCESS;
+    });
 }
 
 /// `space` in `baseSpace`, valid and tracked, or flags 0 when either cannot be located;
@@ -122,13 +104,14 @@ XrResult xrLocateSpace(XrSpace space, XrSpace baseSpace, XrTime time, XrSpaceLoc
     std::lock_guard lock(rt.mutex);
     SpaceObject *sp = nullptr, *base = nullptr;
     SessionObject *s = nullptr, *baseSession = nullptr;
-    if (const XrResult r = findSpace(rt, space, &sp, &s); r != XR_SUCCESS) return r;
-    if (const XrResult r = findSpace(rt, baseSpace, &base, &baseSession); r != XR_SUCCESS)
+    if (const XrResult r = findSessionChild(rt, space, &sp, &s); r != XR_SUCCESS) return r;
+    if (const XrResult r = findSessionChild(rt, baseSpace, &base, &baseSession); r != XR_SUCCESS)
         return r;
     if (sp->session != base->session) return XR_ERROR_VALIDATION_FAILURE;
     if (time <= 0) return XR_ERROR_TIME_INVALID;
     XrPosef spaceLocal{}, baseLocal{};
-    const bool located = spacePose(rt, *s, *sp, &spaceLocal) && spacePose(rt, *s, *base, &baseLocal);
+    const bool located =
+        spacePose(rt, *s, *sp, &spaceLocal) && spacePose(rt, *s, *base, &baseLocal);
     location->locationFlags = 0;
     location->pose = identityPose();
     if (located) {
@@ -149,11 +132,7 @@ XrResult xrLocateSpace(XrSpace space, XrSpace baseSpace, XrTime time, XrSpaceLoc
 }
 
 XrResult xrDestroySpace(XrSpace space) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    if (rt.find<SpaceObject>(space) == nullptr) return XR_ERROR_HANDLE_INVALID;
-    rt.erase(space);
-    return XR_SUCCESS;
+    return destroyObject<SpaceObject>(space);
 }
 
 /// Two views, left then right; XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED for anything but
@@ -161,26 +140,25 @@ XrResult xrDestroySpace(XrSpace space) {
 XrResult xrLocateViews(XrSession session, const XrViewLocateInfo* viewLocateInfo,
                        XrViewState* viewState, uint32_t viewCapacityInput,
                        uint32_t* viewCountOutput, XrView* views) {
-    Runtime& rt = runtime();
-    std::lock_guard lock(rt.mutex);
-    SessionObject* s = nullptr;
-    if (const XrResult r = findSession(rt, session, &s); r != XR_SUCCESS) return r;
-    if (viewLocateInfo->viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
-        return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
-    if (viewLocateInfo->displayTime <= 0) return XR_ERROR_TIME_INVALID;
-    SpaceObject* sp = rt.find<SpaceObject>(viewLocateInfo->space);
-    if (sp == nullptr || sp->session != session) return XR_ERROR_HANDLE_INVALID;
-    XrPosef spaceLocal{};
-    const bool located = spacePose(rt, *s, *sp, &spaceLocal);
-    viewState->viewStateFlags =
-        located ? XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
-                      XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT
-                : 0;
-    return twoCall(viewCapacityInput, viewCountOutput, 2, [&](uint32_t i) {
-        const XrPosef eyeInHead{{0.0f, 0.0f, 0.0f, 1.0f}, {i == 0 ? -kEyeOffset : kEyeOffset, 0.0f, 0.0f}};
-        views[i].pose = located ? compose(inverse(spaceLocal), compose(rt.headPose, eyeInHead))
-                                : identityPose();
-        views[i].fov = XrFovf{-kFovHalfAngle, kFovHalfAngle, kFovHalfAngle, -kFovHalfAngle};
+    return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
+        if (viewLocateInfo->viewConfigurationType != XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO)
+            return XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED;
+        if (viewLocateInfo->displayTime <= 0) return XR_ERROR_TIME_INVALID;
+        SpaceObject* sp = rt.find<SpaceObject>(viewLocateInfo->space);
+        if (sp == nullptr || sp->session != session) return XR_ERROR_HANDLE_INVALID;
+        XrPosef spaceLocal{};
+        const bool located = spacePose(rt, s, *sp, &spaceLocal);
+        viewState->viewStateFlags =
+            located ? XR_VIEW_STATE_ORIENTATION_VALID_BIT | XR_VIEW_STATE_POSITION_VALID_BIT |
+                          XR_VIEW_STATE_ORIENTATION_TRACKED_BIT | XR_VIEW_STATE_POSITION_TRACKED_BIT
+                    : 0;
+        return twoCall(viewCapacityInput, viewCountOutput, 2, [&](uint32_t i) {
+            const XrPosef eyeInHead{{0.0f, 0.0f, 0.0f, 1.0f},
+                                    {i == 0 ? -kEyeOffset : kEyeOffset, 0.0f, 0.0f}};
+            views[i].pose = located ? compose(inverse(spaceLocal), compose(rt.headPose, eyeInHead))
+                                    : identityPose();
+            views[i].fov = XrFovf{-kFovHalfAngle, kFovHalfAngle, kFovHalfAngle, -kFovHalfAngle};
+        });
     });
 }
 

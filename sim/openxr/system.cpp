@@ -83,10 +83,9 @@ XrResult xrEnumerateViewConfigurations(XrInstance instance, XrSystemId systemId,
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
     if (const XrResult r = checkSystem(rt, instance, systemId); r != XR_SUCCESS) return r;
-    return twoCall(viewConfigurationTypeCapacityInput, viewConfigurationTypeCountOutput, 1,
-                   [&](uint32_t) {
-                       viewConfigurationTypes[0] = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO;
-                   });
+    return twoCall(
+        viewConfigurationTypeCapacityInput, viewConfigurationTypeCountOutput, 1,
+        [&](uint32_t) { viewConfigurationTypes[0] = XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO; });
 }
 
 /// XR_ERROR_VIEW_CONFIGURATION_TYPE_UNSUPPORTED for anything but PRIMARY_STEREO.

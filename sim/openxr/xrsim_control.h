@@ -23,11 +23,11 @@ extern "C" {
 
 /** One haptic call: xrApplyHapticFeedback, or xrStopHapticFeedback (amplitude 0, duration 0). */
 typedef struct KizamuXrSimHaptic {
-    long long timeNs;       /**< the session's current XrTime (last predicted display time) */
-    char hand[64];          /**< top-level path, "/user/hand/left" or "/user/hand/right" */
-    float amplitude;        /**< 0..1 */
-    long long durationNs;   /**< XR_MIN_HAPTIC_DURATION (-1) as the application gave it */
-    float frequencyHz;      /**< 0: XR_FREQUENCY_UNSPECIFIED */
+    long long timeNs;     /**< the session's current XrTime (last predicted display time) */
+    char hand[64];        /**< top-level path, "/user/hand/left" or "/user/hand/right" */
+    float amplitude;      /**< 0..1 */
+    long long durationNs; /**< XR_MIN_HAPTIC_DURATION (-1) as the application gave it */
+    float frequencyHz;    /**< 0: XR_FREQUENCY_UNSPECIFIED */
 } KizamuXrSimHaptic;
 
 /**

@@ -6,7 +6,12 @@
 #include "tests/unit/xrsim/xrsim_fixture.h"
 
 #include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <string>
+
+#include <unistd.h>
 
 namespace kizamu::xrsim::test {
 namespace {
@@ -155,23 +160,23 @@ TEST_P(XrSimProfileTest, ActionsReadTheAutomationState) {
 
     const XrPath right = hands[1];
     if (profile == kSimple) {
-        KIZAMU_ASSERT_XR(XR_SUCCESS,
-                         setBool(session, right, path("/user/hand/right/input/select/click"), XR_TRUE));
+        KIZAMU_ASSERT_XR(XR_SUCCESS, setBool(session, right,
+                                             path("/user/hand/right/input/select/click"), XR_TRUE));
     } else if (profile == kTouch) {
         KIZAMU_ASSERT_XR(XR_SUCCESS, setFloat(session, right,
                                               path("/user/hand/right/input/trigger/value"), 1.0f));
         KIZAMU_ASSERT_XR(XR_SUCCESS,
                          setBool(session, right, path("/user/hand/right/input/a/click"), XR_TRUE));
-        KIZAMU_ASSERT_XR(XR_SUCCESS, setVector2f(session, right,
-                                                 path("/user/hand/right/input/thumbstick"),
-                                                 XrVector2f{0.25f, -0.5f}));
+        KIZAMU_ASSERT_XR(XR_SUCCESS,
+                         setVector2f(session, right, path("/user/hand/right/input/thumbstick"),
+                                     XrVector2f{0.25f, -0.5f}));
     } else {
         // The shorthand .../trigger of a boolean reads the click, which follows the value.
         KIZAMU_ASSERT_XR(XR_SUCCESS, setFloat(session, right,
                                               path("/user/hand/right/input/trigger/value"), 1.0f));
-        KIZAMU_ASSERT_XR(XR_SUCCESS, setVector2f(session, right,
-                                                 path("/user/hand/right/input/thumbstick"),
-                                                 XrVector2f{0.25f, -0.5f}));
+        KIZAMU_ASSERT_XR(XR_SUCCESS,
+                         setVector2f(session, right, path("/user/hand/right/input/thumbstick"),
+                                     XrVector2f{0.25f, -0.5f}));
     }
     // Read at the next sync only.
     EXPECT_EQ(floatState(trigger).currentState, 0.0f);
@@ -196,8 +201,9 @@ TEST_P(XrSimProfileTest, ActionsReadTheAutomationState) {
 INSTANTIATE_TEST_SUITE_P(Profiles, XrSimProfileTest, ::testing::Values(kSimple, kTouch, kIndex),
                          [](const auto& param) {
                              const std::string p = param.param;
-                             return p == kSimple ? "KhrSimple" : p == kTouch ? "OculusTouch"
-                                                                             : "ValveIndex";
+                             return p == kSimple  ? "KhrSimple"
+                                    : p == kTouch ? "OculusTouch"
+                                                  : "ValveIndex";
                          });
 
 TEST_F(XrSimActionsTest, BoolFromFloatOnTheOtherHand) {
@@ -205,12 +211,12 @@ TEST_F(XrSimActionsTest, BoolFromFloatOnTheOtherHand) {
     createActions();
     KIZAMU_ASSERT_XR(XR_SUCCESS, suggestFor(kTouch));
     focusWithActions();
-    KIZAMU_ASSERT_XR(XR_SUCCESS, setFloat(session, hands[0],
-                                          path("/user/hand/left/input/squeeze/value"), 0.4f));
+    KIZAMU_ASSERT_XR(
+        XR_SUCCESS, setFloat(session, hands[0], path("/user/hand/left/input/squeeze/value"), 0.4f));
     KIZAMU_ASSERT_XR(XR_SUCCESS, sync(set));
     EXPECT_FALSE(boolState(select, hands[0]).currentState);
-    KIZAMU_ASSERT_XR(XR_SUCCESS, setFloat(session, hands[0],
-                                          path("/user/hand/left/input/squeeze/value"), 0.6f));
+    KIZAMU_ASSERT_XR(
+        XR_SUCCESS, setFloat(session, hands[0], path("/user/hand/left/input/squeeze/value"), 0.6f));
     KIZAMU_ASSERT_XR(XR_SUCCESS, sync(set));
     EXPECT_TRUE(boolState(select, hands[0]).currentState);
     EXPECT_FALSE(boolState(select, hands[1]).currentState);
@@ -272,8 +278,9 @@ TEST_F(XrSimActionsTest, AttachmentRules) {
     XrActionSet other = XR_NULL_HANDLE;
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrCreateActionSet(instance, &si, &other));
     KIZAMU_EXPECT_XR(XR_ERROR_ACTIONSET_NOT_ATTACHED, sync(other));
-    KIZAMU_EXPECT_XR(XR_ERROR_ACTION_TYPE_MISMATCH, xrGetActionStateBoolean(
-                                                        session, &gi, reinterpret_cast<XrActionStateBoolean*>(&fs)));
+    KIZAMU_EXPECT_XR(
+        XR_ERROR_ACTION_TYPE_MISMATCH,
+        xrGetActionStateBoolean(session, &gi, reinterpret_cast<XrActionStateBoolean*>(&fs)));
     // Not focused yet: the sync succeeds but says so.
     KIZAMU_EXPECT_XR(XR_SESSION_NOT_FOCUSED, sync(set));
 }
@@ -282,7 +289,8 @@ TEST_F(XrSimActionsTest, UnknownProfilesAndBindingPathsAreUnsupported) {
     createInstance();
     createActions();
     KIZAMU_EXPECT_XR(XR_ERROR_PATH_UNSUPPORTED,
-                     suggest("/interaction_profiles/acme/wand", {{select, "/user/hand/right/input/select/click"}}));
+                     suggest("/interaction_profiles/acme/wand",
+                             {{select, "/user/hand/right/input/select/click"}}));
     KIZAMU_EXPECT_XR(XR_ERROR_PATH_UNSUPPORTED,
                      suggest(kSimple, {{select, "/user/hand/right/input/trigger/value"}}));
     KIZAMU_EXPECT_XR(XR_ERROR_PATH_UNSUPPORTED,
@@ -305,10 +313,17 @@ TEST_F(XrSimActionsTest, PoseActionsAreLocatedThroughActionSpaces) {
     // Not synced yet: not located.
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrLocateSpace(gripSpace, local, lastDisplayTime, &loc));
     EXPECT_EQ(loc.locationFlags, 0u);
+    // Synced: the controller starts at the origin.
+    KIZAMU_ASSERT_XR(XR_SUCCESS, sync(set));
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrLocateSpace(gripSpace, local, lastDisplayTime, &loc));
+    EXPECT_TRUE(loc.locationFlags & XR_SPACE_LOCATION_POSITION_TRACKED_BIT);
+    EXPECT_EQ(loc.pose.position.x, 0.0f);
+    EXPECT_EQ(loc.pose.orientation.w, 1.0f);
 
     const XrPosef pose{{0.0f, 0.0f, 0.0f, 1.0f}, {0.1f, 1.2f, -0.3f}};
-    KIZAMU_ASSERT_XR(XR_SUCCESS, setLocation(session, hands[1],
-                                             path("/user/hand/right/input/grip/pose"), local, pose));
+    KIZAMU_ASSERT_XR(
+        XR_SUCCESS,
+        setLocation(session, hands[1], path("/user/hand/right/input/grip/pose"), local, pose));
     KIZAMU_ASSERT_XR(XR_SUCCESS, sync(set));
     XrActionStatePose ps{XR_TYPE_ACTION_STATE_POSE};
     const XrActionStateGetInfo gi = info(grip);
@@ -330,7 +345,13 @@ TEST_F(XrSimActionsTest, PoseActionsAreLocatedThroughActionSpaces) {
 }
 
 TEST_F(XrSimActionsTest, HapticsAreRecorded) {
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("kizamu_xrsim_haptics_" + std::to_string(getpid()));
+    std::filesystem::remove_all(dir);
+    std::filesystem::create_directories(dir);
+    setenv("KIZAMU_XRSIM_CAPTURE", dir.c_str(), 1);
     createInstance();
+    unsetenv("KIZAMU_XRSIM_CAPTURE");
     createActions();
     KIZAMU_ASSERT_XR(XR_SUCCESS, suggestFor(kIndex));
     focusWithActions();
@@ -341,8 +362,8 @@ TEST_F(XrSimActionsTest, HapticsAreRecorded) {
     v.amplitude = 0.5f;
     v.duration = 20'000'000;
     v.frequency = 160.0f;
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrApplyHapticFeedback(
-                                     session, &hi, reinterpret_cast<XrHapticBaseHeader*>(&v)));
+    KIZAMU_ASSERT_XR(
+        XR_SUCCESS, xrApplyHapticFeedback(session, &hi, reinterpret_cast<XrHapticBaseHeader*>(&v)));
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrStopHapticFeedback(session, &hi));
     ASSERT_EQ(kizamuXrSimHapticCount(), 2);
     KizamuXrSimHaptic h{};
@@ -357,12 +378,21 @@ TEST_F(XrSimActionsTest, HapticsAreRecorded) {
     EXPECT_EQ(kizamuXrSimHapticEvent(2, &h), 1);
     // Without a subaction path every bound hand vibrates.
     hi.subactionPath = XR_NULL_PATH;
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrApplyHapticFeedback(
-                                     session, &hi, reinterpret_cast<XrHapticBaseHeader*>(&v)));
+    KIZAMU_ASSERT_XR(
+        XR_SUCCESS, xrApplyHapticFeedback(session, &hi, reinterpret_cast<XrHapticBaseHeader*>(&v)));
     EXPECT_EQ(kizamuXrSimHapticCount(), 4);
+    std::ifstream events(dir / "events.jsonl");
+    std::stringstream all;
+    all << events.rdbuf();
+    EXPECT_NE(all.str().find("{\"event\":\"haptic\",\"hand\":\"/user/hand/right\","
+                             "\"amplitude\":0.5,\"duration_ns\":20000000,"),
+              std::string::npos)
+        << all.str();
+    std::filesystem::remove_all(dir);
     hi.action = trigger;
-    KIZAMU_EXPECT_XR(XR_ERROR_ACTION_TYPE_MISMATCH,
-                     xrApplyHapticFeedback(session, &hi, reinterpret_cast<XrHapticBaseHeader*>(&v)));
+    KIZAMU_EXPECT_XR(
+        XR_ERROR_ACTION_TYPE_MISMATCH,
+        xrApplyHapticFeedback(session, &hi, reinterpret_cast<XrHapticBaseHeader*>(&v)));
 }
 
 TEST_F(XrSimActionsTest, BoundSourcesAndLocalizedNames) {
@@ -384,7 +414,8 @@ TEST_F(XrSimActionsTest, BoundSourcesAndLocalizedNames) {
                          XR_INPUT_SOURCE_LOCALIZED_NAME_INTERACTION_PROFILE_BIT |
                          XR_INPUT_SOURCE_LOCALIZED_NAME_COMPONENT_BIT;
     char name[128];
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrGetInputSourceLocalizedName(session, &li, sizeof(name), &n, name));
+    KIZAMU_ASSERT_XR(XR_SUCCESS,
+                     xrGetInputSourceLocalizedName(session, &li, sizeof(name), &n, name));
     EXPECT_STREQ(name, "Right Hand Index Controller Trigger Click");
 }
 

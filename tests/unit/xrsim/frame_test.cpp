@@ -1,11 +1,14 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file frame_test.cpp
 /// @brief The frame loop and swapchain rules, the read-back of projection views (a clear colour
-/// rendered into a swapchain image through an FBO), views and spaces, and the capture files.
+/// rendered into a swapchain image through an FBO) in an EGL and in a GLX context, views and
+/// spaces, and the capture files. The GLX case needs an X display ($DISPLAY; scripts/test starts
+/// Xvfb): without one it skips, unless KIZAMU_REQUIRE_DISPLAY is set, when it fails.
 #include "tests/unit/xrsim/xrsim_fixture.h"
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -16,9 +19,17 @@
 namespace kizamu::xrsim::test {
 namespace {
 
-/// Acquires, waits, renders `clear` into the rectangle through an FBO, and releases.
+/// A rectangle of a swapchain image (GL's origin: bottom left) cleared to a colour, in the
+/// image's texture (layer -1) or in one layer of a texture array.
+struct Fill {
+    int x, y, width, height;
+    float rgba[4];
+    int layer = -1;
+};
+
+/// Acquires, waits, clears each of `fills` through an FBO, and releases.
 void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& images,
-                int x, int y, int w, int h, const float clear[4]) {
+                const std::vector<Fill>& fills) {
     uint32_t index = 0;
     ASSERT_EQ(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
     XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
@@ -27,13 +38,19 @@ void renderInto(XrSwapchain sc, const std::vector<XrSwapchainImageOpenGLKHR>& im
     GLuint fbo = 0;
     glGenFramebuffers(1, &fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                           images[index].image, 0);
-    ASSERT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
     glEnable(GL_SCISSOR_TEST);
-    glScissor(x, y, w, h);
-    glClearColor(clear[0], clear[1], clear[2], clear[3]);
-    glClear(GL_COLOR_BUFFER_BIT);
+    for (const Fill& f : fills) {
+        if (f.layer < 0)
+            glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                                   images[index].image, 0);
+        else
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, images[index].image, 0,
+                                      f.layer);
+        EXPECT_EQ(glCheckFramebufferStatus(GL_FRAMEBUFFER), GLenum(GL_FRAMEBUFFER_COMPLETE));
+        glScissor(f.x, f.y, f.width, f.height);
+        glClearColor(f.rgba[0], f.rgba[1], f.rgba[2], f.rgba[3]);
+        glClear(GL_COLOR_BUFFER_BIT);
+    }
     glDisable(GL_SCISSOR_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     glDeleteFramebuffers(1, &fbo);
@@ -44,8 +61,9 @@ std::vector<XrSwapchainImageOpenGLKHR> images(XrSwapchain sc) {
     uint32_t n = 0;
     EXPECT_EQ(XR_SUCCESS, xrEnumerateSwapchainImages(sc, 0, &n, nullptr));
     std::vector<XrSwapchainImageOpenGLKHR> out(n, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
-    EXPECT_EQ(XR_SUCCESS, xrEnumerateSwapchainImages(
-                              sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(out.data())));
+    EXPECT_EQ(XR_SUCCESS,
+              xrEnumerateSwapchainImages(
+                  sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(out.data())));
     return out;
 }
 
@@ -126,8 +144,7 @@ TEST_F(XrSimTest, LayerWithoutAReleasedImageIsInvalid) {
     KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
     KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
     KIZAMU_EXPECT_XR(XR_ERROR_LAYER_INVALID, endFrame({p.header()}));
-    const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
-    renderInto(sc, images(sc), 0, 0, 64, 32, grey);
+    renderInto(sc, images(sc), {{0, 0, 64, 32, {0.5f, 0.5f, 0.5f, 1.0f}}});
     Projection outside(local, sc, 40, 32);
     KIZAMU_EXPECT_XR(XR_ERROR_SWAPCHAIN_RECT_INVALID, endFrame({outside.header()}));
     KIZAMU_EXPECT_XR(XR_SUCCESS, endFrame({p.header()}));
@@ -140,32 +157,13 @@ TEST_F(XrSimTest, SubmittedViewsAreReadBackTopRowFirst) {
         kizamuXrSimReset();
         const XrSwapchain sc = createSwapchain(format, 64, 32);
         const auto imgs = images(sc);
-        // Left eye red over green (GL's y grows upwards), right eye blue, all in one image.
-        const float red[4] = {1, 0, 0, 1}, green[4] = {0, 1, 0, 1}, blue[4] = {0, 0, 1, 1};
         KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
         KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
-        uint32_t index = 0;
-        KIZAMU_ASSERT_XR(XR_SUCCESS, xrAcquireSwapchainImage(sc, nullptr, &index));
-        XrSwapchainImageWaitInfo wi{XR_TYPE_SWAPCHAIN_IMAGE_WAIT_INFO};
-        wi.timeout = XR_INFINITE_DURATION;
-        KIZAMU_ASSERT_XR(XR_SUCCESS, xrWaitSwapchainImage(sc, &wi));
-        GLuint fbo = 0;
-        glGenFramebuffers(1, &fbo);
-        glBindFramebuffer(GL_FRAMEBUFFER, fbo);
-        glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
-                               imgs[index].image, 0);
-        glEnable(GL_SCISSOR_TEST);
-        for (const auto& [x, y, w, h, c] :
-             {std::tuple{0, 16, 32, 16, red}, std::tuple{0, 0, 32, 16, green},
-              std::tuple{32, 0, 32, 32, blue}}) {
-            glScissor(x, y, w, h);
-            glClearColor(c[0], c[1], c[2], c[3]);
-            glClear(GL_COLOR_BUFFER_BIT);
-        }
-        glDisable(GL_SCISSOR_TEST);
-        glBindFramebuffer(GL_FRAMEBUFFER, 0);
-        glDeleteFramebuffers(1, &fbo);
-        KIZAMU_ASSERT_XR(XR_SUCCESS, xrReleaseSwapchainImage(sc, nullptr));
+        // Left eye red over green (GL's y grows upwards), right eye blue, all in one image.
+        renderInto(sc, imgs,
+                   {{0, 16, 32, 16, {1, 0, 0, 1}},
+                    {0, 0, 32, 16, {0, 1, 0, 1}},
+                    {32, 0, 32, 32, {0, 0, 1, 1}}});
         const Projection p(local, sc, 32, 32);
         KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
 
@@ -185,6 +183,94 @@ TEST_F(XrSimTest, SubmittedViewsAreReadBackTopRowFirst) {
         KIZAMU_ASSERT_XR(XR_SUCCESS, xrDestroySwapchain(sc));
     }
     EXPECT_EQ(kizamuXrSimLastView(2, nullptr, nullptr, nullptr), 2);
+}
+
+TEST_F(XrSimTest, ArraySwapchainViewsAreReadFromTheirLayers) {
+    runToFocused();
+    XrSwapchainCreateInfo ci{XR_TYPE_SWAPCHAIN_CREATE_INFO};
+    ci.usageFlags = XR_SWAPCHAIN_USAGE_COLOR_ATTACHMENT_BIT;
+    ci.format = GL_RGBA8;
+    ci.sampleCount = ci.faceCount = ci.mipCount = 1;
+    ci.arraySize = 2;
+    ci.width = ci.height = 8;
+    XrSwapchain sc = XR_NULL_HANDLE;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, xrCreateSwapchain(session, &ci, &sc));
+    const auto imgs = images(sc);
+    KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+    KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
+    renderInto(sc, imgs, {{0, 0, 8, 8, {1, 0, 0, 1}, 0}, {0, 0, 8, 8, {0, 0, 1, 1}, 1}});
+    Projection p(local, sc, 8, 8);
+    p.views[1].subImage.imageRect.offset.x = 0;
+    p.views[1].subImage.imageArrayIndex = 1;
+    KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
+    int w = 0, h = 0;
+    const unsigned char* px = nullptr;
+    ASSERT_EQ(kizamuXrSimLastView(0, &w, &h, &px), 0);
+    EXPECT_EQ(std::tuple(px[0], px[2]), std::tuple(255, 0));
+    ASSERT_EQ(kizamuXrSimLastView(1, &w, &h, &px), 0);
+    EXPECT_EQ(std::tuple(px[0], px[2]), std::tuple(0, 255));
+}
+
+TEST_F(XrSimTest, GlxContextOfTheApplicationWorksToo) {
+    if (std::getenv("DISPLAY") == nullptr) {
+        if (std::getenv("KIZAMU_REQUIRE_DISPLAY"))
+            FAIL() << "no DISPLAY, and KIZAMU_REQUIRE_DISPLAY is set";
+        GTEST_SKIP() << "no display";
+    }
+    mGl.reset();  // only the GLX context is current from here on
+    Display* display = XOpenDisplay(nullptr);
+    ASSERT_NE(display, nullptr);
+    const int fbAttribs[] = {GLX_DRAWABLE_TYPE,
+                             GLX_PBUFFER_BIT,
+                             GLX_RENDER_TYPE,
+                             GLX_RGBA_BIT,
+                             GLX_RED_SIZE,
+                             8,
+                             GLX_GREEN_SIZE,
+                             8,
+                             GLX_BLUE_SIZE,
+                             8,
+                             None};
+    int count = 0;
+    GLXFBConfig* configs = glXChooseFBConfig(display, DefaultScreen(display), fbAttribs, &count);
+    ASSERT_TRUE(configs != nullptr && count > 0);
+    const int contextAttribs[] = {GLX_CONTEXT_MAJOR_VERSION_ARB,
+                                  3,
+                                  GLX_CONTEXT_MINOR_VERSION_ARB,
+                                  3,
+                                  GLX_CONTEXT_PROFILE_MASK_ARB,
+                                  GLX_CONTEXT_CORE_PROFILE_BIT_ARB,
+                                  None};
+    GLXContext context =
+        glXCreateContextAttribsARB(display, configs[0], nullptr, True, contextAttribs);
+    ASSERT_NE(context, nullptr);
+    const int pbufferAttribs[] = {GLX_PBUFFER_WIDTH, 16, GLX_PBUFFER_HEIGHT, 16, None};
+    const GLXPbuffer pbuffer = glXCreatePbuffer(display, configs[0], pbufferAttribs);
+    ASSERT_TRUE(glXMakeContextCurrent(display, pbuffer, pbuffer, context));
+    binding.xDisplay = display;
+    binding.glxFBConfig = configs[0];
+    binding.glxDrawable = pbuffer;
+    binding.glxContext = context;
+
+    runToFocused();
+    const XrSwapchain sc = createSwapchain(GL_RGBA8, 32, 16);
+    KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
+    KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
+    renderInto(sc, images(sc), {{0, 0, 16, 16, {0.0f, 1.0f, 0.0f, 1.0f}}});
+    const Projection p(local, sc, 16, 16);
+    KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
+    int w = 0, h = 0;
+    const unsigned char* px = nullptr;
+    ASSERT_EQ(kizamuXrSimLastView(0, &w, &h, &px), 0);
+    EXPECT_EQ(std::tuple(px[0], px[1], px[2], px[3]), std::tuple(0, 255, 0, 255));
+    KIZAMU_EXPECT_XR(XR_SUCCESS, xrDestroyInstance(instance));
+    instance = XR_NULL_HANDLE;
+
+    glXMakeContextCurrent(display, None, None, nullptr);
+    glXDestroyPbuffer(display, pbuffer);
+    glXDestroyContext(display, context);
+    XFree(configs);
+    XCloseDisplay(display);
 }
 
 TEST_F(XrSimTest, ViewsAreEyesEitherSideOfTheHead) {
@@ -222,19 +308,18 @@ TEST_F(XrSimTest, ViewsAreEyesEitherSideOfTheHead) {
 }
 
 TEST_F(XrSimTest, CaptureWritesEventsAndViewPngs) {
-    const std::filesystem::path dir =
-        std::filesystem::temp_directory_path() / ("kizamu_xrsim_capture_" + std::to_string(getpid()));
+    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                      ("kizamu_xrsim_capture_" + std::to_string(getpid()));
     std::filesystem::remove_all(dir);
     std::filesystem::create_directories(dir);
     setenv("KIZAMU_XRSIM_CAPTURE", dir.c_str(), 1);
     runToFocused();
     unsetenv("KIZAMU_XRSIM_CAPTURE");
     const XrSwapchain sc = createSwapchain(GL_RGBA8, 32, 16);
-    const float grey[4] = {0.5f, 0.5f, 0.5f, 1.0f};
     for (int frame = 0; frame < 90; ++frame) {
         KIZAMU_ASSERT_XR(XR_SUCCESS, waitFrame());
         KIZAMU_ASSERT_XR(XR_SUCCESS, beginFrame());
-        renderInto(sc, images(sc), 0, 0, 32, 16, grey);
+        renderInto(sc, images(sc), {{0, 0, 32, 16, {0.5f, 0.5f, 0.5f, 1.0f}}});
         const Projection p(local, sc, 16, 16);
         KIZAMU_ASSERT_XR(XR_SUCCESS, endFrame({p.header()}));
     }

@@ -68,26 +68,26 @@ TEST_F(XrSimTest, SystemViewsAndEyeSizeFromTheEnvironment) {
     KIZAMU_EXPECT_XR(XR_ERROR_FORM_FACTOR_UNSUPPORTED, xrGetSystem(instance, &gi, &other));
     uint32_t n = 0;
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateViewConfigurationViews(
-                                     instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
-                                     0, &n, nullptr));
+                                     instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 0,
+                                     &n, nullptr));
     ASSERT_EQ(n, 2u);
     std::vector<XrViewConfigurationView> views(n, {XR_TYPE_VIEW_CONFIGURATION_VIEW});
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateViewConfigurationViews(
-                                     instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
-                                     n, &n, views.data()));
+                                     instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n,
+                                     &n, views.data()));
     EXPECT_EQ(views[0].recommendedImageRectWidth, 640u);
     EXPECT_EQ(views[1].recommendedImageRectHeight, 640u);
     setenv("KIZAMU_XRSIM_EYE_SIZE", "320x200", 1);
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateViewConfigurationViews(
-                                     instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
-                                     n, &n, views.data()));
+                                     instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, n,
+                                     &n, views.data()));
     unsetenv("KIZAMU_XRSIM_EYE_SIZE");
     EXPECT_EQ(views[0].recommendedImageRectWidth, 320u);
     EXPECT_EQ(views[0].recommendedImageRectHeight, 200u);
     XrEnvironmentBlendMode mode{};
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateEnvironmentBlendModes(
-                                     instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO,
-                                     1, &n, &mode));
+    KIZAMU_ASSERT_XR(
+        XR_SUCCESS, xrEnumerateEnvironmentBlendModes(
+                        instance, system, XR_VIEW_CONFIGURATION_TYPE_PRIMARY_STEREO, 1, &n, &mode));
     EXPECT_EQ(mode, XR_ENVIRONMENT_BLEND_MODE_OPAQUE);
     XrGraphicsRequirementsOpenGLKHR req{XR_TYPE_GRAPHICS_REQUIREMENTS_OPENGL_KHR};
     KIZAMU_ASSERT_XR(XR_SUCCESS, glRequirements(instance, system, &req));

@@ -55,10 +55,6 @@ TEST_F(XrSimValidationTest, LayerIsAvailable) {
 
 TEST_F(XrSimValidationTest, FullLifecycleReportsNoErrors) {
     createInstance({kLayer});
-    // Non-null Xlib values: the layer checks the binding's pointers; the runtime never reads them.
-    static int display = 0;
-    binding.xDisplay = reinterpret_cast<Display*>(&display);
-    binding.glxContext = reinterpret_cast<GLXContext>(&display);
     createSession();
 
     // Actions: one boolean and one pose, synced every frame.
@@ -91,8 +87,9 @@ TEST_F(XrSimValidationTest, FullLifecycleReportsNoErrors) {
     uint32_t n = 0;
     KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateSwapchainImages(sc, 0, &n, nullptr));
     std::vector<XrSwapchainImageOpenGLKHR> images(n, {XR_TYPE_SWAPCHAIN_IMAGE_OPENGL_KHR});
-    KIZAMU_ASSERT_XR(XR_SUCCESS, xrEnumerateSwapchainImages(
-                                     sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())));
+    KIZAMU_ASSERT_XR(XR_SUCCESS,
+                     xrEnumerateSwapchainImages(
+                         sc, n, &n, reinterpret_cast<XrSwapchainImageBaseHeader*>(images.data())));
 
     bool exiting = false;
     bool running = false;

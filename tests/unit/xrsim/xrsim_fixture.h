@@ -51,7 +51,8 @@ protected:
     void createInstance(const std::vector<const char*>& layers = {}) {
         const char* extensions[] = {"XR_KHR_opengl_enable", "XR_EXT_conformance_automation"};
         XrInstanceCreateInfo ci{XR_TYPE_INSTANCE_CREATE_INFO};
-        std::snprintf(ci.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE, "xrsim test");
+        std::snprintf(ci.applicationInfo.applicationName, XR_MAX_APPLICATION_NAME_SIZE,
+                      "xrsim test");
         ci.applicationInfo.apiVersion = XR_MAKE_VERSION(1, 0, 0);
         ci.enabledExtensionCount = 2;
         ci.enabledExtensionNames = extensions;
@@ -152,8 +153,8 @@ protected:
 
     template <class F>
     void load(const char* name, F& f) {
-        ASSERT_EQ(XR_SUCCESS, xrGetInstanceProcAddr(instance, name,
-                                                    reinterpret_cast<PFN_xrVoidFunction*>(&f)))
+        ASSERT_EQ(XR_SUCCESS,
+                  xrGetInstanceProcAddr(instance, name, reinterpret_cast<PFN_xrVoidFunction*>(&f)))
             << name;
     }
 
