@@ -124,6 +124,11 @@ XrResult xrEndFrame(XrSession session, const XrFrameEndInfo* frameEndInfo) {
             setSessionState(rt, session, s, XR_SESSION_STATE_VISIBLE);
             setSessionState(rt, session, s, XR_SESSION_STATE_FOCUSED);
         }
+        if (rt.stopAtFrame != 0 && rt.framesEnded == rt.stopAtFrame) stopSession(rt, session, s);
+        if (rt.loseAtFrame != 0 && rt.framesEnded == rt.loseAtFrame) {
+            setSessionState(rt, session, s, XR_SESSION_STATE_LOSS_PENDING);
+            s.lost = true;
+        }
         return XR_SUCCESS;
     });
 }

@@ -56,6 +56,12 @@ XrResult xrCreateInstance(const XrInstanceCreateInfo* createInfo, XrInstance* in
     }
     const char* capture = std::getenv("KIZAMU_XRSIM_CAPTURE");
     rt.captureDir = capture != nullptr ? capture : "";
+    auto frameFromEnvironment = [](const char* name) -> uint64_t {
+        const char* value = std::getenv(name);
+        return value != nullptr ? std::strtoull(value, nullptr, 10) : 0;
+    };
+    rt.stopAtFrame = frameFromEnvironment("KIZAMU_XRSIM_STOP_AT_FRAME");
+    rt.loseAtFrame = frameFromEnvironment("KIZAMU_XRSIM_LOSE_AT_FRAME");
     *instance = rt.add<XrInstance>(std::move(inst));
     return XR_SUCCESS;
 }

@@ -154,6 +154,10 @@ struct Runtime {
     std::vector<KizamuXrSimHaptic> haptics;
     XrPosef headPose{{0.0f, 0.0f, 0.0f, 1.0f}, {0.0f, 0.0f, 0.0f}};
     std::string captureDir;  ///< $KIZAMU_XRSIM_CAPTURE at xrCreateInstance; empty: no capture
+    /// $KIZAMU_XRSIM_STOP_AT_FRAME and $KIZAMU_XRSIM_LOSE_AT_FRAME at xrCreateInstance: after
+    /// that many frames ended, the runtime stops the session (as if the artist quit from the
+    /// headset) or loses it, so a test of an application run as a process can script either. 0: never.
+    uint64_t stopAtFrame = 0, loseAtFrame = 0;
 
     /// Registers `object` and returns its new handle.
     template <class H>

@@ -69,6 +69,7 @@ HeadsetMode::~HeadsetMode() = default;
 bool HeadsetMode::alive() { return mImpl->session.pollEvents(); }
 bool HeadsetMode::running() const { return mImpl->session.running(); }
 bool HeadsetMode::focused() const { return mImpl->session.focused(); }
+bool HeadsetMode::lost() const { return mImpl->session.state() == XR_SESSION_STATE_LOSS_PENDING; }
 void HeadsetMode::requestExit() { mImpl->session.requestExit(); }
 
 bool HeadsetMode::play(const interact::ControllerInput& input) {

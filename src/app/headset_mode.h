@@ -45,6 +45,8 @@ public:
     /// The frame loop runs (the session is between begin and end).
     bool running() const;
     bool focused() const;
+    /// The runtime lost the session (LOSS_PENDING), rather than ending it.
+    bool lost() const;
     void requestExit();
     /// Plays a scripted controller event into the runtime at the next frame, once the runtime
     /// has chosen the hand's interaction profile (so the event sets the inputs the actions are

@@ -881,8 +881,10 @@ int SculptApp::run() {
         const auto start = Clock::now();
         frameEvents(frame);
         if (mHeadset && !mHeadset->alive()) {
-            std::printf("xr: the session ended\n");
-            break;  // the headset closed the session: so does the app
+            // The runtime ended or lost the session: the app ends as if its window closed
+            // (every stroke is already journaled).
+            std::printf("xr: the runtime %s the session\n", mHeadset->lost() ? "lost" : "ended");
+            break;
         }
         // With a running session the headset paces the loop (xrWaitFrame) and the hands sculpt.
         const bool headset = mHeadset && mHeadset->running();

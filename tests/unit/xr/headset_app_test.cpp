@@ -226,6 +226,25 @@ TEST_F(HeadsetAppTest, ThePanelsPointerClicksUndo) {
     EXPECT_LT(difference(untouched.right, undone.right).count, 20);
 }
 
+TEST_F(HeadsetAppTest, TheRuntimeEndingOrLosingTheSessionEndsTheAppCleanly) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    const XrRun stopped = sculpt("stopped", carve(), "", "KIZAMU_XRSIM_STOP_AT_FRAME=20");
+    ASSERT_EQ(stopped.status, 0) << stopped.output;
+    EXPECT_NE(stopped.output.find("xr: the runtime ended the session"), std::string::npos) << stopped.output;
+    std::size_t at = stopped.events.find("\"FOCUSED\"");
+    for (const char* state : {"\"STOPPING\"", "\"IDLE\"", "\"EXITING\""}) {
+        at = stopped.events.find(state, at);
+        ASSERT_NE(at, std::string::npos) << state << " missing or out of order in\n" << stopped.events;
+    }
+    EXPECT_NE(stopped.output.find("sculpt: session"), std::string::npos) << "no summary: not a clean exit\n" << stopped.output;
+
+    const XrRun lost = sculpt("lost", carve(), "", "KIZAMU_XRSIM_LOSE_AT_FRAME=20");
+    ASSERT_EQ(lost.status, 0) << lost.output;
+    EXPECT_NE(lost.output.find("xr: the runtime lost the session"), std::string::npos) << lost.output;
+    EXPECT_NE(lost.events.find("\"LOSS_PENDING\""), std::string::npos) << lost.events;
+    EXPECT_NE(lost.output.find("sculpt: session"), std::string::npos) << lost.output;
+}
+
 TEST_F(HeadsetAppTest, TheEyesAreSrgbAsTheDesktopIs) {
     if (!haveDisplay()) GTEST_SKIP() << "no display";
     // The background is RenderSettings' sRGB (0.235, 0.240, 0.255): the swapchain is sRGB and the
