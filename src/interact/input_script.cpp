@@ -106,14 +106,16 @@ InputEvent readEvent(const json& j, const InputScript& s) {
     if (!s.events.empty() && e.frame < s.events.back().frame)
         throw std::invalid_argument("frame " + std::to_string(e.frame) + " comes after frame " + std::to_string(s.events.back().frame));
     int kinds = 0;
-    for (const char* k : {"move", "press", "release", "wheel", "key", "drop"}) kinds += j.contains(k) ? 1 : 0;
-    if (kinds != 1) throw std::invalid_argument("an event is exactly one of \"move\", \"press\", \"release\", \"wheel\", \"key\", \"drop\"");
+    for (const char* k : {"move", "press", "release", "wheel", "key", "drop", "text"}) kinds += j.contains(k) ? 1 : 0;
+    if (kinds != 1)
+        throw std::invalid_argument("an event is exactly one of \"move\", \"press\", \"release\", \"wheel\", \"key\", \"drop\", \"text\"");
     for (const auto& [key, value] : j.items())
         if (key != "frame" && key != "move" && key != "press" && key != "release" && key != "wheel" && key != "key" &&
-            key != "drop" && key != "mods" && key != "pressure")
+            key != "drop" && key != "text" && key != "mods" && key != "pressure")
             throw std::invalid_argument("unknown key \"" + key + "\"");
     if (j.contains("mods")) {
-        if (j.contains("move") || j.contains("drop")) throw std::invalid_argument("\"mods\" belong to a press, release, key or wheel");
+        if (j.contains("move") || j.contains("drop") || j.contains("text"))
+            throw std::invalid_argument("\"mods\" belong to a press, release, key or wheel");
         e.mods = parseMods(j["mods"]);
     }
     if (j.contains("move")) {
@@ -143,6 +145,10 @@ InputEvent readEvent(const json& j, const InputScript& s) {
         if (!j["key"].is_string() || !validKey(j["key"].get<std::string>()))
             throw std::invalid_argument("unknown key " + j["key"].dump() + " (a-z, 0-9 or a name in docs/INPUT.md)");
         e.key = j["key"].get<std::string>();
+    } else if (j.contains("text")) {
+        e.kind = InputEventKind::Text;
+        if (!j["text"].is_string() || j["text"].get<std::string>().empty()) throw std::invalid_argument("\"text\" must be a non-empty string");
+        e.text = j["text"].get<std::string>();
     } else {
         e.kind = InputEventKind::Drop;
         if (!j["drop"].is_string() || j["drop"].get<std::string>().empty())
@@ -220,8 +226,10 @@ std::string formatInputScript(const InputScript& s) {
         case InputEventKind::Wheel: j["wheel"] = e.wheel; break;
         case InputEventKind::Key: j["key"] = e.key; break;
         case InputEventKind::Drop: j["drop"] = e.path; break;
+        case InputEventKind::Text: j["text"] = e.text; break;
         }
-        if (e.mods != 0 && e.kind != InputEventKind::Move && e.kind != InputEventKind::Drop) j["mods"] = modsJson(e.mods);
+        if (e.mods != 0 && e.kind != InputEventKind::Move && e.kind != InputEventKind::Drop && e.kind != InputEventKind::Text)
+            j["mods"] = modsJson(e.mods);
         out += j.dump() + "\n";
     }
     return out;
