@@ -8,6 +8,7 @@
 #include <meshoptimizer.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -38,6 +39,42 @@ std::size_t edgeDefects(const std::vector<unsigned>& indices) {
     return defects;
 }
 
+/// Removes each pair of triangles on the same three vertices facing opposite ways: the zero-volume
+/// fold a collapse leaves where two sheets meet. Their six directed edges pair among themselves,
+/// so the rest of the surface is closed again where the fold sat. Complexity: O(T log T).
+void removeFolds(std::vector<unsigned>& indices) {
+    struct Face {
+        std::array<unsigned, 3> sorted;
+        bool even;  ///< the corners' order is an even permutation of `sorted`
+        std::size_t triangle;
+    };
+    std::vector<Face> faces;
+    faces.reserve(indices.size() / 3);
+    for (std::size_t t = 0; t + 2 < indices.size(); t += 3) {
+        std::array<unsigned, 3> c{indices[t], indices[t + 1], indices[t + 2]};
+        const std::size_t low = std::size_t(std::min_element(c.begin(), c.end()) - c.begin());
+        std::rotate(c.begin(), c.begin() + std::ptrdiff_t(low), c.end());  // a rotation keeps the orientation
+        faces.push_back({{c[0], std::min(c[1], c[2]), std::max(c[1], c[2])}, c[1] < c[2], t / 3});
+    }
+    std::sort(faces.begin(), faces.end(), [](const Face& a, const Face& b) { return a.sorted < b.sorted || (a.sorted == b.sorted && a.even < b.even); });
+    std::vector<uint8_t> drop(indices.size() / 3, 0);
+    for (std::size_t i = 0; i < faces.size();) {
+        std::size_t j = i, evens = 0;
+        for (; j < faces.size() && faces[j].sorted == faces[i].sorted; ++j) evens += faces[j].even ? 1 : 0;
+        const std::size_t odds = (j - i) - evens, folds = std::min(evens, odds);
+        for (std::size_t k = 0; k < folds; ++k) {  // odd ones sort first
+            drop[faces[i + k].triangle] = 1;
+            drop[faces[i + odds + k].triangle] = 1;
+        }
+        i = j;
+    }
+    std::size_t out = 0;
+    for (std::size_t t = 0; t < drop.size(); ++t)
+        if (!drop[t])
+            for (int k = 0; k < 3; ++k) indices[out++] = indices[3 * t + std::size_t(k)];
+    indices.resize(out);
+}
+
 }  // namespace
 
 MeshBuffers decimateMesh(const MeshBuffers& mesh, const DecimateSettings& settings, DecimateReport* report) {
@@ -45,9 +82,9 @@ MeshBuffers decimateMesh(const MeshBuffers& mesh, const DecimateSettings& settin
     if (!mesh.valid()) throw std::invalid_argument("decimate: the mesh is not valid");
     if (mesh.triangleCount() == 0) return mesh;
     const std::size_t targetIndices = 3 * std::size_t(std::llround(double(mesh.triangleCount()) * settings.ratio));
-    // The simplifier avoids flips but not every collapse that pinches the surface (two faces
-    // meeting along an edge they did not share): each pass is checked, and a pass that adds
-    // defects is retried with half the step, so the copy is as watertight as the source.
+    // The simplifier avoids flips but may fold two sheets onto each other: folds are removed, each
+    // pass is checked, and a pass that still adds defects (two faces meeting along an edge they
+    // did not share) is retried with half the step, so the copy is as watertight as the source.
     // The simplifier takes vertices at one position for one vertex, which pinches the mesher's
     // surface where two sheets touch: they are separated first (by the least that tells them apart).
     MeshBuffers separated;
@@ -64,6 +101,7 @@ MeshBuffers decimateMesh(const MeshBuffers& mesh, const DecimateSettings& settin
         float passError = 0.0f;
         next.resize(meshopt_simplify(next.data(), kept.data(), kept.size(), &positions[0].x, mesh.vertexCount(), sizeof(glm::vec3), goal,
                                      float(settings.maxErrorRelative), meshopt_SimplifyLockBorder, &passError));
+        removeFolds(next);
         if (next.size() < kept.size() && edgeDefects(next) <= defects) {
             kept.swap(next);
             errorRelative += passError;  // each pass's error is relative to its own input: their sum bounds the whole
