@@ -4,6 +4,7 @@
 #include "interact/input_script.h"
 
 #include "util/file_error.h"
+#include "util/json_lines.h"
 
 #include <nlohmann/json.hpp>
 
@@ -20,18 +21,7 @@ namespace {
 
 using json = nlohmann::json;
 
-double finiteNumber(const json& j, const char* what) {
-    if (!j.is_number()) throw std::invalid_argument(std::string("\"") + what + "\" must be a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) throw std::invalid_argument(std::string("\"") + what + "\" is not finite");
-    return v;
-}
-
-std::string oneLine(std::string s) {
-    std::replace(s.begin(), s.end(), '\n', ' ');
-    std::replace(s.begin(), s.end(), '\r', ' ');
-    return s;
-}
+using util::finiteNumber;
 
 const char* buttonName(MouseButton b) {
     switch (b) {
@@ -171,32 +161,8 @@ const std::vector<std::string>& keyNames() {
 
 InputScript parseInputScript(const std::string& text, const std::string& name) {
     InputScript s;
-    std::istringstream in(text);
-    std::string line;
-    int lineNo = 0;
-    bool header = false;
-    while (std::getline(in, line)) {
-        ++lineNo;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        const auto first = line.find_first_not_of(" \t");
-        if (first == std::string::npos || line[first] == '#') continue;
-        try {
-            json j;
-            try {
-                j = json::parse(line);
-            } catch (const json::exception& e) {
-                throw std::invalid_argument(oneLine(e.what()));
-            }
-            if (!header) {
-                readHeader(j, s);
-                header = true;
-            } else {
-                s.events.push_back(readEvent(j, s));
-            }
-        } catch (const std::invalid_argument& e) {
-            throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
-        }
-    }
+    const bool header = util::forEachJsonRecord(
+        text, name, [&](const json& j) { readHeader(j, s); }, [&](const json& j) { s.events.push_back(readEvent(j, s)); });
     if (!header) throw FileError(name, "not a Kizamu input script (empty)");
     return s;
 }
