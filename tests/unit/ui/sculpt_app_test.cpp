@@ -3,7 +3,9 @@
 // sculpt` run with input scripts (docs/INPUT.md), its last frame compared as pixels. A scripted
 // drag carves a groove where the cursor went and nowhere else; Ctrl+Z restores the pixels; the
 // panel is drawn; a dropped mesh opens; a shader that does not compile is a clear error; a session
-// a crash left open is restored.
+// a crash left open is restored; Save As moves the journal to a new directory; Ctrl+O and a typed
+// path open a session or a mesh; --level 11 makes a level-11 block; a small window frames the
+// block right of the panel; the summary line carries the sample-to-visible latency.
 #include "render/image.h"
 #include "sculpt/session.h"
 #include "sculpt/session_lock.h"
@@ -48,11 +50,12 @@ protected:
     }
     void TearDown() override { fs::remove_all(mDir); }
 
-    /// Runs kizamu sculpt with `args`; returns its exit status, its output in `out`.
-    int sculpt(const std::string& args, std::string* out = nullptr, const std::string& env = "") {
+    /// Runs kizamu sculpt with `args` in a `width` x `height` window; returns its exit status, its
+    /// output in `out`.
+    int sculpt(const std::string& args, std::string* out = nullptr, const std::string& env = "", int width = kW, int height = kH) {
         const std::string log = (mDir / "log.txt").string();
-        const std::string cmd = env + " " KIZAMU_EXECUTABLE " sculpt --device none --width " + std::to_string(kW) + " --height " +
-                                std::to_string(kH) + " --session-root " + (mDir / "sessions").string() + " " + args + " >" +
+        const std::string cmd = env + " " KIZAMU_EXECUTABLE " sculpt --device none --width " + std::to_string(width) + " --height " +
+                                std::to_string(height) + " --session-root " + (mDir / "sessions").string() + " " + args + " >" +
                                 log + " 2>&1";
         const int status = std::system(cmd.c_str());
         if (out) {
@@ -215,6 +218,30 @@ TEST_F(SculptAppTest, LevelElevenMakesALevelElevenBlock) {
     ASSERT_EQ(sculpt("--frames 3 --level 11 --session " + dir, &out), 0) << out;
     ASSERT_TRUE(sculpt::isSessionDir(dir)) << out;
     EXPECT_EQ(sculpt::Session::open(dir, nullptr, nullptr, true)->journal().domain.maxLevel, 11);
+}
+
+TEST_F(SculptAppTest, ASmallWindowFramesTheBlockRightOfThePanel) {
+    if (!haveDisplay()) GTEST_SKIP() << "no display";
+    const std::string png = (mDir / "small.png").string();
+    std::string out;
+    ASSERT_EQ(sculpt("--frames 20 --screenshot " + png, &out, "", 640, 480), 0) << out;
+    const render::Image img = render::readPng(png);
+    ASSERT_EQ(img.width, 640);
+    // The clay is light (the background and the floor are darker): its pixels outside the
+    // panel, and where their middle lies.
+    long count = 0;
+    double sumX = 0.0;
+    for (int y = 0; y < img.height; ++y)
+        for (int x = 0; x < img.width; ++x) {
+            if (x < kPanelRight && y < kPanelBottom) continue;
+            const auto p = img.at(x, y);
+            if (std::min({p.r, p.g, p.b}) < 150) continue;
+            ++count;
+            sumX += x;
+        }
+    ASSERT_GT(count, 5000) << "the block is in view";
+    std::printf("[ sculpt ] at 640 x 480: %ld clay pixels, their middle at x = %.0f\n", count, sumX / double(count));
+    EXPECT_GT(sumX / double(count), kPanelRight + 100.0) << "the block is framed right of the panel, not under it";
 }
 
 TEST_F(SculptAppTest, AShaderThatDoesNotCompileIsAClearError) {
