@@ -4,6 +4,7 @@
 #include "sim/hand_file.h"
 
 #include "util/file_error.h"
+#include "util/json_lines.h"
 
 #include <nlohmann/json.hpp>
 
@@ -22,20 +23,7 @@ namespace {
 
 using json = nlohmann::json;
 
-/// A finite number, or std::invalid_argument naming `what`.
-double finiteNumber(const json& j, const char* what) {
-    if (!j.is_number()) throw std::invalid_argument(std::string("\"") + what + "\" must be a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) throw std::invalid_argument(std::string("\"") + what + "\" is not finite");
-    return v;
-}
-
-/// The message of a json exception, on one line.
-std::string oneLine(std::string s) {
-    for (char& c : s)
-        if (c == '\n' || c == '\r') c = ' ';
-    return s;
-}
+using util::finiteNumber;
 
 void readHeader(const json& j) {
     if (!j.is_object() || !j.contains("kizamu_hand"))
@@ -85,32 +73,8 @@ HandWaypoint readWaypoint(const json& j, const Hand& hand) {
 
 Hand parseHand(const std::string& text, const std::string& name) {
     Hand hand;
-    bool header = false;
-    std::size_t at = 0;
-    int lineNo = 0;
-    while (at < text.size()) {
-        std::size_t end = text.find('\n', at);
-        if (end == std::string::npos) end = text.size();
-        const std::string_view line = std::string_view(text).substr(at, end - at);
-        at = end + 1;
-        ++lineNo;
-        const auto first = line.find_first_not_of(" \t\r");
-        if (first == std::string_view::npos || line[first] == '#') continue;
-        const std::string where = "line " + std::to_string(lineNo) + ": ";
-        try {
-            const json j = json::parse(line);
-            if (!header) {
-                readHeader(j);
-                header = true;
-            } else {
-                hand.waypoints.push_back(readWaypoint(j, hand));
-            }
-        } catch (const json::exception& e) {
-            throw FileError(name, where + oneLine(e.what()));
-        } catch (const std::invalid_argument& e) {
-            throw FileError(name, where + e.what());
-        }
-    }
+    const bool header = util::forEachJsonRecord(
+        text, name, [&](const json& j) { readHeader(j); }, [&](const json& j) { hand.waypoints.push_back(readWaypoint(j, hand)); });
     if (!header) throw FileError(name, "not a Kizamu hand file (no header line)");
     if (hand.waypoints.empty()) throw FileError(name, "no waypoints");
     return hand;

@@ -5,6 +5,7 @@
 #include "adf/generate.h"
 #include "app/commands.h"
 #include "app/progress.h"
+#include "mesh/mesh_decimate.h"
 #include "mesh/mesh_export.h"
 #include "mesh/mesh_import.h"
 #include "mesh/lod.h"
@@ -38,6 +39,7 @@ struct ConvertOptions {
     std::string units;           ///< the output mesh's unit symbol; empty: its format's default
     std::string inUnits = "mm";  ///< the input mesh's unit symbol
     bool quiet = false;
+    double decimate = 0.0;  ///< a decimated copy's fraction of the triangles (0: none)
 };
 
 /// How the output mesh is written: its unit, and the mesh's own unit (the clay is in metres).
@@ -47,6 +49,17 @@ mesh::ExportOptions exportOptions(const ConvertOptions& o,
     e.unit = mesh::lengthUnitOf(o.units);
     e.meshUnit = meshUnit;
     return e;
+}
+
+/// With --decimate: writes the decimated copy of `m` beside o.out (mesh::decimatedPath).
+void writeDecimatedCopy(const mesh::MeshBuffers& m, const ConvertOptions& o, const mesh::ExportOptions& e) {
+    if (o.decimate <= 0.0) return;
+    mesh::DecimateReport report;
+    const mesh::MeshBuffers d = mesh::decimateMesh(m, {o.decimate, 1.0}, &report);
+    const std::string path = mesh::decimatedPath(o.out);
+    mesh::exportMesh(d, path, e);
+    std::printf("wrote %s: %zu of %zu triangles, error %.3g (mesh units)\n", path.c_str(), report.trianglesAfter, report.trianglesBefore,
+                report.errorWorld);
 }
 
 double msSince(std::chrono::steady_clock::time_point t0) {
@@ -69,6 +82,7 @@ void writeMeshOf(const adf::AdfPtr& a, const ConvertOptions& o, util::ThreadPool
         e.pool = &pool;
         e.untangled = &untangled;
         mesh::exportMesh(m, o.out, e);
+        writeDecimatedCopy(m, o, e);
     }
     std::printf("meshed in %.1f ms: %zu vertices, %zu triangles\n", meshMs, m.vertexCount(), m.triangleCount());
     printUntangled(untangled);
@@ -110,6 +124,7 @@ void runConvert(const ConvertOptions& o) {
     if (!isAdfPath(o.out) && !o.levelGiven && o.lod == 0.0) {
         // In the input's unit: with the same unit out, the coordinates are copied exactly.
         mesh::exportMesh(m, o.out, exportOptions(o, inUnit));
+        writeDecimatedCopy(m, o, exportOptions(o, inUnit));
         std::printf("wrote %s\n", o.out.c_str());
         return;
     }
@@ -184,6 +199,9 @@ void addConvertCommand(CLI::App& app) {
     cmd->add_option("--in-units", o->inUnits, "Unit of a mesh input's coordinates (glTF, FBX and COLLADA declare theirs and keep it)")
         ->check(CLI::IsMember({"mm", "cm", "m"}))
         ->capture_default_str();
+    cmd->add_option("--decimate", o->decimate,
+                    "Also write a copy with this fraction of the triangles (0 < RATIO < 1; borders kept) to NAME.decimated.EXT")
+        ->check(CLI::Range(0.0, 1.0));
     cmd->add_flag("--quiet", o->quiet, "No progress line on stderr (drawn only on a terminal)");
     cmd->add_option("--threads", o->threads, "Worker threads (0: one per CPU this process may use)")->capture_default_str();
     cmd->callback([o, cmd] {

@@ -16,11 +16,14 @@
 #include "interact/mouse_tool.h"
 #include "mesh/mesh_colours.h"
 #include "mesh/mesh_delta.h"
+#include "mesh/mesh_export.h"
+#include "mesh/mesh_import_assimp.h"
 #include "render/clay_renderer.h"
 #include "render/image.h"
 #include "render/shader_program.h"
 #include "sculpt/session.h"
 #include "sculpt/session_lock.h"
+#include "ui/file_browser.h"
 #include "ui/glfw_window.h"
 #include "ui/imgui_layer.h"
 #include "util/cpu_set.h"
@@ -104,6 +107,13 @@ const char* const kOpNames[] = {"Carve", "Add", "Build", "Heat gun", "Smooth", "
 const char* const kShapeNames[] = {"Sphere", "Cube", "Cylinder"};
 const char* const kUnits[] = {"mm", "cm", "m"};  ///< an export's coordinates
 
+/// The median of `values` (0 when empty). Complexity: O(n log n).
+double median(std::vector<double> values) {
+    if (values.empty()) return 0.0;
+    std::sort(values.begin(), values.end());
+    return values[values.size() / 2];
+}
+
 /// The process's resident memory, MiB (Linux /proc/self/statm; 0 where it cannot be read).
 double residentMiB() {
     std::FILE* f = std::fopen("/proc/self/statm", "r");
@@ -139,7 +149,9 @@ struct StylusTouches {
 
 class SculptApp {
 public:
-    explicit SculptApp(const SculptOptions& o);
+    /// `cpus`: how the servo thread and the rest share the CPUs (runSculptApp has already
+    /// restricted the calling thread to cpus.otherCpus).
+    SculptApp(const SculptOptions& o, util::CpuSplit cpus);
     ~SculptApp();
     int run();
 
@@ -157,9 +169,19 @@ private:
     void frameEvents(int64_t frame);
     void handleKeys();
     void handleDrops();
+    /// Opens `path` as a drop does: a session directory is reopened, anything else imported.
+    void openPath(const std::string& path);
+    void openBrowser(ui::FileBrowserMode mode);
+    /// The browser's keys (Enter, Backspace, Escape) and scripted typing, while it is open and
+    /// its path field does not hold a person's keyboard.
+    void browserInput();
+    /// What the browser chose: opened, saved as, or exported.
+    void fileChosen();
     void navigate();
     void sculpt();
     void updateMesh();
+    /// After a framing: the model moves into the area right of the panel and fits it.
+    void frameRightOfPanel();
     void draw();
     void panel();
     void setTitle();
@@ -172,16 +194,22 @@ private:
     /// it arrives, and `sessionDir`, if set, becomes the session in use when it succeeded.
     void launch(std::future<engine::CommandResult> f, std::string what, std::string sessionDir = {});
     void pollLaunched();
+    /// Before the swap: whether the mesh about to be shown holds a newer tool sample's effect.
+    void noteShownSample();
+    /// After the swap: that sample's sample-to-visible latency, if there was one.
+    void measureSampleToVisible();
 
     struct Launched {
         std::future<engine::CommandResult> result;
         std::string what, sessionDir;
+        Clock::time_point started = Clock::now();
     };
     std::vector<Launched> mLaunched;
     std::future<engine::CommandResult> mStrokeTool;  ///< the tool change a stroke's press waits for
     std::optional<render::ToolMark> mToolMark;        ///< where the tool is drawn; none off the clay
 
     SculptOptions mOptions;
+    util::CpuSplit mCpus;
     std::optional<interact::InputScript> mScript;
     std::size_t mScriptNext = 0;
     ui::GlfwWindow mWindow;
@@ -207,6 +235,7 @@ private:
     Clock::time_point mCellsCounted{};
     int mExportUnit = 0;
     bool mFramed = false;
+    float mPanelRight = 340.0f;  ///< the panel's right edge, pixels (its last frame's; where it starts before)
     interact::InputState mInput;
     std::vector<interact::InputEvent> mEvents;
     interact::MouseTool mMouse;
@@ -216,12 +245,18 @@ private:
     std::string mStatus;           ///< the last message (errors, what a command did)
     std::vector<std::string> mInterrupted;
     std::deque<double> mFrameMs;
-    char mExportPath[512] = "";
-    char mOpenPath[512] = "";
+    /// Sample-to-visible latency (ms): the recent ones for the panel, every one for the summary.
+    std::deque<double> mRecentLatencyMs;
+    std::vector<double> mLatencyMs;
+    int64_t mShownSampleNs = 0;    ///< the newest sample time drawn so far
+    int64_t mUnswappedSampleNs = 0;  ///< a newer one drawn this frame, not yet swapped; 0: none
+    bool mDecimate = false;
+    int mDecimatePercent = 25;
+    ui::FileBrowser mBrowser;
 };
 
-SculptApp::SculptApp(const SculptOptions& o)
-    : mOptions(o), mWindow([&] {
+SculptApp::SculptApp(const SculptOptions& o, util::CpuSplit cpus)
+    : mOptions(o), mCpus(std::move(cpus)), mWindow([&] {
           ui::WindowSettings ws;
           ws.width = o.width;
           ws.height = o.height;
@@ -309,6 +344,21 @@ void SculptApp::launch(std::future<engine::CommandResult> f, std::string what, s
     mLaunched.push_back({std::move(f), std::move(what), std::move(sessionDir)});
 }
 
+void SculptApp::noteShownSample() {
+    if (mMirror.newestSampleNs() <= mShownSampleNs) return;
+    mShownSampleNs = mMirror.newestSampleNs();
+    mUnswappedSampleNs = mShownSampleNs;
+}
+
+void SculptApp::measureSampleToVisible() {
+    if (mUnswappedSampleNs == 0) return;
+    const double ms = double(nowNs() - mUnswappedSampleNs) * 1e-6;
+    mUnswappedSampleNs = 0;
+    mLatencyMs.push_back(ms);
+    mRecentLatencyMs.push_back(ms);
+    if (mRecentLatencyMs.size() > 120) mRecentLatencyMs.pop_front();
+}
+
 void SculptApp::pollLaunched() {
     for (auto it = mLaunched.begin(); it != mLaunched.end();) {
         if (it->result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
@@ -360,7 +410,9 @@ void SculptApp::startHaptics() {
     h->renderer = std::make_unique<haptics::ProxyRenderer>(h->tool.mapping.worldSpec(spec), 1e-3, ps);
     h->client = std::make_unique<haptics::EngineHapticClient>(mEngine->snapshots(), mEngine->samples(1), *h->renderer, h->tool);
     h->client->setTrace(h->ticks.get());
-    h->loop = std::make_unique<haptics::ServoLoop>(h->device.device(), *h->client);
+    haptics::ServoSettings servo;
+    servo.cpu = mCpus.servoCpu;
+    h->loop = std::make_unique<haptics::ServoLoop>(h->device.device(), *h->client, servo);
     const haptics::ServoStartReport r = h->loop->start();
     if (!r.realtime && !r.warnings.empty()) mStatus = "haptics without real-time priority: " + r.warnings.front();
     mHaptics = std::move(h);
@@ -414,7 +466,9 @@ void SculptApp::handleKeys() {
         const bool ctrl = k.mods & kModCtrl, shift = k.mods & kModShift;
         if (ctrl && k.key == "z" && !shift) launch(mEngine->undo(), "undo");
         else if ((ctrl && shift && k.key == "z") || (ctrl && k.key == "y")) launch(mEngine->redo(), "redo");
+        else if (ctrl && shift && k.key == "s") openBrowser(ui::FileBrowserMode::SaveAs);
         else if (ctrl && k.key == "s") launch(mEngine->save(), "save");
+        else if (ctrl && k.key == "o") openBrowser(ui::FileBrowserMode::Open);
         else if (!ctrl && k.key.size() == 1 && k.key[0] >= '1' && k.key[0] <= '7') {
             mTool.tool.op = sculpt::ToolOp(k.key[0] - '1');
             selectTool();
@@ -438,13 +492,62 @@ void SculptApp::handleKeys() {
 }
 
 void SculptApp::handleDrops() {
-    for (const std::string& path : mInput.drops()) {
-        if (sculpt::isSessionDir(path)) {
-            launch(mEngine->openSession(path), "open " + path, path);
-        } else {
-            const std::string dir = untitledDir(mOptions.sessionRoot.empty() ? defaultSessionRoot() : mOptions.sessionRoot);
-            launch(mEngine->importMesh(path, dir, 0), "import " + path, dir);
-        }
+    for (const std::string& path : mInput.drops()) openPath(path);
+}
+
+void SculptApp::openPath(const std::string& path) {
+    if (sculpt::isSessionDir(path)) {
+        launch(mEngine->openSession(path), "open " + path, path);
+    } else {
+        const std::string dir = untitledDir(mOptions.sessionRoot.empty() ? defaultSessionRoot() : mOptions.sessionRoot);
+        launch(mEngine->importMesh(path, dir, 0), "import " + path, dir);
+    }
+}
+
+void SculptApp::openBrowser(ui::FileBrowserMode mode) {
+    ui::FileBrowserSettings s;
+    s.mode = mode;
+    s.isSession = [](const std::string& p) { return sculpt::isSessionDir(p); };
+    const auto knownFormat = [](auto formatOf) {
+        return [formatOf](const std::string& p) {
+            try {
+                formatOf(p);
+                return true;
+            } catch (const std::exception&) {
+                return false;
+            }
+        };
+    };
+    if (mode == ui::FileBrowserMode::Open) {
+        const auto ours = knownFormat([](const std::string& p) { mesh::meshFormatOf(p); });
+        s.accepts = [ours](const std::string& p) { return ours(p) || mesh::assimpReadsExtension(p); };
+    } else if (mode == ui::FileBrowserMode::Export) {
+        s.accepts = knownFormat([](const std::string& p) { mesh::exportFormatOf(p); });
+    } else {
+        s.accepts = [](const std::string&) { return false; };  // Save As names a directory
+        if (!mSessionDir.empty()) s.directory = fs::path(mSessionDir).parent_path().string();
+    }
+    mBrowser.open(std::move(s));
+}
+
+void SculptApp::browserInput() {
+    if (!mInput.text().empty()) mBrowser.typeText(mInput.text());
+    for (const interact::KeyPress& k : mInput.keys()) {
+        if (k.key == "enter") mBrowser.accept();
+        else if (k.key == "backspace") mBrowser.eraseLast();
+        else if (k.key == "escape") mBrowser.close();
+    }
+}
+
+void SculptApp::fileChosen() {
+    const std::optional<std::string> path = mBrowser.takeChosen();
+    if (!path) return;
+    switch (mBrowser.mode()) {
+    case ui::FileBrowserMode::Open: openPath(*path); break;
+    case ui::FileBrowserMode::SaveAs: launch(mEngine->saveSessionAs(*path), "save as " + *path, *path); break;
+    case ui::FileBrowserMode::Export:
+        launch(mEngine->exportMesh(*path, kUnits[mExportUnit], mDecimate ? mDecimatePercent / 100.0 : 0.0), "export " + *path);
+        break;
     }
 }
 
@@ -717,6 +820,19 @@ void SculptApp::endHeadset() {
     mHeadset.reset();
 }
 
+void SculptApp::frameRightOfPanel() {
+    const glm::ivec2 size = mWindow.windowSize();
+    const float freeWidth = float(size.x) - mPanelRight;
+    if (freeWidth < 0.25f * float(size.x) || size.y <= 0) return;  // a panel this wide is the user's choice: frame the whole window
+    // Fit the framed sphere (its radius and centre are kept) into the free area's aspect, then
+    // pan so its centre is the free area's: half the panel's width to the right on screen.
+    const glm::vec3 halfDiagonal(mCamera.sceneRadius / std::sqrt(3.0f));
+    mCamera.frame(mCamera.target - halfDiagonal, mCamera.target + halfDiagonal, freeWidth / float(size.y), 1.0f);
+    const float perPixel = 2.0f * mCamera.distance * std::tan(mCamera.fovYRad * 0.5f) / float(size.y);
+    const glm::vec3 right = glm::normalize(glm::cross(mCamera.forward(), mCamera.up()));
+    mCamera.target -= right * (0.5f * mPanelRight * perPixel);
+}
+
 void SculptApp::draw() {
     const glm::ivec2 fb = mWindow.framebufferSize();
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
@@ -728,6 +844,7 @@ void SculptApp::panel() {
     ImGui::SetNextWindowPos(ImVec2(10, 10), ImGuiCond_Once);
     ImGui::SetNextWindowSize(ImVec2(330, 0), ImGuiCond_Once);
     ImGui::Begin("Kizamu");
+    mPanelRight = ImGui::GetWindowPos().x + ImGui::GetWindowSize().x;
     bool changed = false;
     int op = int(mTool.tool.op);
     changed |= ImGui::Combo("Tool", &op, kOpNames, IM_ARRAYSIZE(kOpNames));
@@ -771,22 +888,21 @@ void SculptApp::panel() {
         const std::string dir = untitledDir(mOptions.sessionRoot.empty() ? defaultSessionRoot() : mOptions.sessionRoot);
         launch(mEngine->newSession(dir, defaultBlock(mOptions.level)), "new block", dir);
     }
-    ImGui::InputText("##export", mExportPath, sizeof mExportPath);
+    if (ImGui::Button("Open...")) openBrowser(ui::FileBrowserMode::Open);
     ImGui::SameLine();
-    if (ImGui::Button("Export") && mExportPath[0])
-        launch(mEngine->exportMesh(mExportPath, kUnits[mExportUnit]), std::string("export ") + mExportPath);
+    if (ImGui::Button("Save as...")) openBrowser(ui::FileBrowserMode::SaveAs);
+    ImGui::SameLine();
+    if (ImGui::Button("Export...")) openBrowser(ui::FileBrowserMode::Export);
     ImGui::SameLine();
     ImGui::SetNextItemWidth(50);
     ImGui::Combo("##unit", &mExportUnit, kUnits, IM_ARRAYSIZE(kUnits));
-    ImGui::InputText("##open", mOpenPath, sizeof mOpenPath);
-    ImGui::SameLine();
-    if (ImGui::Button("Open") && mOpenPath[0]) {
-        interact::InputEvent drop;
-        drop.kind = interact::InputEventKind::Drop;
-        drop.path = mOpenPath;
-        mInput.apply(drop);
-        handleDrops();
+    ImGui::Checkbox("Decimated copy", &mDecimate);
+    if (mDecimate) {
+        ImGui::SameLine();
+        ImGui::SetNextItemWidth(120);
+        ImGui::SliderInt("##decimate", &mDecimatePercent, 1, 99, "to %d%%");
     }
+    ImGui::Text("session: %s", mSessionDir.empty() ? "in memory" : fs::path(mSessionDir).filename().c_str());
     ImGui::Separator();
     bool matcap = mLook.shade == render::ShadeMode::Matcap, ortho = mCamera.projection == render::Projection::Orthographic;
     if (ImGui::Checkbox("Matcap", &matcap)) mLook.shade = matcap ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
@@ -797,15 +913,19 @@ void SculptApp::panel() {
     ImGui::SameLine();
     if (ImGui::Checkbox("Ortho", &ortho)) mCamera.projection = ortho ? render::Projection::Orthographic : render::Projection::Perspective;
     ImGui::Separator();
-    std::vector<double> ms(mFrameMs.begin(), mFrameMs.end());
-    std::sort(ms.begin(), ms.end());
-    ImGui::Text("frame %.1f ms (median of %zu)", ms.empty() ? 0.0 : ms[ms.size() / 2], ms.size());
+    ImGui::Text("frame %.1f ms (median of %zu)", median({mFrameMs.begin(), mFrameMs.end()}), mFrameMs.size());
+    ImGui::Text("sample to visible %.1f ms (median of %zu)", median({mRecentLatencyMs.begin(), mRecentLatencyMs.end()}),
+                mRecentLatencyMs.size());
     ImGui::Text("%zu triangles, %zu cells, %llu strokes", mTriangles, mCells, (unsigned long long)mEngine->stats().strokes);
     ImGui::Text("memory %.0f MiB", residentMiB());
     if (mHaptics) {
         const haptics::ServoSummary s = mHaptics->loop->stats().summary();
         ImGui::Text("haptics %s: %.0f Hz, period error p99 %.0f us", mHaptics->device.device().spec().name.c_str(), s.rateHz,
                     s.periodErrorUs.p99);
+        if (mCpus.servoCpu >= 0)
+            ImGui::Text("render threads on CPUs %s, haptics on CPU %d", util::formatCpuList(mCpus.otherCpus).c_str(), mCpus.servoCpu);
+        else
+            ImGui::Text("render threads and haptics share CPU %s", util::formatCpuList(mCpus.otherCpus).c_str());
         if (!mHaptics->loop->connected()) {
             // The servo loop already holds the force at zero; the window goes on.
             ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.3f, 1.0f), "the device stopped answering: force is off");
@@ -835,20 +955,23 @@ void SculptApp::panel() {
     if (mHeadset)
         ImGui::Text("%s, %s, %.1f ms a frame", mHeadset->describe().c_str(), mHeadset->focused() ? "focused" : "not focused",
                     mHeadset->medianFrameMs());
+    for (const Launched& l : mLaunched) {
+        // Commands that take a while (open, import, export, save as): what, how long, a spinner.
+        const double seconds = std::chrono::duration<double>(Clock::now() - l.started).count();
+        if (seconds < 0.25) continue;
+        ImGui::Text("%c %s  %.1f s", "|/-\\"[int(seconds * 8.0) % 4], l.what.c_str(), seconds);
+    }
     if (!mStatus.empty()) ImGui::TextWrapped("%s", mStatus.c_str());
     ImGui::End();
+    mBrowser.draw();
 
     if (!mInterrupted.empty()) {
         ImGui::OpenPopup("Restore");
         if (ImGui::BeginPopupModal("Restore", nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {
             ImGui::Text("Kizamu did not close %s.\nEvery finished stroke is in its journal.", mInterrupted.front().c_str());
             if (ImGui::Button("Restore it")) {
-                interact::InputEvent drop;
-                drop.kind = interact::InputEventKind::Drop;
-                drop.path = mInterrupted.front();
+                openPath(mInterrupted.front());
                 mInterrupted.clear();
-                mInput.apply(drop);
-                handleDrops();
                 ImGui::CloseCurrentPopup();
             }
             ImGui::SameLine();
@@ -894,7 +1017,11 @@ int SculptApp::run() {
         } else {
             mImGui.begin();
         }
-        if (!mImGui.wantsKeyboard()) handleKeys();
+        // A script's keys are the only ones: the panel's keyboard focus (a person's) is ignored.
+        if (mScript || !mImGui.wantsKeyboard()) {
+            if (mBrowser.isOpen()) browserInput();
+            else handleKeys();
+        }
         handleDrops();
         pollLaunched();
         if (headset) {
@@ -903,9 +1030,13 @@ int SculptApp::run() {
             navigate();
             sculpt();
         }
+        const bool framed = mFramed;
         updateMesh();
+        if (!framed && mFramed && !headset) frameRightOfPanel();
+        noteShownSample();
         if (!headset) draw();
         panel();
+        fileChosen();
         if (headset) drawHeadset();
         else mImGui.end();
         const bool last = mOptions.frames > 0 && frame + 1 == mOptions.frames;
@@ -916,6 +1047,7 @@ int SculptApp::run() {
             pollLaunched();
             mEngine->sync().get();
             updateMesh();
+            noteShownSample();
             if (headset && mHeadset->running()) {
                 mHeadset->beginFrame();
                 mImGui.begin(mHeadset->panelPointer());
@@ -928,6 +1060,7 @@ int SculptApp::run() {
             screenshot(mOptions.screenshot);
         }
         mWindow.swap();
+        measureSampleToVisible();
         for (const std::string& n : mEngine->takeNotices()) mStatus = n;
         const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
         mFrameMs.push_back(ms);
@@ -938,22 +1071,32 @@ int SculptApp::run() {
         std::printf("xr: %llu frames, median %.1f ms from xrWaitFrame to xrEndFrame\n", (unsigned long long)mHeadset->frames(),
                     mHeadset->medianFrameMs());
     endHeadset();
+    // The summary names the session in use: commands still running (an open, a Save As) finish first.
+    for (Launched& l : mLaunched) l.result.wait();
+    pollLaunched();
     if (!mOptions.screenshot.empty()) std::printf("wrote %s\n", mOptions.screenshot.c_str());
-    std::printf("sculpt: session %s, %llu strokes\n", mSessionDir.c_str(), (unsigned long long)mEngine->stats().strokes);
+    std::printf("sculpt: session %s, %llu strokes, sample to visible median %.2f ms over %zu frames\n", mSessionDir.c_str(),
+                (unsigned long long)mEngine->stats().strokes, median(mLatencyMs), mLatencyMs.size());
     return 0;
 }
 
 }  // namespace
 
 int runSculptApp(const SculptOptions& options) {
-    // Mesa's software renderer (llvmpipe, where there is no GPU) starts one thread per CPU; with a
-    // haptic device one CPU is left to the servo thread. Read when the GL driver loads; ignored
-    // by GPU drivers; a value already set wins.
-    if (options.device != "none" && !std::getenv("LP_NUM_THREADS")) {
-        const std::size_t cpus = util::allowedCpus().size();
-        setenv("LP_NUM_THREADS", std::to_string(cpus > 1 ? cpus - 1 : 1).c_str(), 0);
+    // With a haptic device the servo thread gets a CPU of its own. Mesa's software renderer
+    // (llvmpipe, where there is no GPU) starts one thread per CPU, and its threads inherit the
+    // mask of the thread that creates the GL context: so this thread, before the window exists,
+    // keeps to the other CPUs, and so does everything it starts (the edit thread and its pool);
+    // the servo thread pins itself to its CPU. LP_NUM_THREADS is read when the GL driver loads,
+    // ignored by GPU drivers; a value already set wins.
+    const std::vector<int> allowed = util::allowedCpus();
+    util::CpuSplit cpus = options.device == "none" ? util::CpuSplit{-1, allowed} : util::splitCpusForServo(allowed);
+    if (cpus.servoCpu >= 0) {
+        std::string why;
+        if (!util::pinCurrentThread(cpus.otherCpus, &why)) std::fprintf(stderr, "warning: the UI thread keeps every CPU: %s\n", why.c_str());
+        if (!std::getenv("LP_NUM_THREADS")) setenv("LP_NUM_THREADS", std::to_string(cpus.otherCpus.size()).c_str(), 0);
     }
-    SculptApp app(options);
+    SculptApp app(options, std::move(cpus));
     return app.run();
 }
 

@@ -11,6 +11,12 @@
 /// (haptics/servo_loop.h), when a device is chosen, renders the force and pushes the proxy.
 /// Scripted runs (`--input FILE --frames N --screenshot PNG`) feed recorded input events
 /// (docs/INPUT.md) through the same path as the window's own.
+/// Files: one browser (ui/file_browser.h) opens (Ctrl+O; a drop opens the same way), saves the
+/// session as another directory (Ctrl+Shift+S; later strokes journal there) and exports (with
+/// an optional decimated copy). With a device the servo thread has a CPU of its own and every
+/// other thread, the GL driver's included, keeps to the rest (util::splitCpusForServo).
+/// On exit it prints the session in use, its strokes and the median sample-to-visible latency
+/// (a tool sample's time stamp to the swap of the first frame that shows its effect).
 /// With `xr`, an OpenXR session (headset_mode.h) paces the loop with xrWaitFrame, the
 /// controllers sculpt, the panel floats in the world, and the window shows the left eye; when
 /// the session ends the app exits. Without a runtime the window opens as usual.

@@ -6,6 +6,7 @@
 
 #include "adf/adf_file.h"
 #include "adf/generate.h"
+#include "mesh/mesh_decimate.h"
 #include "mesh/mesh_export.h"
 #include "mesh/mesh_import.h"
 #include "mesh/mesh_source.h"
@@ -227,6 +228,7 @@ void EditPass::runCommand(Command& c) {
         case Command::Kind::Export: deferred = exportMesh(c); break;
         case Command::Kind::New:
         case Command::Kind::Open: r = replaceSession(c); break;
+        case Command::Kind::SaveAs: r = saveSessionAs(c.path); break;
         case Command::Kind::Import: r = importMesh(c); break;
         case Command::Kind::Sync: break;
         }
@@ -286,14 +288,22 @@ bool EditPass::exportMesh(Command& c) {
         if (!options.unit) throw std::invalid_argument("unknown unit '" + c.unit + "' (mm, cm or m)");
     }
     mesh::exportUnit(c.path, options);  // refuses a bad extension or unit before any work
+    if (c.decimate < 0.0 || c.decimate >= 1.0) throw std::invalid_argument("decimate: the ratio must be in (0, 1), or 0 for no copy");
     options.untangle = true;
     adf::AdfPtr clay = mSession->sculptor().settled();
     // Meshed and written on its own thread, serially: the pool is the edit thread's.
-    auto job = [clay = std::move(clay), path = c.path, options, promise = std::move(c.result)]() mutable {
+    auto job = [clay = std::move(clay), path = c.path, options, ratio = c.decimate, promise = std::move(c.result)]() mutable {
         try {
             const mesh::MeshBuffers m = mesh::meshAdf(clay);
             mesh::exportMesh(m, path, options);
-            promise.set_value({true, "wrote " + path});
+            std::string message = "wrote " + path;
+            if (ratio > 0.0) {
+                const mesh::MeshBuffers d = mesh::decimateMesh(m, {ratio, 1.0});
+                mesh::exportMesh(d, mesh::decimatedPath(path), options);
+                message += " and " + mesh::decimatedPath(path) + " (" + std::to_string(d.triangleCount()) + " of " +
+                           std::to_string(m.triangleCount()) + " triangles)";
+            }
+            promise.set_value({true, std::move(message)});
         } catch (const std::exception& e) {
             promise.set_value(failure(e));
         }
@@ -317,6 +327,19 @@ CommandResult EditPass::replaceSession(Command& c) {
     installSession(std::move(next));
     CommandResult r;
     for (const std::string& w : warnings) r.message += (r.message.empty() ? "" : "; ") + w;
+    return r;
+}
+
+CommandResult EditPass::saveSessionAs(const std::string& dir) {
+    endStroke(true);
+    if (mSession->dir().empty()) throw std::invalid_argument("this session is kept in memory: save to a .kza file instead");
+    if (dir.empty()) throw std::invalid_argument("save as: no directory given");
+    finishCheckpoint(true);
+    sculpt::copySession(mSession->dir(), dir);
+    std::vector<std::string> warnings;
+    installSession(sculpt::Session::open(dir, &mPool, &warnings));
+    CommandResult r{true, "saved as " + dir};
+    for (const std::string& w : warnings) r.message += "; " + w;
     return r;
 }
 
@@ -388,7 +411,9 @@ void EditPass::meshIfBehind(bool force) {
             mMesher.update(clay);
         else
             mMesher.build(clay);
-        post(mMesher.takeDelta());
+        mesh::MeshDelta delta = mMesher.takeDelta();
+        for (const ToolSample& sample : mUnmeshed) delta.newestSampleNs = std::max(delta.newestSampleNs, sample.timeNs);
+        post(std::move(delta));
         mCounters.meshUpdates.fetch_add(1, std::memory_order_relaxed);
         if (mSettings.observer)
             mSettings.observer({EngineEvent::Kind::Meshed, mStore->currentSequence(), nowNs(), msSince(t0), mUnmeshed});

@@ -29,12 +29,13 @@ namespace kizamu::engine::detail {
 
 /// A command from engine.h's functions, with the promise its result goes to.
 struct Command {
-    enum class Kind : uint8_t { SetTool, Undo, Redo, Cancel, Save, Export, New, Open, Import, Sync } kind = Kind::Sync;
+    enum class Kind : uint8_t { SetTool, Undo, Redo, Cancel, Save, Export, New, Open, SaveAs, Import, Sync } kind = Kind::Sync;
     ToolSettings tool;
     std::string path, unit;
     std::string dir;  ///< Import: the new session's directory (path is the mesh)
     sculpt::Script script;
     int level = 0;
+    double decimate = 0.0;  ///< Export: the decimated copy's fraction of the triangles (0: none)
     std::promise<CommandResult> result;
 };
 
@@ -100,6 +101,7 @@ private:
     bool save(Command& c);
     bool exportMesh(Command& c);
     CommandResult replaceSession(Command& c);
+    CommandResult saveSessionAs(const std::string& dir);
     CommandResult importMesh(Command& c);
     /// Makes `next` the session: waits for a background checkpoint of the old one, rebuilds the
     /// mesh, publishes and posts a reset delta.

@@ -63,10 +63,11 @@ std::future<CommandResult> Engine::save(std::string path) {
     return enqueue(std::move(c));
 }
 
-std::future<CommandResult> Engine::exportMesh(std::string path, std::string unit) {
+std::future<CommandResult> Engine::exportMesh(std::string path, std::string unit, double decimate) {
     detail::Command c{detail::Command::Kind::Export};
     c.path = std::move(path);
     c.unit = std::move(unit);
+    c.decimate = decimate;
     return enqueue(std::move(c));
 }
 
@@ -80,6 +81,12 @@ std::future<CommandResult> Engine::newSession(std::string dir, sculpt::Script st
 
 std::future<CommandResult> Engine::openSession(std::string dir) {
     detail::Command c{detail::Command::Kind::Open};
+    c.path = std::move(dir);
+    return enqueue(std::move(c));
+}
+
+std::future<CommandResult> Engine::saveSessionAs(std::string dir) {
+    detail::Command c{detail::Command::Kind::SaveAs};
     c.path = std::move(dir);
     return enqueue(std::move(c));
 }

@@ -162,13 +162,22 @@ public:
     std::future<CommandResult> save(std::string path = {});
     /// Meshes the clay (every pending correction made) in the background and writes it
     /// (mesh::exportMesh, untangled), in `unit` ("mm", "cm", "m"; empty: the format's default).
-    std::future<CommandResult> exportMesh(std::string path, std::string unit = {});
+    /// With `decimate` in (0, 1) it also writes a copy with that fraction of the triangles
+    /// (mesh::decimateMesh) to mesh::decimatedPath(path); 0: none.
+    std::future<CommandResult> exportMesh(std::string path, std::string unit = {}, double decimate = 0.0);
     /// Closes the sculpt::Session in use (its journal is already durable) and starts another in `dir`
     /// (empty: in memory) from `start`'s header at `level` (0: its own); publishes and resets
     /// the mesh.
     std::future<CommandResult> newSession(std::string dir, sculpt::Script start, int level = 0);
     /// Closes the sculpt::Session in use and reopens the one in `dir`; warnings go into the message.
     std::future<CommandResult> openSession(std::string dir);
+    /// Save As: ends an open stroke, copies the sculpt::Session in use to `dir` (sculpt::copySession:
+    /// created if missing, must not hold a session) and continues in the copy, so later strokes
+    /// are journaled there; the old directory stays as it was. Publishes and resets the mesh, as
+    /// openSession() does. Errors (a session kept in memory, `dir` already a session, a failed
+    /// copy) leave the sculpt::Session in use in place.
+    /// Complexity: a copy of the journal and start clay, and a replay of the journal. Cold path.
+    std::future<CommandResult> saveSessionAs(std::string dir);
     /// Ends an open stroke, imports the mesh at `meshPath` (OBJ, STL, PLY, OFF, glTF, ...:
     /// mesh::importMesh) and makes it the clay of another sculpt::Session in `dir` (empty: in memory;
     /// sculpt::Session::createFromClay, so it reopens and replays like any other): its ADF is

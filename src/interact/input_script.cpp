@@ -4,6 +4,7 @@
 #include "interact/input_script.h"
 
 #include "util/file_error.h"
+#include "util/json_lines.h"
 
 #include <nlohmann/json.hpp>
 
@@ -20,18 +21,7 @@ namespace {
 
 using json = nlohmann::json;
 
-double finiteNumber(const json& j, const char* what) {
-    if (!j.is_number()) throw std::invalid_argument(std::string("\"") + what + "\" must be a number");
-    const double v = j.get<double>();
-    if (!std::isfinite(v)) throw std::invalid_argument(std::string("\"") + what + "\" is not finite");
-    return v;
-}
-
-std::string oneLine(std::string s) {
-    std::replace(s.begin(), s.end(), '\n', ' ');
-    std::replace(s.begin(), s.end(), '\r', ' ');
-    return s;
-}
+using util::finiteNumber;
 
 const char* buttonName(MouseButton b) {
     switch (b) {
@@ -181,15 +171,17 @@ InputEvent readEvent(const json& j, const InputScript& s) {
         return e;
     }
     int kinds = 0;
-    for (const char* k : {"move", "press", "release", "wheel", "key", "drop"}) kinds += j.contains(k) ? 1 : 0;
+    for (const char* k : {"move", "press", "release", "wheel", "key", "drop", "text"}) kinds += j.contains(k) ? 1 : 0;
     if (kinds != 1)
-        throw std::invalid_argument("an event is exactly one of \"move\", \"press\", \"release\", \"wheel\", \"key\", \"drop\", \"controller\"");
+        throw std::invalid_argument(
+            "an event is exactly one of \"move\", \"press\", \"release\", \"wheel\", \"key\", \"drop\", \"text\", \"controller\"");
     for (const auto& [key, value] : j.items())
         if (key != "frame" && key != "move" && key != "press" && key != "release" && key != "wheel" && key != "key" &&
-            key != "drop" && key != "mods" && key != "pressure")
+            key != "drop" && key != "text" && key != "mods" && key != "pressure")
             throw std::invalid_argument("unknown key \"" + key + "\"");
     if (j.contains("mods")) {
-        if (j.contains("move") || j.contains("drop")) throw std::invalid_argument("\"mods\" belong to a press, release, key or wheel");
+        if (j.contains("move") || j.contains("drop") || j.contains("text"))
+            throw std::invalid_argument("\"mods\" belong to a press, release, key or wheel");
         e.mods = parseMods(j["mods"]);
     }
     if (j.contains("move")) {
@@ -219,6 +211,10 @@ InputEvent readEvent(const json& j, const InputScript& s) {
         if (!j["key"].is_string() || !validKey(j["key"].get<std::string>()))
             throw std::invalid_argument("unknown key " + j["key"].dump() + " (a-z, 0-9 or a name in docs/INPUT.md)");
         e.key = j["key"].get<std::string>();
+    } else if (j.contains("text")) {
+        e.kind = InputEventKind::Text;
+        if (!j["text"].is_string() || j["text"].get<std::string>().empty()) throw std::invalid_argument("\"text\" must be a non-empty string");
+        e.text = j["text"].get<std::string>();
     } else {
         e.kind = InputEventKind::Drop;
         if (!j["drop"].is_string() || j["drop"].get<std::string>().empty())
@@ -241,32 +237,8 @@ const std::vector<std::string>& keyNames() {
 
 InputScript parseInputScript(const std::string& text, const std::string& name) {
     InputScript s;
-    std::istringstream in(text);
-    std::string line;
-    int lineNo = 0;
-    bool header = false;
-    while (std::getline(in, line)) {
-        ++lineNo;
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        const auto first = line.find_first_not_of(" \t");
-        if (first == std::string::npos || line[first] == '#') continue;
-        try {
-            json j;
-            try {
-                j = json::parse(line);
-            } catch (const json::exception& e) {
-                throw std::invalid_argument(oneLine(e.what()));
-            }
-            if (!header) {
-                readHeader(j, s);
-                header = true;
-            } else {
-                s.events.push_back(readEvent(j, s));
-            }
-        } catch (const std::invalid_argument& e) {
-            throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
-        }
-    }
+    const bool header = util::forEachJsonRecord(
+        text, name, [&](const json& j) { readHeader(j, s); }, [&](const json& j) { s.events.push_back(readEvent(j, s)); });
     if (!header) throw FileError(name, "not a Kizamu input script (empty)");
     return s;
 }
@@ -296,9 +268,10 @@ std::string formatInputScript(const InputScript& s) {
         case InputEventKind::Wheel: j["wheel"] = e.wheel; break;
         case InputEventKind::Key: j["key"] = e.key; break;
         case InputEventKind::Drop: j["drop"] = e.path; break;
+        case InputEventKind::Text: j["text"] = e.text; break;
         case InputEventKind::Controller: j.update(controllerJson(e.controller)); break;
         }
-        if (e.mods != 0 && e.kind != InputEventKind::Move && e.kind != InputEventKind::Drop &&
+        if (e.mods != 0 && e.kind != InputEventKind::Move && e.kind != InputEventKind::Drop && e.kind != InputEventKind::Text &&
             e.kind != InputEventKind::Controller)
             j["mods"] = modsJson(e.mods);
         out += j.dump() + "\n";

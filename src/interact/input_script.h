@@ -8,7 +8,7 @@
 /// to) and then one event per line, each at a frame: {"frame": 12, "move": [x, y]},
 /// {"frame": 13, "press": "left", "mods": ["ctrl"]}, {"frame": 40, "release": "left"},
 /// {"frame": 41, "key": "z", "mods": ["ctrl"]}, {"frame": 42, "wheel": -1},
-/// {"frame": 50, "drop": "mesh.stl"}. Events of one frame apply at its start, in file order.
+/// {"frame": 50, "drop": "mesh.stl"}, {"frame": 51, "text": "name.obj"}. Events of one frame apply at its start, in file order.
 /// Errors are one line, "file: line N: problem". Cold path: plain values, any thread.
 #pragma once
 
@@ -25,7 +25,7 @@ namespace kizamu::interact {
 
 inline constexpr int kInputScriptVersion = 1;
 
-enum class InputEventKind : uint8_t { Move, Press, Release, Wheel, Key, Drop, Controller };
+enum class InputEventKind : uint8_t { Move, Press, Release, Wheel, Key, Drop, Text, Controller };
 enum class MouseButton : uint8_t { Left, Right, Middle };
 
 /// Modifier bits (the keys held with a press, a key or a wheel notch).
@@ -52,6 +52,7 @@ struct InputEvent {
     std::string key;          ///< Key: "a".."z", "0".."9", or a name (keyNames())
     uint32_t mods = 0;        ///< Press, Key, Wheel: kMod* bits held
     std::string path;         ///< Drop: the file dropped on the window (relative: to the script's directory)
+    std::string text;         ///< Text: the characters typed (UTF-8), into the text field that has the keyboard
     ControllerInput controller;  ///< Controller
 };
 
@@ -69,7 +70,7 @@ const std::vector<std::string>& keyNames();
 
 /// Parses script text; `name` starts every error.
 /// @throw kizamu::FileError "name: line N: problem" for bad JSON, a missing or unknown header,
-///        a bad size, an event that is not exactly one of move/press/release/wheel/key/drop, a
+///        a bad size, an event that is not exactly one of move/press/release/wheel/key/drop/text, a
 ///        frame that goes backwards, an unknown button, key or modifier, a non-finite number.
 InputScript parseInputScript(const std::string& text, const std::string& name);
 /// Reads and parses `path` (baseDir: its directory). @throw kizamu::FileError

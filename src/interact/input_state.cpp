@@ -12,6 +12,7 @@ void InputState::beginFrame() noexcept {
     mWheel = 0.0;
     mKeys.clear();
     mDrops.clear();
+    mText.clear();
 }
 
 void InputState::apply(const InputEvent& e) {
@@ -38,6 +39,7 @@ void InputState::apply(const InputEvent& e) {
         mMods = e.mods;
         break;
     case InputEventKind::Drop: mDrops.push_back(e.path); break;
+    case InputEventKind::Text: mText += e.text; break;
     case InputEventKind::Controller: break;  // the headset's, played into the XR runtime (xr/controller_automation.h)
     }
 }

@@ -27,7 +27,7 @@ struct KeyPress {
 
 class InputState {
 public:
-    /// Starts a frame: clears what happened in the last one (wheel, keys, drops, presses).
+    /// Starts a frame: clears what happened in the last one (wheel, keys, drops, text, presses).
     void beginFrame() noexcept;
     /// Folds one event in (in order).
     void apply(const InputEvent& e);
@@ -44,6 +44,8 @@ public:
     double wheel() const noexcept { return mWheel; }  ///< notches this frame
     const std::vector<KeyPress>& keys() const noexcept { return mKeys; }
     const std::vector<std::string>& drops() const noexcept { return mDrops; }
+    /// The characters typed this frame (UTF-8), in order.
+    const std::string& text() const noexcept { return mText; }
     /// Whether `key` with exactly `mods` was pressed this frame.
     bool keyPressed(const std::string& key, uint32_t mods = 0) const noexcept;
 
@@ -57,6 +59,7 @@ private:
     double mWheel = 0.0;
     std::vector<KeyPress> mKeys;
     std::vector<std::string> mDrops;
+    std::string mText;
 };
 
 }  // namespace kizamu::interact

@@ -127,8 +127,10 @@ MeshDelta SurfaceMesher::fullDelta() {
 }
 
 void coalesce(MeshDelta& older, MeshDelta&& newer) {
+    const int64_t newestSampleNs = std::max(older.newestSampleNs, newer.newestSampleNs);
     if (newer.reset) {
         older = std::move(newer);
+        older.newestSampleNs = newestSampleNs;
         return;
     }
     if (newer.base != older.generation) throw std::invalid_argument("mesh delta: coalescing deltas that do not follow");
@@ -161,6 +163,7 @@ void coalesce(MeshDelta& older, MeshDelta&& newer) {
     older.generation = newer.generation;
     older.originWorld = newer.originWorld;
     older.cellSize = newer.cellSize;
+    older.newestSampleNs = newestSampleNs;
 }
 
 bool MeshMirror::apply(MeshDelta&& delta) {
@@ -175,6 +178,7 @@ bool MeshMirror::apply(MeshDelta&& delta) {
         mTiles[key] = std::move(s);
     }
     mGeneration = delta.generation;
+    mNewestSampleNs = std::max(mNewestSampleNs, delta.newestSampleNs);
     mOriginWorld = delta.originWorld;
     mCellSize = delta.cellSize;
     return true;

@@ -79,6 +79,10 @@ struct MeshDelta {
     double cellSize = 0.0;        ///< finest cell (m): world = originWorld + lattice * cellSize
     std::vector<MeshTileShare> tiles;  ///< every tile whose share changed, by key, in full
     std::vector<uint64_t> removed;     ///< tiles that no longer hold mesh, by key (may be unknown to the mirror)
+    /// The newest tool sample whose effect this delta first shows: its time stamp (the producer's
+    /// monotonic clock, ns; engine::ToolSample::timeNs), for sample-to-visible latency; 0: none.
+    /// Coalescing keeps the newer of the two.
+    int64_t newestSampleNs = 0;
 
     bool empty() const { return !reset && tiles.empty() && removed.empty(); }
 };
@@ -106,6 +110,8 @@ public:
     MeshBuffers flatten() const;
 
     uint64_t generation() const { return mGeneration; }
+    /// The newest MeshDelta::newestSampleNs applied (0: none yet).
+    int64_t newestSampleNs() const { return mNewestSampleNs; }
     std::size_t tileCount() const { return mTiles.size(); }
     bool hasTile(uint64_t key) const { return mTiles.count(key) != 0; }
     const MeshTileShare* tile(uint64_t key) const;
@@ -114,6 +120,7 @@ private:
     std::unordered_map<uint64_t, MeshTileShare> mTiles;
     uint64_t mGeneration = 0;
     bool mSynced = false;  ///< a reset delta was applied
+    int64_t mNewestSampleNs = 0;
     glm::dvec3 mOriginWorld{0.0};
     double mCellSize = 0.0;
 };

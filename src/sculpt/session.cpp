@@ -125,6 +125,19 @@ void makeSessionDirectory(const std::string& dir) {
 
 }  // namespace
 
+void copySession(const std::string& fromDir, const std::string& toDir) {
+    if (!isSessionDir(fromDir)) throw FileError(fromDir, "not a Kizamu session (no journal.jsonl)");
+    if (isSessionDir(toDir)) throw FileError(toDir, "already holds a session (journal.jsonl); open it instead");
+    makeSessionDirectory(toDir);
+    auto copyAtomically = [&](const char* name) {
+        const std::string bytes = util::readWholeFile((fs::path(fromDir) / name).string());
+        util::writeFileAtomically((fs::path(toDir) / name).string(), std::as_bytes(std::span(bytes.data(), bytes.size())));
+    };
+    std::error_code ec;
+    if (fs::exists(fs::path(fromDir) / kStartFile, ec)) copyAtomically(kStartFile);
+    copyAtomically(kJournal);
+}
+
 std::unique_ptr<Session> Session::create(const std::string& dir, const Script& script, int level, util::ThreadPool* pool) {
     // A file start is copied into the session, which then stands alone.
     if (script.start.kind == Shape::Kind::File) return createFromClay(dir, startAdf(script, level, pool), pool);

@@ -153,4 +153,13 @@ private:
 /// True when `path` is a directory holding a Session journal.
 bool isSessionDir(const std::string& path);
 
+/// Copies the Session in `fromDir` to `toDir` (created if missing; must not hold a Session): its
+/// start clay (DIR/start.kza, where it has one), then its journal, each written atomically, the
+/// journal last, so `toDir` becomes a Session only once it is complete. Checkpoints are not
+/// copied: opening the copy replays every step, so its undo history reaches back to the start.
+/// The caller makes sure nothing appends to `fromDir` meanwhile (the edit thread, between steps).
+/// @throw FileError when `fromDir` is no Session, `toDir` already holds one, or a read or write fails.
+/// Complexity: O(journal + start clay bytes). Threading: any thread. Memory: one file at a time.
+void copySession(const std::string& fromDir, const std::string& toDir);
+
 }  // namespace kizamu::sculpt

@@ -5,6 +5,7 @@
 
 #include "util/atomic_file.h"
 #include "util/file_error.h"
+#include "util/json_lines.h"
 
 #include <nlohmann/json.hpp>
 
@@ -252,28 +253,8 @@ Script parseHeaderLine(const std::string& line) {
 
 Script parseScript(const std::string& text, const std::string& name) {
     Script s;
-    std::istringstream in(text);
-    std::string line;
-    int lineNo = 0;
-    bool header = false;
-    while (std::getline(in, line)) {
-        ++lineNo;
-        const auto first = line.find_first_not_of(" \t\r");
-        if (first == std::string::npos || line[first] == '#') continue;
-        try {
-            const json j = json::parse(line);
-            if (!header) {
-                parseHeader(j, s);
-                header = true;
-            } else {
-                s.steps.push_back(stepOf(j, s.version));
-            }
-        } catch (const json::exception& e) {
-            throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
-        } catch (const std::invalid_argument& e) {
-            throw FileError(name, "line " + std::to_string(lineNo) + ": " + e.what());
-        }
-    }
+    const bool header = util::forEachJsonRecord(
+        text, name, [&](const json& j) { parseHeader(j, s); }, [&](const json& j) { s.steps.push_back(stepOf(j, s.version)); });
     if (!header) throw FileError(name, "not a Kizamu stroke script (no header line)");
     return s;
 }

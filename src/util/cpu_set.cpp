@@ -86,6 +86,28 @@ std::vector<int> allowedCpusExcept(std::vector<int> reserved) {
     return out;
 }
 
+CpuSplit splitCpusForServo(const std::vector<int>& allowed) {
+    CpuSplit split;
+    split.otherCpus = allowed;
+    if (allowed.size() < 2) return split;
+    split.servoCpu = split.otherCpus.back();
+    split.otherCpus.pop_back();
+    return split;
+}
+
+std::string formatCpuList(const std::vector<int>& cpus) {
+    std::string out;
+    for (std::size_t i = 0; i < cpus.size();) {
+        std::size_t j = i;
+        while (j + 1 < cpus.size() && cpus[j + 1] == cpus[j] + 1) ++j;
+        if (!out.empty()) out += ',';
+        out += std::to_string(cpus[i]);
+        if (j > i) out += '-' + std::to_string(cpus[j]);
+        i = j + 1;
+    }
+    return out;
+}
+
 bool pinCurrentThread(int cpu, std::string* why) {
     return pinCurrentThread(std::vector<int>{cpu}, why);
 }

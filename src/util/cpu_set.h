@@ -35,6 +35,23 @@ unsigned allowedCpuCount();
 /// Memory:     allocates the result
 std::vector<int> allowedCpusExcept(std::vector<int> reserved);
 
+/// How a process with a haptic servo thread shares its CPUs: the servo thread alone on one,
+/// every other thread (the UI thread, the edit pool, and the GL driver's threads, such as Mesa
+/// llvmpipe's, which inherit the mask of the thread that creates the context) on the rest.
+struct CpuSplit {
+    int servoCpu = -1;           ///< the servo thread's CPU; -1: one CPU only, which everything shares
+    std::vector<int> otherCpus;  ///< every other thread's CPUs, ascending
+};
+
+/// Splits `allowed` (ascending, not empty; allowedCpus()): the highest CPU goes to the servo
+/// thread (the lowest ones take most device interrupts), the rest to everything else; with one
+/// CPU the servo thread shares it (servoCpu -1, otherCpus = allowed).
+/// Complexity: O(A). Threading: pure. Memory: allocates the result.
+CpuSplit splitCpusForServo(const std::vector<int>& allowed);
+
+/// `cpus` (ascending) as ranges, "0-3,6" ("" when empty). Complexity: O(n). Threading: pure.
+std::string formatCpuList(const std::vector<int>& cpus);
+
 /// Restricts the calling thread to CPU `cpu` (>= 0). On return the thread runs there. Returns
 /// false and leaves the thread's mask as it was when the CPU does not exist, is offline or is
 /// outside this process's cpuset; `why` (may be null) then says so.

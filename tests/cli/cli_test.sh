@@ -79,6 +79,12 @@ full=$(assimp info "$tmp/p.glb" --raw | sed -n 's/^Faces: *\([0-9]*\).*/\1/p')
 "$kizamu" convert "$tmp/p.kza" "$tmp/lod.ply" --lod 4 >/dev/null || fail "convert kza -> ply --lod"
 lod=$(assimp info "$tmp/lod.ply" --raw | sed -n 's/^Faces: *\([0-9]*\).*/\1/p')
 [ -n "$full" ] && [ -n "$lod" ] && [ "$lod" -gt 0 ] && [ "$lod" -lt "$full" ] || fail "LOD mesh ($lod faces) not smaller than full ($full)"
+# --decimate: a copy beside the output, NAME.decimated.EXT, with about that fraction of the triangles
+"$kizamu" convert "$tmp/p.kza" "$tmp/dec.ply" --decimate 0.5 >"$tmp/out" || fail "convert --decimate"
+[ -s "$tmp/dec.decimated.ply" ] || fail "convert --decimate wrote no dec.decimated.ply"
+read -r kept total < <(sed -n 's/^wrote .*dec.decimated.ply: \([0-9]*\) of \([0-9]*\) triangles.*/\1 \2/p' "$tmp/out")
+[ -n "${total:-}" ] && [ $((kept * 100 / total)) -ge 40 ] && [ $((kept * 100 / total)) -le 60 ] ||
+    fail "convert --decimate 0.5 kept ${kept:-?} of ${total:-?} triangles: $(cat "$tmp/out")"
 "$kizamu" convert "$tmp/tet.obj" "$tmp/remesh.stl" --level 6 >/dev/null || fail "remesh obj -> stl --level"
 admesh "$tmp/remesh.stl" | grep -q "Edges fixed *: *0" || fail "remesh is not closed"
 # an inward-facing closed mesh: the same solid as its outward twin (closed parts oriented by nesting), with a warning

@@ -9,6 +9,7 @@
 
 #include "adf/adf_file.h"
 #include "mesh/mesh_export.h"
+#include "mesh/mesh_import.h"
 #include "mesh/surface_nets.h"
 #include "sculpt/script_start.h"
 #include "sculpt/session.h"
@@ -18,6 +19,7 @@
 #include <glm/common.hpp>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -298,6 +300,15 @@ TEST(Engine, CommandsReportTheirErrorsAndSaveAndExportWrite) {
     ASSERT_TRUE(exported.ok) << exported.message;
     EXPECT_GT(fs::file_size(stl), 1000u);
     EXPECT_TRUE(adf::encodeAdf(*adf::loadAdf(kza)) == publishedBytes(e)) << "saved: the clay with its corrections made";
+    // A decimated copy beside the export: about the asked fraction, closed as the full one is.
+    const std::string ply = (dir.path / "clay.ply").string();
+    EXPECT_FALSE(e.exportMesh(ply, "mm", 1.5).get().ok);
+    const engine::CommandResult decimated = e.exportMesh(ply, "mm", 0.25).get();
+    ASSERT_TRUE(decimated.ok) << decimated.message;
+    const mesh::MeshBuffers full = mesh::importMesh(ply), copy = mesh::importMesh((dir.path / "clay.decimated.ply").string());
+    EXPECT_NEAR(double(copy.triangleCount()) / double(full.triangleCount()), 0.25, 0.05) << decimated.message;
+    EXPECT_TRUE(test::closedOrientedManifold(full));
+    EXPECT_TRUE(test::closedOrientedManifold(copy));
 }
 
 TEST(Engine, NewAndOpenReplaceTheSessionAndResetTheMesh) {
@@ -323,6 +334,40 @@ TEST(Engine, NewAndOpenReplaceTheSessionAndResetTheMesh) {
     ASSERT_TRUE(e.newSession({}, sphere).get().ok);
     EXPECT_TRUE(publishedBytes(e) == adf::encodeAdf(*sculpt::startAdf(sphere, 0)));
     EXPECT_FALSE(e.newSession(a.str(), sphere).get().ok) << "a directory with a session is opened, not overwritten";
+}
+
+/// The journal's steps of `kind` in the session in `dir` (idle corrections come and go with timing).
+std::size_t stepsOf(const std::string& dir, sculpt::Step::Kind kind) {
+    const sculpt::Script journal = sculpt::Session::open(dir, nullptr, nullptr, true)->journal();
+    return std::size_t(std::count_if(journal.steps.begin(), journal.steps.end(), [&](const sculpt::Step& s) { return s.kind == kind; }));
+}
+
+TEST(Engine, SaveAsCopiesTheSessionAndLaterStrokesJournalToTheCopy) {
+    const TempDir a("saveas-a"), b("saveas-b");
+    const std::string copy = (b.path / "named").string();
+    std::size_t oldSteps = 0;
+    {
+        Engine e(settingsFor(a.str()));
+        for (int i = 0; i < 5; ++i) push(e, held(i, {0.4 + 0.02 * i, 0.5, 0.5}));
+        push(e, held(5, {0.5, 0.5, 0.5}, false));
+        const engine::CommandResult saved = e.saveSessionAs(copy).get();
+        ASSERT_TRUE(saved.ok) << saved.message;
+        EXPECT_TRUE(sculpt::isSessionDir(copy));
+        EXPECT_FALSE(e.saveSessionAs(copy).get().ok) << "a directory with a session is never overwritten";
+        oldSteps = sculpt::Session::open(a.str(), nullptr, nullptr, true)->steps();
+        EXPECT_EQ(stepsOf(a.str(), sculpt::Step::Kind::Stroke), 1u);
+        for (int i = 0; i < 5; ++i) push(e, held(10 + i, {0.4 + 0.02 * i, 0.6, 0.5}));
+        push(e, held(15, {0.5, 0.6, 0.5}, false));
+        ASSERT_TRUE(e.undo().get().ok);
+        ASSERT_TRUE(e.undo().get().ok) << "the copy's undo history reaches the stroke made before Save As";
+        ASSERT_TRUE(e.sync().get().ok);
+        EXPECT_TRUE(publishedBytes(e) == adf::encodeAdf(*sculpt::startAdf(slabScript(), 0)));
+    }
+    EXPECT_EQ(sculpt::Session::open(a.str(), nullptr, nullptr, true)->steps(), oldSteps) << "the old directory stays as it was";
+    EXPECT_EQ(stepsOf(copy, sculpt::Step::Kind::Stroke), 2u) << "the stroke after Save As is journaled in the copy";
+    EXPECT_EQ(stepsOf(copy, sculpt::Step::Kind::Undo), 2u);
+    Engine inMemory(settingsFor());
+    EXPECT_FALSE(inMemory.saveSessionAs((b.path / "other").string()).get().ok);
 }
 
 TEST(Engine, AnImportedMeshBecomesASessionThatReopensBitForBit) {

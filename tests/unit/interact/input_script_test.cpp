@@ -25,12 +25,13 @@ TEST(InputScript, ParsesEveryEventAndRoundTrips) {
 {"frame": 11, "key": "z", "mods": ["ctrl", "shift"]}
 {"frame": 11, "key": "f1"}
 {"frame": 12, "drop": "meshes/bunny.stl"}
+{"frame": 13, "text": "bunny/é.obj"}
 )";
     const interact::InputScript s = interact::parseInputScript(text, "t.input.jsonl");
     EXPECT_EQ(s.width, 640);
     EXPECT_EQ(s.height, 480);
-    ASSERT_EQ(s.events.size(), 8u);
-    EXPECT_EQ(s.frames(), 13);
+    ASSERT_EQ(s.events.size(), 9u);
+    EXPECT_EQ(s.frames(), 14);
     EXPECT_EQ(s.events[1].kind, InputEventKind::Press);
     EXPECT_EQ(s.events[1].mods, interact::kModCtrl);
     EXPECT_EQ(s.events[2].x, 330.5);
@@ -39,6 +40,8 @@ TEST(InputScript, ParsesEveryEventAndRoundTrips) {
     EXPECT_EQ(s.events[5].key, "z");
     EXPECT_EQ(s.events[5].mods, interact::kModCtrl | interact::kModShift);
     EXPECT_EQ(s.events[7].path, "meshes/bunny.stl");
+    EXPECT_EQ(s.events[8].kind, InputEventKind::Text);
+    EXPECT_EQ(s.events[8].text, "bunny/é.obj");
     const std::string again = interact::formatInputScript(s);
     const interact::InputScript back = interact::parseInputScript(again, "again");
     EXPECT_EQ(interact::formatInputScript(back), again);

@@ -218,6 +218,33 @@ TEST(MeshDelta, UpdatesCoalesceIntoOneTake) {
     EXPECT_TRUE(s.mirrorMatches());
 }
 
+TEST(MeshDelta, CoalescingAndTheMirrorKeepTheNewestSampleTime) {
+    mesh::MeshDelta older;
+    older.reset = true;
+    older.generation = 1;
+    older.newestSampleNs = 500;
+    mesh::MeshDelta newer;
+    newer.base = 1;
+    newer.generation = 2;
+    mesh::coalesce(older, std::move(newer));
+    EXPECT_EQ(older.newestSampleNs, 500) << "a delta with no samples keeps the older one's";
+    mesh::MeshDelta reset;
+    reset.reset = true;
+    reset.generation = 3;
+    reset.newestSampleNs = 200;
+    mesh::coalesce(older, std::move(reset));
+    EXPECT_EQ(older.newestSampleNs, 500);
+    mesh::MeshMirror mirror;
+    ASSERT_TRUE(mirror.apply(std::move(older)));
+    EXPECT_EQ(mirror.newestSampleNs(), 500);
+    mesh::MeshDelta next;
+    next.base = 3;
+    next.generation = 4;
+    next.newestSampleNs = 900;
+    ASSERT_TRUE(mirror.apply(std::move(next)));
+    EXPECT_EQ(mirror.newestSampleNs(), 900);
+}
+
 TEST(MeshDelta, TilesCarvedAwayLeaveTheMirror) {
     // Two small spheres; carving one away whole drops its tiles from the mesher and the mirror.
     util::ThreadPool pool(2);

@@ -84,5 +84,21 @@ TEST(CpuSet, ImpossiblePinsFailWithAReasonAndKeepTheMask) {
     }).join();
 }
 
+TEST(CpuSet, TheServoThreadGetsTheHighestCpuAndTheRestGetTheOthers) {
+    const CpuSplit one = splitCpusForServo({0});
+    EXPECT_EQ(one.servoCpu, -1) << "one CPU: shared";
+    EXPECT_EQ(one.otherCpus, std::vector<int>{0});
+    const CpuSplit two = splitCpusForServo({0, 1});
+    EXPECT_EQ(two.servoCpu, 1);
+    EXPECT_EQ(two.otherCpus, std::vector<int>{0});
+    const CpuSplit many = splitCpusForServo({0, 1, 2, 3, 8, 9});
+    EXPECT_EQ(many.servoCpu, 9);
+    EXPECT_EQ(many.otherCpus, (std::vector<int>{0, 1, 2, 3, 8}));
+    EXPECT_EQ(formatCpuList(many.otherCpus), "0-3,8");
+    EXPECT_EQ(formatCpuList(two.otherCpus), "0");
+    EXPECT_EQ(formatCpuList({}), "");
+    EXPECT_EQ(formatCpuList({1, 3, 4, 6}), "1,3-4,6");
+}
+
 }  // namespace
 }  // namespace kizamu::util
