@@ -43,7 +43,7 @@ ClayRenderer::~ClayRenderer() {
 
 void ClayRenderer::drawGround(const OrbitCamera& camera, const glm::mat4& view,
                               const glm::mat4& projection, const RenderSettings& settings) const {
-    const glm::vec3 lo = mMesh.boundsMin(), hi = mMesh.boundsMax();
+    const glm::vec3 lo = boundsMin(), hi = boundsMax();
     // Seen from below, the floor would hide the model: it is drawn only from above.
     if (camera.eye().z <= lo.z) return;
     const glm::vec2 centre = 0.5f * (glm::vec2(lo) + glm::vec2(hi));
@@ -66,6 +66,26 @@ void ClayRenderer::drawGround(const OrbitCamera& camera, const glm::mat4& view,
 
 void ClayRenderer::setMesh(const mesh::MeshBuffers& m) {
     mMesh.upload(m);
+    mTiled = TiledGpuMesh();
+    mDrawsTiled = false;
+}
+
+bool ClayRenderer::applyDelta(mesh::MeshDelta&& delta, const VertexColourFunction& colour) {
+    if (!mTiled.apply(std::move(delta), colour)) return false;
+    if (!mDrawsTiled) mMesh = GpuMesh();
+    mDrawsTiled = true;
+    return true;
+}
+
+std::size_t ClayRenderer::triangleCount() const {
+    return mDrawsTiled ? mTiled.triangleCount() : mMesh.triangleCount();
+}
+
+void ClayRenderer::drawMesh() const {
+    if (mDrawsTiled)
+        mTiled.draw();
+    else
+        mMesh.draw();
 }
 
 void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection,
@@ -77,7 +97,7 @@ void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const g
     mTool.set("uNormal", tool.normal);
     mTool.set("uRadius", tool.radius);
     // The floor's height as drawGround puts it (a hair above, so the spot wins the depth test).
-    const float floorZ = mMesh.boundsMin().z;
+    const float floorZ = boundsMin().z;
     mTool.set("uFloorZ", floorZ);
     glBindVertexArray(mEmptyVao);
     glEnable(GL_BLEND);
@@ -106,7 +126,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
     glClearColor(bg.r, bg.g, bg.b, 1.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (mMesh.empty()) return;
+    if (meshEmpty()) return;
 
     const float aspect = float(width) / float(std::max(height, 1));
     const glm::mat4 view = camera.viewMatrix();
@@ -132,7 +152,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
     surface.set("uNormalView", glm::mat3(view));
     surface.set("uClaySrgb", settings.claySrgb);
     surface.set("uOrthographic", ortho);
-    mMesh.draw();
+    drawMesh();
     glDisable(GL_POLYGON_OFFSET_FILL);
 
     if (settings.wireframe) {
@@ -145,7 +165,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
         glDepthFunc(GL_LEQUAL);
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-        mMesh.draw();
+        drawMesh();
         glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
         glDepthFunc(GL_LESS);
         glDisable(GL_BLEND);

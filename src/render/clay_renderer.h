@@ -18,6 +18,7 @@
 #include "render/gpu_mesh.h"
 #include "render/image.h"
 #include "render/shader_program.h"
+#include "render/tiled_gpu_mesh.h"
 
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
@@ -69,14 +70,28 @@ public:
     ClayRenderer& operator=(const ClayRenderer&) = delete;
     ~ClayRenderer();
 
-    /// Replaces the mesh drawn (whole upload). See GpuMesh::upload.
+    /// Replaces the mesh drawn (whole upload; the off-screen `kizamu render` path) and drops the
+    /// tiled mesh. See GpuMesh::upload.
     void setMesh(const mesh::MeshBuffers& m);
     const GpuMesh& mesh() const { return mMesh; }
+    /// Applies a mesher's delta to the tiled mesh (uploading the tiles that changed) and draws
+    /// that from now on, dropping a mesh given to setMesh. Returns false, changing nothing, when
+    /// the delta does not follow the tiled mesh: the caller asks for a full one.
+    /// See TiledGpuMesh::apply for `colour`, complexity and memory.
+    bool applyDelta(mesh::MeshDelta&& delta, const VertexColourFunction& colour = {});
+    /// Repaints every vertex of the tiled mesh. See TiledGpuMesh::recolour.
+    void recolour(const VertexColourFunction& colour) { mTiled.recolour(colour); }
+    const TiledGpuMesh& tiledMesh() const { return mTiled; }
+    /// Of the mesh drawn (the tiled one after applyDelta, else setMesh's): triangles and bounds
+    /// (m, world; both zero when empty).
+    std::size_t triangleCount() const;
+    const glm::vec3& boundsMin() const { return mDrawsTiled ? mTiled.boundsMin() : mMesh.boundsMin(); }
+    const glm::vec3& boundsMax() const { return mDrawsTiled ? mTiled.boundsMax() : mMesh.boundsMax(); }
 
     /// Clears and draws the mesh into the framebuffer bound now, over a viewport of
     /// width × height pixels already set by the caller.
-    /// Complexity: one draw call (plus one each for the wireframe and the ground); O(triangles)
-    ///             on the GPU.
+    /// Complexity: one draw call (plus one each for the wireframe and the ground), whatever the
+    ///             tiled mesh's tile count; O(triangles) on the GPU.
     /// Threading: the context's thread. Memory: none.
     /// State: sets depth test, culling off, polygon mode and offset, blending, and the program;
     /// leaves depth test on, blending off, fill mode and no program bound.
@@ -94,8 +109,12 @@ private:
     void drawGround(const OrbitCamera& camera, const glm::mat4& view, const glm::mat4& projection,
                     const RenderSettings& settings) const;
     void drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection, bool floor) const;
+    bool meshEmpty() const { return mDrawsTiled ? mTiled.empty() : mMesh.empty(); }
+    void drawMesh() const;
     ShaderProgram mLit, mMatcap, mWire, mGround, mTool;
     GpuMesh mMesh;
+    TiledGpuMesh mTiled;
+    bool mDrawsTiled = false;  ///< which of the two holds the mesh drawn
     GLuint mEmptyVao = 0;  ///< the ground's draw reads no attributes, but core GL needs a VAO
     std::optional<Framebuffer> mTarget;
 };

@@ -1,0 +1,429 @@
+// SPDX-License-Identifier: Apache-2.0
+/// @file tiled_gpu_mesh.cpp
+/// @brief Mesh deltas to per-tile ranges of shared GL buffers (see tiled_gpu_mesh.h).
+///
+/// The vertices repeat MeshMirror::flatten's float operations (mesh_delta.cpp): the world
+/// transform in double, split vertices at the lattice mid-point of their ends, fan centres at
+/// the float mean of their corners' world positions in corner order; so the GPU holds the same
+/// bits as an upload of the flattened mirror.
+#include "render/tiled_gpu_mesh.h"
+
+#include "render/gpu_mesh.h"
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cassert>
+#include <stdexcept>
+#include <utility>
+
+namespace kizamu::render {
+
+namespace {
+
+enum VertexBuffer : std::size_t { kPositions = 0, kNormals = 1, kColours = 2 };
+
+/// Elements to reserve for `count`: a quarter more, so small growth stays in place.
+std::size_t withSlack(std::size_t count) { return count == 0 ? 0 : count + count / 4 + 4; }
+
+void sortUnique(std::vector<uint64_t>& keys) {
+    std::sort(keys.begin(), keys.end());
+    keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+}
+
+void addTo(std::unordered_map<uint64_t, std::vector<uint64_t>>& map, uint64_t from, uint64_t to) {
+    map[from].push_back(to);
+}
+
+void removeFrom(std::unordered_map<uint64_t, std::vector<uint64_t>>& map, uint64_t from, uint64_t to) {
+    auto it = map.find(from);
+    if (it == map.end()) return;
+    std::vector<uint64_t>& users = it->second;
+    if (auto u = std::find(users.begin(), users.end(), to); u != users.end()) {
+        *u = users.back();
+        users.pop_back();
+    }
+    if (users.empty()) map.erase(it);
+}
+
+}  // namespace
+
+TiledGpuMesh::TiledGpuMesh()
+    : mVertexArena({sizeof(glm::vec3), sizeof(glm::vec3), sizeof(glm::u8vec4)}), mIndexArena({sizeof(uint32_t)}) {}
+
+TiledGpuMesh::TiledGpuMesh(TiledGpuMesh&& other) noexcept : TiledGpuMesh() {
+    *this = std::move(other);
+}
+
+TiledGpuMesh& TiledGpuMesh::operator=(TiledGpuMesh&& other) noexcept {
+    if (this != &other) {
+        if (mVao) glDeleteVertexArrays(1, &mVao);
+        mTiles = std::move(other.mTiles);
+        mReferencedBy = std::move(other.mReferencedBy);
+        mSplitUsers = std::move(other.mSplitUsers);
+        mVertexArena = std::move(other.mVertexArena);
+        mIndexArena = std::move(other.mIndexArena);
+        mVao = std::exchange(other.mVao, 0);
+        mBoundPositions = std::exchange(other.mBoundPositions, 0);
+        mBoundIndices = std::exchange(other.mBoundIndices, 0);
+        mDrawCounts = std::move(other.mDrawCounts);
+        mDrawOffsets = std::move(other.mDrawOffsets);
+        mGeneration = other.mGeneration;
+        mSynced = std::exchange(other.mSynced, false);
+        mOriginWorld = other.mOriginWorld;
+        mCellSize = other.mCellSize;
+        mTriangles = std::exchange(other.mTriangles, 0);
+        mVertices = std::exchange(other.mVertices, 0);
+        mBoundsMin = other.mBoundsMin;
+        mBoundsMax = other.mBoundsMax;
+        mLastApply = other.mLastApply;
+        other.mTiles.clear();
+        other.mDrawCounts.clear();
+        other.mDrawOffsets.clear();
+    }
+    return *this;
+}
+
+TiledGpuMesh::~TiledGpuMesh() {
+    if (mVao) glDeleteVertexArrays(1, &mVao);
+}
+
+void TiledGpuMesh::link(uint64_t key, const Tile& t) {
+    for (uint64_t k : t.references) addTo(mReferencedBy, k, key);
+    for (uint64_t k : t.splitOwners) addTo(mSplitUsers, k, key);
+}
+
+void TiledGpuMesh::unlink(uint64_t key, const Tile& t) {
+    for (uint64_t k : t.references) removeFrom(mReferencedBy, k, key);
+    for (uint64_t k : t.splitOwners) removeFrom(mSplitUsers, k, key);
+}
+
+void TiledGpuMesh::freeRanges(Tile& t) {
+    if (t.vertices.capacity) mVertexArena.release(t.vertices.offset, t.vertices.capacity);
+    if (t.indices.capacity) mIndexArena.release(t.indices.offset, t.indices.capacity);
+    t.vertices = t.indices = Range{};
+}
+
+const TiledGpuMesh::Tile& TiledGpuMesh::tileOf(const mesh::VertexAddress& a) const {
+    auto it = mTiles.find(a.tile);
+    if (it == mTiles.end()) throw std::logic_error("tiled GPU mesh: an address names a tile the mesh lacks");
+    return it->second;
+}
+
+uint32_t TiledGpuMesh::numberOf(const mesh::VertexAddress& a) const {
+    const Tile& t = tileOf(a);
+    const std::size_t i = a.isSplit() ? t.share.alive.size() + (a.slot - mesh::VertexAddress::kSplitSlot) : a.slot;
+    if (i >= t.number.size() || t.number[i] == UINT32_MAX)
+        throw std::logic_error("tiled GPU mesh: an address names a free or missing slot");
+    return uint32_t(t.vertices.offset) + t.number[i];
+}
+
+glm::vec3 TiledGpuMesh::latticeOf(const mesh::VertexAddress& a) const {
+    const Tile& t = tileOf(a);
+    if (!a.isSplit()) {
+        if (a.slot >= t.share.alive.size() || !t.share.alive[a.slot])
+            throw std::logic_error("tiled GPU mesh: an address names a free or missing slot");
+        return t.share.positions[a.slot];
+    }
+    const std::size_t s = a.slot - mesh::VertexAddress::kSplitSlot;
+    if (s >= t.share.splits.size()) throw std::logic_error("tiled GPU mesh: an address names a missing split vertex");
+    const auto& [ea, eb] = t.share.splits[s];
+    if (ea.isSplit() || eb.isSplit()) throw std::logic_error("tiled GPU mesh: a split vertex's end is no live vertex");
+    return 0.5f * (latticeOf(ea) + latticeOf(eb));
+}
+
+glm::vec3 TiledGpuMesh::normalOf(const mesh::VertexAddress& a) const {
+    const Tile& t = tileOf(a);
+    if (!a.isSplit()) return t.share.normals[a.slot];
+    const auto& [ea, eb] = t.share.splits[a.slot - mesh::VertexAddress::kSplitSlot];
+    const glm::vec3 na = normalOf(ea), n = na + normalOf(eb);
+    return glm::dot(n, n) > 0.0f ? glm::normalize(n) : na;
+}
+
+glm::vec3 TiledGpuMesh::world(const glm::vec3& lattice) const {
+    return glm::vec3(mOriginWorld + glm::dvec3(lattice) * mCellSize);
+}
+
+void TiledGpuMesh::stageVertices(Tile& t) {
+    const mesh::MeshTileShare& s = t.share;
+    const std::size_t first = mStagePositions.size();
+    for (std::size_t i = 0; i < s.alive.size(); ++i) {
+        if (!s.alive[i]) continue;
+        mStagePositions.push_back(world(s.positions[i]));
+        mStageNormals.push_back(s.normals[i]);
+    }
+    for (std::size_t i = 0; i < s.splits.size(); ++i) {
+        const mesh::VertexAddress self{s.key, mesh::VertexAddress::kSplitSlot + uint32_t(i)};
+        mStagePositions.push_back(world(latticeOf(self)));
+        mStageNormals.push_back(normalOf(self));
+    }
+    for (const mesh::MeshFan& f : s.fans) {
+        glm::vec3 c(0.0f), nsum(0.0f);
+        for (uint32_t i = 0; i < f.count; ++i) {
+            c += world(latticeOf(f.corners[i]));
+            nsum += normalOf(f.corners[i]);
+        }
+        mStagePositions.push_back(c / float(f.count));
+        mStageNormals.push_back(glm::dot(nsum, nsum) > 0.0f ? glm::normalize(nsum) : glm::vec3(0.0f, 0.0f, 1.0f));
+    }
+    t.vertices.used = mStagePositions.size() - first;
+    assert(t.vertices.used <= t.vertices.capacity && "TiledGpuMesh: a tile's vertices outgrew its range");
+    t.boundsMin = t.boundsMax = t.vertices.used ? mStagePositions[first] : glm::vec3(0.0f);
+    for (std::size_t i = first; i < mStagePositions.size(); ++i) {
+        t.boundsMin = glm::min(t.boundsMin, mStagePositions[i]);
+        t.boundsMax = glm::max(t.boundsMax, mStagePositions[i]);
+    }
+}
+
+void TiledGpuMesh::stageIndices(Tile& t) {
+    const mesh::MeshTileShare& s = t.share;
+    const std::size_t count = 3 * (s.triangles.size() + t.fanTriangles);
+    if (count > t.indices.capacity) {
+        if (t.indices.capacity) mIndexArena.release(t.indices.offset, t.indices.capacity);
+        t.indices.capacity = withSlack(count);
+        t.indices.offset = mIndexArena.allocate(t.indices.capacity);
+    }
+    t.indices.used = count;
+    for (const auto& tri : s.triangles)
+        for (const mesh::VertexAddress& a : tri) mStageIndices.push_back(numberOf(a));
+    uint32_t centre = uint32_t(t.vertices.offset + t.plainVertices + s.splits.size());
+    for (const mesh::MeshFan& f : s.fans) {
+        uint32_t polygon[8];
+        for (uint32_t i = 0; i < f.count; ++i) polygon[i] = numberOf(f.corners[i]);
+        for (uint32_t i = 0; i < f.count; ++i) {
+            const uint32_t a = polygon[i], b = polygon[(i + 1) % f.count];
+            mStageIndices.insert(mStageIndices.end(), {centre, f.flip ? b : a, f.flip ? a : b});
+        }
+        ++centre;
+    }
+}
+
+bool TiledGpuMesh::setShare(uint64_t key, Tile& t, mesh::MeshTileShare&& share) {
+    t.share = std::move(share);
+    const mesh::MeshTileShare& s = t.share;
+    t.number.assign(s.alive.size() + s.splits.size(), UINT32_MAX);
+    uint32_t next = 0;
+    for (std::size_t i = 0; i < s.alive.size(); ++i)
+        if (s.alive[i]) t.number[i] = next++;
+    t.plainVertices = next;
+    for (std::size_t i = 0; i < s.splits.size(); ++i) t.number[s.alive.size() + i] = next++;
+    t.fanTriangles = 0;
+    for (const mesh::MeshFan& f : s.fans) t.fanTriangles += f.count;
+    const std::size_t vertices = next + s.fans.size();
+    const bool moves = vertices > t.vertices.capacity;
+    if (moves) {  // every tile naming its vertices is re-emitted
+        if (t.vertices.capacity) mVertexArena.release(t.vertices.offset, t.vertices.capacity);
+        t.vertices.capacity = withSlack(vertices);
+        t.vertices.offset = mVertexArena.allocate(t.vertices.capacity);
+    }
+    t.references.clear();
+    t.splitOwners.clear();
+    auto name = [&](const mesh::VertexAddress& a) {
+        if (a.tile != key) t.references.push_back(a.tile);
+    };
+    for (const auto& split : s.splits)
+        for (const mesh::VertexAddress& a : split) name(a);
+    for (const auto& tri : s.triangles)
+        for (const mesh::VertexAddress& a : tri) name(a);
+    for (const mesh::MeshFan& f : s.fans)
+        for (uint32_t i = 0; i < f.count; ++i) {
+            name(f.corners[i]);
+            if (f.corners[i].isSplit() && f.corners[i].tile != key) t.splitOwners.push_back(f.corners[i].tile);
+        }
+    sortUnique(t.references);
+    sortUnique(t.splitOwners);
+    return moves;
+}
+
+bool TiledGpuMesh::apply(mesh::MeshDelta&& delta, const VertexColourFunction& colour) {
+    if (!delta.reset && (!mSynced || delta.base != mGeneration)) return false;
+    mLastApply = TiledUploadStats{};
+    mLastApply.tilesInDelta = delta.tiles.size() + delta.removed.size();
+    mVertexArena.resetCounters();
+    mIndexArena.resetCounters();
+    if (delta.reset) {
+        mTiles.clear();
+        mReferencedBy.clear();
+        mSplitUsers.clear();
+        mVertexArena.clear();
+        mIndexArena.clear();
+        mSynced = true;
+    }
+    mGeneration = delta.generation;
+    mOriginWorld = delta.originWorld;
+    mCellSize = delta.cellSize;
+
+    // The tiles to re-emit: the delta's, and those naming a tile of the delta or a removed one.
+    std::vector<uint64_t> reEmit;
+    auto addReferencersOf = [&](uint64_t key) {
+        if (auto it = mReferencedBy.find(key); it != mReferencedBy.end())
+            reEmit.insert(reEmit.end(), it->second.begin(), it->second.end());
+    };
+    for (uint64_t key : delta.removed) {
+        auto it = mTiles.find(key);
+        if (it == mTiles.end()) continue;
+        addReferencersOf(key);
+        unlink(key, it->second);
+        freeRanges(it->second);
+        mTiles.erase(it);
+    }
+    for (mesh::MeshTileShare& share : delta.tiles) {
+        const uint64_t key = share.key;
+        auto [it, made] = mTiles.try_emplace(key);
+        if (!made) unlink(key, it->second);
+        mLastApply.tilesMoved += setShare(key, it->second, std::move(share)) && !made ? 1 : 0;
+        link(key, it->second);
+        reEmit.push_back(key);
+    }
+    for (const mesh::MeshTileShare& share : delta.tiles) addReferencersOf(share.key);
+    // Fan centres lie among split vertices, which lie between other tiles' vertices: a tile
+    // whose fans use a re-emitted tile's split vertices is re-emitted too.
+    for (std::size_t i = 0, n = reEmit.size(); i < n; ++i)
+        if (auto it = mSplitUsers.find(reEmit[i]); it != mSplitUsers.end())
+            reEmit.insert(reEmit.end(), it->second.begin(), it->second.end());
+    sortUnique(reEmit);
+
+    // Vertices of every re-emitted tile back to back, painted in one call, then written.
+    mStagePositions.clear();
+    mStageNormals.clear();
+    mStageIndices.clear();
+    struct Staged {
+        Tile* tile;
+        std::size_t firstVertex, firstIndex;
+    };
+    std::vector<Staged> staged;
+    staged.reserve(reEmit.size());
+    for (uint64_t key : reEmit) {
+        auto it = mTiles.find(key);
+        if (it == mTiles.end()) continue;  // a removed tile that named another removed one
+        Tile& t = it->second;
+        staged.push_back({&t, mStagePositions.size(), mStageIndices.size()});
+        stageVertices(t);
+        stageIndices(t);
+    }
+    mStageColours.assign(mStagePositions.size(), glm::u8vec4(0));
+    if (colour) colour(mStagePositions, mStageColours);
+    std::size_t bytes = 0;
+    for (const Staged& s : staged) {
+        const Tile& t = *s.tile;
+        const std::size_t v = t.vertices.offset, n = t.vertices.used;
+        bytes += mVertexArena.write(kPositions, v, mStagePositions.data() + s.firstVertex, n);
+        bytes += mVertexArena.write(kNormals, v, mStageNormals.data() + s.firstVertex, n);
+        bytes += mVertexArena.write(kColours, v, mStageColours.data() + s.firstVertex, n);
+        bytes += mIndexArena.write(0, t.indices.offset, mStageIndices.data() + s.firstIndex, t.indices.used);
+    }
+    mLastApply.tilesReEmitted = staged.size();
+    mLastApply.verticesWritten = mStagePositions.size();
+    mLastApply.bytesUploaded = bytes;
+    mLastApply.bytesCopied = mVertexArena.bytesCopied() + mIndexArena.bytesCopied();
+    bindVertexArray();
+    refreshDrawList();
+    return true;
+}
+
+void TiledGpuMesh::recolour(const VertexColourFunction& colour) {
+    mStagePositions.clear();
+    mStageNormals.clear();
+    std::vector<std::pair<const Tile*, std::size_t>> staged;
+    staged.reserve(mTiles.size());
+    for (auto& [key, t] : mTiles) {
+        staged.emplace_back(&t, mStagePositions.size());
+        stageVertices(t);
+    }
+    mStageColours.assign(mStagePositions.size(), glm::u8vec4(0));
+    if (colour) colour(mStagePositions, mStageColours);
+    for (const auto& [t, first] : staged)
+        mVertexArena.write(kColours, t->vertices.offset, mStageColours.data() + first, t->vertices.used);
+}
+
+void TiledGpuMesh::bindVertexArray() {
+    if (mVertexArena.name(kPositions) == mBoundPositions && mIndexArena.name(0) == mBoundIndices) return;
+    if (!mVao) glGenVertexArrays(1, &mVao);
+    glBindVertexArray(mVao);
+    const std::pair<VertexBuffer, GLuint> attributes[] = {
+        {kPositions, attrib::kPosition}, {kNormals, attrib::kNormal}, {kColours, attrib::kColour}};
+    for (const auto& [buffer, location] : attributes) {
+        glBindBuffer(GL_ARRAY_BUFFER, mVertexArena.name(buffer));
+        glEnableVertexAttribArray(location);
+        if (buffer == kColours)
+            glVertexAttribPointer(location, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(glm::u8vec4), nullptr);
+        else
+            glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    }
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mIndexArena.name(0));  // recorded in the vertex array
+    glBindVertexArray(0);
+    glBindBuffer(GL_ARRAY_BUFFER, 0);
+    mBoundPositions = mVertexArena.name(kPositions);
+    mBoundIndices = mIndexArena.name(0);
+}
+
+void TiledGpuMesh::refreshDrawList() {
+    mDrawCounts.clear();
+    mDrawOffsets.clear();
+    mTriangles = mVertices = 0;
+    bool first = true;
+    mBoundsMin = mBoundsMax = glm::vec3(0.0f);
+    // In buffer order: the GPU reads the index buffer front to back.
+    std::vector<const Tile*> order;
+    order.reserve(mTiles.size());
+    for (const auto& [key, t] : mTiles) order.push_back(&t);
+    std::sort(order.begin(), order.end(), [](const Tile* a, const Tile* b) { return a->indices.offset < b->indices.offset; });
+    for (const Tile* t : order) {
+        mVertices += t->vertices.used;
+        if (t->vertices.used) {
+            mBoundsMin = first ? t->boundsMin : glm::min(mBoundsMin, t->boundsMin);
+            mBoundsMax = first ? t->boundsMax : glm::max(mBoundsMax, t->boundsMax);
+            first = false;
+        }
+        if (t->indices.used == 0) continue;
+        mTriangles += t->indices.used / 3;
+        mDrawCounts.push_back(GLsizei(t->indices.used));
+        mDrawOffsets.push_back(reinterpret_cast<const void*>(t->indices.offset * sizeof(uint32_t)));
+    }
+}
+
+void TiledGpuMesh::draw() const {
+    if (mDrawCounts.empty()) return;
+    glBindVertexArray(mVao);
+    glMultiDrawElements(GL_TRIANGLES, mDrawCounts.data(), GL_UNSIGNED_INT, mDrawOffsets.data(),
+                        GLsizei(mDrawCounts.size()));
+    glBindVertexArray(0);
+}
+
+mesh::MeshBuffers TiledGpuMesh::readBack() const {
+    mesh::MeshBuffers m;
+    if (mTiles.empty()) return m;
+    auto read = [](GLuint buffer, std::size_t bytes, void* out) {
+        if (bytes == 0) return;
+        glBindBuffer(GL_COPY_READ_BUFFER, buffer);
+        glGetBufferSubData(GL_COPY_READ_BUFFER, 0, GLsizeiptr(bytes), out);
+        glBindBuffer(GL_COPY_READ_BUFFER, 0);
+    };
+    const std::size_t vertices = mVertexArena.capacity(), indices = mIndexArena.capacity();
+    std::vector<glm::vec3> positions(vertices), normals(vertices);
+    std::vector<glm::u8vec4> colours(vertices);
+    std::vector<uint32_t> index(indices);
+    read(mVertexArena.name(kPositions), vertices * sizeof(glm::vec3), positions.data());
+    read(mVertexArena.name(kNormals), vertices * sizeof(glm::vec3), normals.data());
+    read(mVertexArena.name(kColours), vertices * sizeof(glm::u8vec4), colours.data());
+    read(mIndexArena.name(0), indices * sizeof(uint32_t), index.data());
+    // Only what the tiles' ranges use: slack and freed ranges hold stale data.
+    std::vector<uint32_t> renumber(vertices, UINT32_MAX);
+    for (const auto& [key, t] : mTiles)
+        for (std::size_t i = 0; i < t.vertices.used; ++i) {
+            const std::size_t v = t.vertices.offset + i;
+            renumber[v] = uint32_t(m.positions.size());
+            m.positions.push_back(positions[v]);
+            m.normals.push_back(normals[v]);
+            m.colours.push_back(glm::u8vec3(colours[v]));
+        }
+    for (const auto& [key, t] : mTiles)
+        for (std::size_t i = 0; i < t.indices.used; ++i) {
+            const uint32_t v = index[t.indices.offset + i];
+            m.indices.push_back(v < vertices ? renumber[v] : UINT32_MAX);
+        }
+    return m;
+}
+
+}  // namespace kizamu::render
