@@ -169,7 +169,8 @@ private:
     std::unique_ptr<engine::Engine> mEngine;
     std::unique_ptr<adf::SnapshotStore::Reader> mReader;
     std::unique_ptr<Haptics> mHaptics;
-    mesh::MeshMirror mMirror;
+    /// The colour layer the drawn mesh's colours were read from (null: unpainted).
+    std::shared_ptr<const adf::ColourLayer> mColoursShown;
     std::size_t mTriangles = 0;
     std::size_t mCells = 0;
     Clock::time_point mCellsCounted{};
@@ -259,7 +260,7 @@ void SculptApp::pollLaunched() {
         if (r.ok && r.message.empty()) mStatus = it->what + ": done";
         if (r.ok && !it->sessionDir.empty()) {
             mSessionDir = it->sessionDir;
-            mMirror = mesh::MeshMirror();
+            mRenderer.requireFullMesh();
             mFramed = false;
             setTitle();
         }
@@ -458,36 +459,39 @@ void SculptApp::sculpt() {
 }
 
 void SculptApp::updateMesh() {
-    std::optional<mesh::MeshDelta> delta = mEngine->takeMeshDelta();
-    if (!delta) return;
-    if (!mMirror.apply(std::move(*delta))) {
-        mEngine->requestFullMesh();
-        return;
-    }
-    mesh::MeshBuffers m = mMirror.flatten();
-    {
-        // Paint: the mirror carries shapes only; the colours are the published layer's at each
-        // vertex (the same lookup every export uses, mesh_colours.h).
-        const auto guard = mReader->acquire();
-        if (guard.adf().colours()) mesh::colourPoints(*guard.adf().colours(), m.positions, m.colours);
-    }
-    mTriangles = m.triangleCount();
-    if (Clock::now() - mCellsCounted > std::chrono::milliseconds(500)) {  // O(tiles): twice a second at most
-        const auto guard = mReader->acquire();
-        mCells = guard.adf().computeStats().cells;
-        mCellsCounted = Clock::now();
-    }
-    mRenderer.setMesh(m);
-    if (!mFramed && m.vertexCount() > 0) {
-        glm::vec3 lo(HUGE_VALF), hi(-HUGE_VALF);
-        for (const glm::vec3& p : m.positions) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
+    // Paint: the deltas carry shapes only; a vertex's colour is the published layer's at its
+    // position (the same lookup every export uses, mesh_colours.h), read for the vertices a
+    // delta re-emits, and for every vertex when the layer itself changed (a paint stroke).
+    auto paintFrom = [](std::shared_ptr<const adf::ColourLayer> layer) -> render::VertexColourFunction {
+        if (!layer) return {};
+        return [layer = std::move(layer)](std::span<const glm::vec3> positions, std::span<glm::u8vec4> colours) {
+            std::vector<glm::u8vec3> rgb;
+            mesh::colourPoints(*layer, positions, rgb);
+            for (std::size_t i = 0; i < rgb.size(); ++i) colours[i] = glm::u8vec4(rgb[i], 255);
+        };
+    };
+    std::shared_ptr<const adf::ColourLayer> layer = mReader->acquire().adf().colours();
+    if (std::optional<mesh::MeshDelta> delta = mEngine->takeMeshDelta()) {
+        if (!mRenderer.applyDelta(std::move(*delta), paintFrom(layer))) {
+            mEngine->requestFullMesh();
+            return;
         }
-        const glm::ivec2 size = mWindow.windowSize();
-        if (mCamera.distance == 1.0f && mCamera.yawRad == 0.0f) mCamera.setView(render::ViewAxis::Iso);
-        mCamera.frame(lo, hi, float(size.x) / float(std::max(1, size.y)), 1.6f);
-        mFramed = true;
+        mTriangles = mRenderer.triangleCount();
+        if (Clock::now() - mCellsCounted > std::chrono::milliseconds(500)) {  // O(tiles): twice a second at most
+            const auto guard = mReader->acquire();
+            mCells = guard.adf().computeStats().cells;
+            mCellsCounted = Clock::now();
+        }
+        if (!mFramed && mTriangles > 0) {
+            const glm::ivec2 size = mWindow.windowSize();
+            if (mCamera.distance == 1.0f && mCamera.yawRad == 0.0f) mCamera.setView(render::ViewAxis::Iso);
+            mCamera.frame(mRenderer.boundsMin(), mRenderer.boundsMax(), float(size.x) / float(std::max(1, size.y)), 1.6f);
+            mFramed = true;
+        }
+    }
+    if (layer != mColoursShown) {
+        if (layer || mColoursShown) mRenderer.recolour(paintFrom(layer));
+        mColoursShown = std::move(layer);
     }
 }
 

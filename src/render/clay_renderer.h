@@ -79,6 +79,8 @@ public:
     /// the delta does not follow the tiled mesh: the caller asks for a full one.
     /// See TiledGpuMesh::apply for `colour`, complexity and memory.
     bool applyDelta(mesh::MeshDelta&& delta, const VertexColourFunction& colour = {});
+    /// See TiledGpuMesh::requireReset.
+    void requireFullMesh() { mTiled.requireReset(); }
     /// Repaints every vertex of the tiled mesh. See TiledGpuMesh::recolour.
     void recolour(const VertexColourFunction& colour) { mTiled.recolour(colour); }
     const TiledGpuMesh& tiledMesh() const { return mTiled; }

@@ -24,8 +24,11 @@ namespace {
 
 enum VertexBuffer : std::size_t { kPositions = 0, kNormals = 1, kColours = 2 };
 
-/// Elements to reserve for `count`: a quarter more, so small growth stays in place.
-std::size_t withSlack(std::size_t count) { return count == 0 ? 0 : count + count / 4 + 4; }
+/// Vertices to reserve for `count`: a quarter more, so small growth stays in place (a vertex
+/// range that moves makes every tile naming it re-emit).
+std::size_t vertexSlack(std::size_t count) { return count == 0 ? 0 : count + count / 4 + 4; }
+/// Indices to reserve for `count` (a multiple of 3): an eighth more, whole triangles.
+std::size_t indexSlack(std::size_t count) { return count == 0 ? 0 : count + 3 * (count / 24 + 2); }
 
 void sortUnique(std::vector<uint64_t>& keys) {
     std::sort(keys.begin(), keys.end());
@@ -181,7 +184,7 @@ void TiledGpuMesh::stageIndices(Tile& t) {
     const std::size_t count = 3 * (s.triangles.size() + t.fanTriangles);
     if (count > t.indices.capacity) {
         if (t.indices.capacity) mIndexArena.release(t.indices.offset, t.indices.capacity);
-        t.indices.capacity = withSlack(count);
+        t.indices.capacity = indexSlack(count);
         t.indices.offset = mIndexArena.allocate(t.indices.capacity);
     }
     t.indices.used = count;
@@ -197,6 +200,9 @@ void TiledGpuMesh::stageIndices(Tile& t) {
         }
         ++centre;
     }
+    // The slack as degenerate triangles: the whole range is drawn, so tiles that lie back to
+    // back in the buffer are drawn as one range.
+    mStageIndices.insert(mStageIndices.end(), t.indices.capacity - count, 0u);
 }
 
 bool TiledGpuMesh::setShare(uint64_t key, Tile& t, mesh::MeshTileShare&& share) {
@@ -214,7 +220,7 @@ bool TiledGpuMesh::setShare(uint64_t key, Tile& t, mesh::MeshTileShare&& share) 
     const bool moves = vertices > t.vertices.capacity;
     if (moves) {  // every tile naming its vertices is re-emitted
         if (t.vertices.capacity) mVertexArena.release(t.vertices.offset, t.vertices.capacity);
-        t.vertices.capacity = withSlack(vertices);
+        t.vertices.capacity = vertexSlack(vertices);
         t.vertices.offset = mVertexArena.allocate(t.vertices.capacity);
     }
     t.references.clear();
@@ -311,7 +317,7 @@ bool TiledGpuMesh::apply(mesh::MeshDelta&& delta, const VertexColourFunction& co
         bytes += mVertexArena.write(kPositions, v, mStagePositions.data() + s.firstVertex, n);
         bytes += mVertexArena.write(kNormals, v, mStageNormals.data() + s.firstVertex, n);
         bytes += mVertexArena.write(kColours, v, mStageColours.data() + s.firstVertex, n);
-        bytes += mIndexArena.write(0, t.indices.offset, mStageIndices.data() + s.firstIndex, t.indices.used);
+        bytes += mIndexArena.write(0, t.indices.offset, mStageIndices.data() + s.firstIndex, t.indices.capacity);
     }
     mLastApply.tilesReEmitted = staged.size();
     mLastApply.verticesWritten = mStagePositions.size();
@@ -369,6 +375,7 @@ void TiledGpuMesh::refreshDrawList() {
     order.reserve(mTiles.size());
     for (const auto& [key, t] : mTiles) order.push_back(&t);
     std::sort(order.begin(), order.end(), [](const Tile* a, const Tile* b) { return a->indices.offset < b->indices.offset; });
+    std::size_t end = 0;  // of the last range drawn
     for (const Tile* t : order) {
         mVertices += t->vertices.used;
         if (t->vertices.used) {
@@ -376,15 +383,20 @@ void TiledGpuMesh::refreshDrawList() {
             mBoundsMax = first ? t->boundsMax : glm::max(mBoundsMax, t->boundsMax);
             first = false;
         }
-        if (t->indices.used == 0) continue;
         mTriangles += t->indices.used / 3;
-        mDrawCounts.push_back(GLsizei(t->indices.used));
-        mDrawOffsets.push_back(reinterpret_cast<const void*>(t->indices.offset * sizeof(uint32_t)));
+        if (t->indices.capacity == 0) continue;
+        if (!mDrawCounts.empty() && end == t->indices.offset) {  // back to back: one range
+            mDrawCounts.back() += GLsizei(t->indices.capacity);
+        } else {
+            mDrawCounts.push_back(GLsizei(t->indices.capacity));
+            mDrawOffsets.push_back(reinterpret_cast<const void*>(t->indices.offset * sizeof(uint32_t)));
+        }
+        end = t->indices.offset + t->indices.capacity;
     }
 }
 
 void TiledGpuMesh::draw() const {
-    if (mDrawCounts.empty()) return;
+    if (mTriangles == 0) return;
     glBindVertexArray(mVao);
     glMultiDrawElements(GL_TRIANGLES, mDrawCounts.data(), GL_UNSIGNED_INT, mDrawOffsets.data(),
                         GLsizei(mDrawCounts.size()));

@@ -10,8 +10,11 @@
 /// Layout. Four shared buffers: positions, normals, colours (one vertex range per tile, the same
 /// in the three) and indices (one index range per tile), sub-allocated by BufferArena. A tile's
 /// vertex range holds its live slots, then its split vertices, then its fan centres; its index
-/// range its triangles, then its fans' triangles, as absolute vertex numbers. Ranges get a
-/// quarter of slack, so a tile that gains a few vertices or triangles stays where it is.
+/// range its triangles, then its fans' triangles, as absolute vertex numbers. Ranges get some
+/// slack (a quarter for vertices, an eighth for indices), so a tile that gains a few vertices
+/// or triangles stays where it is. Index slack holds degenerate triangles, so each index range
+/// is drawn whole and tiles lying back to back are one range of the multi-draw: after a build
+/// all of them, after edits a few more, one for each hole that moved tiles left.
 ///
 /// What a delta re-emits (writes again, vertices and indices): the delta's tiles; every tile
 /// that references one of them or a removed tile (its triangles name their vertices by number,
@@ -55,7 +58,7 @@ struct TiledUploadStats {
     std::size_t tilesReEmitted = 0;  ///< tiles whose vertices and indices were written
     std::size_t tilesMoved = 0;      ///< tiles of the delta that outgrew their vertex range
     std::size_t verticesWritten = 0;
-    std::size_t bytesUploaded = 0;  ///< CPU to GPU (glBufferSubData)
+    std::size_t bytesUploaded = 0;  ///< CPU to GPU (glBufferSubData), index slack included
     std::size_t bytesCopied = 0;    ///< GPU to GPU, when a buffer grew
 };
 
@@ -78,6 +81,9 @@ public:
     /// Threading: the context's thread. Memory: takes the shares over; staging for the
     ///            re-emitted tiles; buffers grow by doubling and never shrink.
     bool apply(mesh::MeshDelta&& delta, const VertexColourFunction& colour = {});
+    /// Refuses every delta but a reset from now on (the deltas' source was replaced: its
+    /// generations start again); keeps drawing the mesh held until the reset arrives.
+    void requireReset() { mSynced = false; }
     /// Writes every vertex's colour again from `colour` (a paint stroke changes no share).
     /// Complexity: O(vertices) CPU and upload. Threading: the context's thread.
     void recolour(const VertexColourFunction& colour);
@@ -97,6 +103,8 @@ public:
     std::size_t vertexCount() const { return mVertices; }
     /// GL draw calls one draw() makes: 1, or 0 when empty, whatever the tile count.
     std::size_t drawCallsPerDraw() const { return empty() ? 0 : 1; }
+    /// Index ranges that one call draws (runs of tiles back to back in the index buffer).
+    std::size_t drawRangeCount() const { return mDrawCounts.size(); }
     const TiledUploadStats& lastApply() const { return mLastApply; }
     /// Axis-aligned bounds of the vertices (m, world); both zero when empty.
     const glm::vec3& boundsMin() const { return mBoundsMin; }

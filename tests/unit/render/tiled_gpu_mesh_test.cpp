@@ -187,6 +187,8 @@ TEST_F(TiledGpuMeshTest, FollowsDabsAsTheFlattenedMirror) {
     EXPECT_GT(moved, 0u) << "no tile outgrew its range: the case is untested";
     EXPECT_GT(referencing, 0u) << "no tile was re-emitted for its references: the case is untested";
     EXPECT_EQ(tiled.tiledMesh().drawCallsPerDraw(), 1u);
+    std::printf("%zu draw ranges for %zu tiles\n", tiled.tiledMesh().drawRangeCount(), tiled.tiledMesh().tileCount());
+    EXPECT_LT(tiled.tiledMesh().drawRangeCount(), tiled.tiledMesh().tileCount() / 4);
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
 
@@ -244,7 +246,8 @@ TEST_F(TiledGpuMeshTest, ASmallEditUploadsItsTilesOnly) {
     TiledGpuMesh tiled;
     ASSERT_TRUE(tiled.apply(e.take()));
     const std::size_t wholeBytes = tiled.lastApply().bytesUploaded;
-    EXPECT_EQ(wholeBytes, tiled.vertexCount() * 28 + tiled.triangleCount() * 12);
+    EXPECT_GE(wholeBytes, tiled.vertexCount() * 28 + tiled.triangleCount() * 12);
+    EXPECT_LT(wholeBytes, tiled.vertexCount() * 28 + tiled.triangleCount() * 14) << "index slack: an eighth";
     std::mt19937_64 rng(7);
     for (int i = 0; i < 6; ++i) {
         e.dab(rng, i % 2 ? CsgOp::Union : CsgOp::Difference, 3.0);
@@ -305,6 +308,7 @@ TEST_F(TiledGpuMeshTest, OneDrawCallAtLevelTwelve) {
     std::printf("level 12: %zu tiles, %zu triangles\n", tiled.tileCount(), tiled.triangleCount());
     EXPECT_GT(tiled.tileCount(), 100u);
     EXPECT_EQ(tiled.drawCallsPerDraw(), 1u);
+    EXPECT_EQ(tiled.drawRangeCount(), 1u) << "after a build every tile lies back to back";
     OrbitCamera camera;
     camera.setView(ViewAxis::Iso);
     camera.frame(renderer.boundsMin(), renderer.boundsMax(), 1.0f);
