@@ -238,7 +238,7 @@ int runRenderBench(const RenderBenchOptions& o) {
     out.add("render.edit_to_mesh_ms", del, "ms", "the engine's part: sample to mesh delta");
     out.add("render.edit_to_visible_frames", (vis - del) / frameMs, "frames",
             "beyond the engine's latency, in level-10 frame times; target <= 2");
-    const double wholeBytes = double(tiled.vertexCount() * 28 + tiled.triangleCount() * 12);
+    const double wholeBytes = double(tiled.vertexCount() * 32 + tiled.triangleCount() * 12);
     out.add("render.edit_upload_bytes", uploadBytes.empty() ? NAN : median(uploadBytes), "bytes",
             "a dab's deltas applied to the tiled mesh, median; " +
                 std::to_string(reEmitted.empty() ? 0 : int(median(reEmitted))) + " of " +

@@ -52,8 +52,9 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& o) {
         ->check(CLI::IsMember({"iso", "front", "back", "left", "right", "top", "bottom"}))
         ->capture_default_str();
     cmd->add_option("--mode", o.mode,
-                    "Shading: lit clay, matcap, or wireframe (lit with the triangle edges)")
-        ->check(CLI::IsMember({"lit", "matcap", "wireframe"}))
+                    "Shading: lit clay, matcap, points (lit discs at the vertices, a fast global view), or "
+                    "wireframe (lit with the triangle edges)")
+        ->check(CLI::IsMember({"lit", "matcap", "points", "wireframe"}))
         ->capture_default_str();
     cmd->add_flag("--ortho", o.ortho, "Orthographic projection (default: perspective)");
     cmd->add_flag("--ground", o.ground, "A floor under the model with a soft contact shadow");

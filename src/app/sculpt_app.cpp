@@ -98,6 +98,7 @@ std::vector<std::string> interruptedSessions(const std::string& root) {
 
 const char* const kOpNames[] = {"Carve", "Add", "Build", "Heat gun", "Smooth", "Flatten", "Paint"};
 const char* const kShapeNames[] = {"Sphere", "Cube", "Cylinder"};
+const char* const kShadeNames[] = {"Lit", "Matcap", "Points"};  ///< render::ShadeMode's, in order
 const char* const kUnits[] = {"mm", "cm", "m"};  ///< an export's coordinates
 
 /// The process's resident memory, MiB (Linux /proc/self/statm; 0 where it cannot be read).
@@ -361,7 +362,7 @@ void SculptApp::handleKeys() {
                                                                                         : render::Projection::Perspective;
         else if (k.key == "kpdecimal" || k.key == "home") mFramed = false;
         else if (k.key == "w" && !ctrl) mLook.wireframe = !mLook.wireframe;
-        else if (k.key == "m" && !ctrl) mLook.shade = mLook.shade == render::ShadeMode::Lit ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
+        else if (k.key == "m" && !ctrl) mLook.shade = render::ShadeMode((int(mLook.shade) + 1) % IM_ARRAYSIZE(kShadeNames));
         else if (k.key == "escape") launch(mEngine->cancelStroke(), "cancel");
     }
 }
@@ -566,8 +567,10 @@ void SculptApp::panel() {
         handleDrops();
     }
     ImGui::Separator();
-    bool matcap = mLook.shade == render::ShadeMode::Matcap, ortho = mCamera.projection == render::Projection::Orthographic;
-    if (ImGui::Checkbox("Matcap", &matcap)) mLook.shade = matcap ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
+    bool ortho = mCamera.projection == render::Projection::Orthographic;
+    int shade = int(mLook.shade);
+    ImGui::SetNextItemWidth(80);
+    if (ImGui::Combo("##shade", &shade, kShadeNames, IM_ARRAYSIZE(kShadeNames))) mLook.shade = render::ShadeMode(shade);
     ImGui::SameLine();
     ImGui::Checkbox("Wire", &mLook.wireframe);
     ImGui::SameLine();

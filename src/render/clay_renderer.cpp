@@ -19,6 +19,9 @@ bool applyModeName(std::string_view name, RenderSettings& settings) {
     } else if (name == "matcap") {
         settings.shade = ShadeMode::Matcap;
         settings.wireframe = false;
+    } else if (name == "points") {
+        settings.shade = ShadeMode::Points;
+        settings.wireframe = false;
     } else if (name == "wireframe") {
         settings.shade = ShadeMode::Lit;
         settings.wireframe = true;
@@ -29,8 +32,9 @@ bool applyModeName(std::string_view name, RenderSettings& settings) {
 }
 
 ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
-    : mLit(shaders.build({"clay.vert", "clay.frag"})),
+    : mLit(shaders.build({"clay.vert", "clay.frag", "clay_shading.frag"})),
       mMatcap(shaders.build({"clay.vert", "matcap.frag"})),
+      mPoints(shaders.build({"points.vert", "points.frag", "clay_shading.frag"})),
       mWire(shaders.build({"clay.vert", "wire.frag"})),
       mGround(shaders.build({"ground.vert", "ground.frag"})),
       mTool(shaders.build({"tool.vert", "tool.frag"})) {
@@ -86,6 +90,13 @@ void ClayRenderer::drawMesh() const {
         mTiled.draw();
     else
         mMesh.draw();
+}
+
+void ClayRenderer::drawMeshPoints() const {
+    if (mDrawsTiled)
+        mTiled.drawPoints();
+    else
+        mMesh.drawPoints();
 }
 
 void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection,
@@ -145,14 +156,22 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
         glEnable(GL_POLYGON_OFFSET_FILL);
         glPolygonOffset(1.0f, 1.0f);
     }
-    const ShaderProgram& surface = settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
+    const bool points = settings.shade == ShadeMode::Points;
+    const ShaderProgram& surface = points ? mPoints : settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
     surface.use();
     surface.set("uView", view);
     surface.set("uProjection", projection);
     surface.set("uNormalView", glm::mat3(view));
     surface.set("uClaySrgb", settings.claySrgb);
     surface.set("uOrthographic", ortho);
-    drawMesh();
+    if (points) {
+        surface.set("uViewportHeight", float(height));
+        glEnable(GL_PROGRAM_POINT_SIZE);
+        drawMeshPoints();
+        glDisable(GL_PROGRAM_POINT_SIZE);
+    } else {
+        drawMesh();
+    }
     glDisable(GL_POLYGON_OFFSET_FILL);
 
     if (settings.wireframe) {

@@ -1,11 +1,13 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file clay_renderer.h
-/// @brief Draws the clay: lit (Blinn-Phong), matcap, with a wireframe overlay on request;
-/// painted vertex colours where the mesh has them. Renders into the bound framebuffer or into
+/// @brief Draws the clay: lit (Blinn-Phong), matcap, or as lit points (surface-oriented discs, a
+/// fast global view), with a wireframe overlay on request; painted vertex colours where the mesh
+/// has them. Renders into the bound framebuffer or into
 /// an off-screen image.
 ///
-/// Programs: clay.vert with clay.frag (lit), matcap.frag (matcap) and wire.frag (overlay), and
-/// ground.vert with ground.frag (the optional floor), from a `ShaderLibrary`. Colours are sRGB
+/// Programs: clay.vert with clay.frag + clay_shading.frag (lit), matcap.frag (matcap) and
+/// wire.frag (overlay); points.vert with points.frag + clay_shading.frag (points); ground.vert
+/// with ground.frag (the optional floor), from a `ShaderLibrary`. Colours are sRGB
 /// throughout the API; shading runs in linear light.
 ///
 /// Threading: the GL context current at construction must be current on every call; one
@@ -28,7 +30,9 @@
 
 namespace kizamu::render {
 
-enum class ShadeMode { Lit, Matcap };
+/// Lit: shaded triangles. Matcap: the normal looked up on a lit sphere. Points: each vertex a lit
+/// disc on its tangent plane, sized by its spacing (Kizamu paper 6.1), no triangles rasterised.
+enum class ShadeMode { Lit, Matcap, Points };
 
 /// What a frame looks like. Plain data.
 struct RenderSettings {
@@ -56,7 +60,7 @@ struct ToolMark {
     glm::vec4 ringSrgba{1.0f, 0.55f, 0.15f, 0.9f};
 };
 
-/// The CLI's `--mode`: "lit", "matcap", or "wireframe" (lit with the overlay). Leaves
+/// The CLI's `--mode`: "lit", "matcap", "points", or "wireframe" (lit with the overlay). Leaves
 /// `settings` unchanged and returns false for any other name.
 bool applyModeName(std::string_view name, RenderSettings& settings);
 
@@ -113,7 +117,8 @@ private:
     void drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection, bool floor) const;
     bool meshEmpty() const { return mDrawsTiled ? mTiled.empty() : mMesh.empty(); }
     void drawMesh() const;
-    ShaderProgram mLit, mMatcap, mWire, mGround, mTool;
+    void drawMeshPoints() const;
+    ShaderProgram mLit, mMatcap, mPoints, mWire, mGround, mTool;
     GpuMesh mMesh;
     TiledGpuMesh mTiled;
     bool mDrawsTiled = false;  ///< which of the two holds the mesh drawn

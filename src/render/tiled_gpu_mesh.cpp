@@ -22,7 +22,7 @@ namespace kizamu::render {
 
 namespace {
 
-enum VertexBuffer : std::size_t { kPositions = 0, kNormals = 1, kColours = 2 };
+enum VertexBuffer : std::size_t { kPositions = 0, kNormals = 1, kColours = 2, kSpacings = 3 };
 
 /// Vertices to reserve for `count`: a quarter more, so small growth stays in place (a vertex
 /// range that moves makes every tile naming it re-emit).
@@ -53,7 +53,8 @@ void removeFrom(std::unordered_map<uint64_t, std::vector<uint64_t>>& map, uint64
 }  // namespace
 
 TiledGpuMesh::TiledGpuMesh()
-    : mVertexArena({sizeof(glm::vec3), sizeof(glm::vec3), sizeof(glm::u8vec4)}), mIndexArena({sizeof(uint32_t)}) {}
+    : mVertexArena({sizeof(glm::vec3), sizeof(glm::vec3), sizeof(glm::u8vec4), sizeof(float)}),
+      mIndexArena({sizeof(uint32_t)}) {}
 
 TiledGpuMesh::TiledGpuMesh(TiledGpuMesh&& other) noexcept : TiledGpuMesh() {
     *this = std::move(other);
@@ -72,6 +73,8 @@ TiledGpuMesh& TiledGpuMesh::operator=(TiledGpuMesh&& other) noexcept {
         mBoundIndices = std::exchange(other.mBoundIndices, 0);
         mDrawCounts = std::move(other.mDrawCounts);
         mDrawOffsets = std::move(other.mDrawOffsets);
+        mPointFirsts = std::move(other.mPointFirsts);
+        mPointCounts = std::move(other.mPointCounts);
         mGeneration = other.mGeneration;
         mSynced = std::exchange(other.mSynced, false);
         mOriginWorld = other.mOriginWorld;
@@ -84,6 +87,8 @@ TiledGpuMesh& TiledGpuMesh::operator=(TiledGpuMesh&& other) noexcept {
         other.mTiles.clear();
         other.mDrawCounts.clear();
         other.mDrawOffsets.clear();
+        other.mPointFirsts.clear();
+        other.mPointCounts.clear();
     }
     return *this;
 }
@@ -179,8 +184,23 @@ void TiledGpuMesh::stageVertices(Tile& t) {
     }
 }
 
-void TiledGpuMesh::stageIndices(Tile& t) {
+void TiledGpuMesh::stageIndices(Tile& t, std::size_t firstVertex) {
     const mesh::MeshTileShare& s = t.share;
+    // Spacing: per vertex of this tile, the longest edge of this tile's triangles on it; its
+    // vertex slack gets 0 (points mode culls those), so the whole range can be drawn.
+    const std::size_t firstSpacing = mStageSpacings.size();
+    mStageSpacings.resize(firstSpacing + t.vertices.capacity, 0.0f);
+    float* spacing = mStageSpacings.data() + firstSpacing;
+    const uint32_t base = uint32_t(t.vertices.offset);
+    auto positionOf = [&](const mesh::VertexAddress& a, uint32_t number) {
+        return a.tile == s.key ? mStagePositions[firstVertex + (number - base)] : world(latticeOf(a));
+    };
+    auto spread = [&](const uint32_t (&v)[3], const glm::vec3 (&p)[3], const bool (&local)[3]) {
+        const float longest =
+            std::max({glm::distance(p[0], p[1]), glm::distance(p[1], p[2]), glm::distance(p[2], p[0])});
+        for (int i = 0; i < 3; ++i)
+            if (local[i]) spacing[v[i] - base] = std::max(spacing[v[i] - base], longest);
+    };
     const std::size_t count = 3 * (s.triangles.size() + t.fanTriangles);
     if (count > t.indices.capacity) {
         if (t.indices.capacity) mIndexArena.release(t.indices.offset, t.indices.capacity);
@@ -188,18 +208,40 @@ void TiledGpuMesh::stageIndices(Tile& t) {
         t.indices.offset = mIndexArena.allocate(t.indices.capacity);
     }
     t.indices.used = count;
-    for (const auto& tri : s.triangles)
-        for (const mesh::VertexAddress& a : tri) mStageIndices.push_back(numberOf(a));
+    for (const auto& tri : s.triangles) {
+        uint32_t v[3];
+        glm::vec3 p[3];
+        bool local[3];
+        for (int i = 0; i < 3; ++i) {
+            v[i] = numberOf(tri[std::size_t(i)]);
+            p[i] = positionOf(tri[std::size_t(i)], v[i]);
+            local[i] = tri[std::size_t(i)].tile == s.key;
+        }
+        mStageIndices.insert(mStageIndices.end(), {v[0], v[1], v[2]});
+        spread(v, p, local);
+    }
     uint32_t centre = uint32_t(t.vertices.offset + t.plainVertices + s.splits.size());
     for (const mesh::MeshFan& f : s.fans) {
         uint32_t polygon[8];
-        for (uint32_t i = 0; i < f.count; ++i) polygon[i] = numberOf(f.corners[i]);
+        glm::vec3 corner[8];
         for (uint32_t i = 0; i < f.count; ++i) {
-            const uint32_t a = polygon[i], b = polygon[(i + 1) % f.count];
+            polygon[i] = numberOf(f.corners[i]);
+            corner[i] = positionOf(f.corners[i], polygon[i]);
+        }
+        const glm::vec3 centrePosition = mStagePositions[firstVertex + (centre - base)];
+        for (uint32_t i = 0; i < f.count; ++i) {
+            const uint32_t j = (i + 1) % f.count, a = polygon[i], b = polygon[j];
             mStageIndices.insert(mStageIndices.end(), {centre, f.flip ? b : a, f.flip ? a : b});
+            spread({centre, a, b}, {centrePosition, corner[i], corner[j]},
+                   {true, f.corners[i].tile == s.key, f.corners[j].tile == s.key});
         }
         ++centre;
     }
+    // A vertex on none of this tile's triangles (they are its neighbours'): the tile's largest.
+    if (t.vertices.used == 0) return;
+    const float fallback = std::max(*std::max_element(spacing, spacing + t.vertices.used), float(2.0 * mCellSize));
+    for (std::size_t i = 0; i < t.vertices.used; ++i)
+        if (spacing[i] == 0.0f) spacing[i] = fallback;
     // The slack as degenerate triangles: the whole range is drawn, so tiles that lie back to
     // back in the buffer are drawn as one range.
     mStageIndices.insert(mStageIndices.end(), t.indices.capacity - count, 0u);
@@ -294,9 +336,10 @@ bool TiledGpuMesh::apply(mesh::MeshDelta&& delta, const VertexColourFunction& co
     mStagePositions.clear();
     mStageNormals.clear();
     mStageIndices.clear();
+    mStageSpacings.clear();
     struct Staged {
         Tile* tile;
-        std::size_t firstVertex, firstIndex;
+        std::size_t firstVertex, firstIndex, firstSpacing;
     };
     std::vector<Staged> staged;
     staged.reserve(reEmit.size());
@@ -304,9 +347,9 @@ bool TiledGpuMesh::apply(mesh::MeshDelta&& delta, const VertexColourFunction& co
         auto it = mTiles.find(key);
         if (it == mTiles.end()) continue;  // a removed tile that named another removed one
         Tile& t = it->second;
-        staged.push_back({&t, mStagePositions.size(), mStageIndices.size()});
+        staged.push_back({&t, mStagePositions.size(), mStageIndices.size(), mStageSpacings.size()});
         stageVertices(t);
-        stageIndices(t);
+        stageIndices(t, staged.back().firstVertex);
     }
     mStageColours.assign(mStagePositions.size(), glm::u8vec4(0));
     if (colour) colour(mStagePositions, mStageColours);
@@ -317,6 +360,7 @@ bool TiledGpuMesh::apply(mesh::MeshDelta&& delta, const VertexColourFunction& co
         bytes += mVertexArena.write(kPositions, v, mStagePositions.data() + s.firstVertex, n);
         bytes += mVertexArena.write(kNormals, v, mStageNormals.data() + s.firstVertex, n);
         bytes += mVertexArena.write(kColours, v, mStageColours.data() + s.firstVertex, n);
+        bytes += mVertexArena.write(kSpacings, v, mStageSpacings.data() + s.firstSpacing, t.vertices.capacity);
         bytes += mIndexArena.write(0, t.indices.offset, mStageIndices.data() + s.firstIndex, t.indices.capacity);
     }
     mLastApply.tilesReEmitted = staged.size();
@@ -347,15 +391,21 @@ void TiledGpuMesh::bindVertexArray() {
     if (mVertexArena.name(kPositions) == mBoundPositions && mIndexArena.name(0) == mBoundIndices) return;
     if (!mVao) glGenVertexArrays(1, &mVao);
     glBindVertexArray(mVao);
-    const std::pair<VertexBuffer, GLuint> attributes[] = {
-        {kPositions, attrib::kPosition}, {kNormals, attrib::kNormal}, {kColours, attrib::kColour}};
-    for (const auto& [buffer, location] : attributes) {
-        glBindBuffer(GL_ARRAY_BUFFER, mVertexArena.name(buffer));
-        glEnableVertexAttribArray(location);
-        if (buffer == kColours)
-            glVertexAttribPointer(location, 4, GL_UNSIGNED_BYTE, GL_TRUE, sizeof(glm::u8vec4), nullptr);
-        else
-            glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+    struct Attribute {
+        VertexBuffer buffer;
+        GLuint location;
+        GLint components;
+        GLenum type;
+        GLboolean normalised;
+    };
+    const Attribute attributes[] = {{kPositions, attrib::kPosition, 3, GL_FLOAT, GL_FALSE},
+                                    {kNormals, attrib::kNormal, 3, GL_FLOAT, GL_FALSE},
+                                    {kColours, attrib::kColour, 4, GL_UNSIGNED_BYTE, GL_TRUE},
+                                    {kSpacings, attrib::kSpacing, 1, GL_FLOAT, GL_FALSE}};
+    for (const Attribute& a : attributes) {
+        glBindBuffer(GL_ARRAY_BUFFER, mVertexArena.name(a.buffer));
+        glEnableVertexAttribArray(a.location);
+        glVertexAttribPointer(a.location, a.components, a.type, a.normalised, 0, nullptr);
     }
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mIndexArena.name(0));  // recorded in the vertex array
     glBindVertexArray(0);
@@ -367,6 +417,8 @@ void TiledGpuMesh::bindVertexArray() {
 void TiledGpuMesh::refreshDrawList() {
     mDrawCounts.clear();
     mDrawOffsets.clear();
+    mPointFirsts.clear();
+    mPointCounts.clear();
     mTriangles = mVertices = 0;
     bool first = true;
     mBoundsMin = mBoundsMax = glm::vec3(0.0f);
@@ -393,6 +445,18 @@ void TiledGpuMesh::refreshDrawList() {
         }
         end = t->indices.offset + t->indices.capacity;
     }
+    std::sort(order.begin(), order.end(), [](const Tile* a, const Tile* b) { return a->vertices.offset < b->vertices.offset; });
+    end = 0;
+    for (const Tile* t : order) {
+        if (t->vertices.capacity == 0) continue;
+        if (!mPointCounts.empty() && end == t->vertices.offset)
+            mPointCounts.back() += GLsizei(t->vertices.capacity);
+        else {
+            mPointFirsts.push_back(GLint(t->vertices.offset));
+            mPointCounts.push_back(GLsizei(t->vertices.capacity));
+        }
+        end = t->vertices.offset + t->vertices.capacity;
+    }
 }
 
 void TiledGpuMesh::draw() const {
@@ -400,6 +464,13 @@ void TiledGpuMesh::draw() const {
     glBindVertexArray(mVao);
     glMultiDrawElements(GL_TRIANGLES, mDrawCounts.data(), GL_UNSIGNED_INT, mDrawOffsets.data(),
                         GLsizei(mDrawCounts.size()));
+    glBindVertexArray(0);
+}
+
+void TiledGpuMesh::drawPoints() const {
+    if (mTriangles == 0) return;
+    glBindVertexArray(mVao);
+    glMultiDrawArrays(GL_POINTS, mPointFirsts.data(), mPointCounts.data(), GLsizei(mPointCounts.size()));
     glBindVertexArray(0);
 }
 

@@ -7,8 +7,8 @@
 /// instead of flattening a MeshMirror and uploading the whole mesh (GpuMesh). The vertices and
 /// triangles are those MeshMirror::flatten() gives, bit for bit, in another order.
 ///
-/// Layout. Four shared buffers: positions, normals, colours (one vertex range per tile, the same
-/// in the three) and indices (one index range per tile), sub-allocated by BufferArena. A tile's
+/// Layout. Five shared buffers: positions, normals, colours, spacings (one vertex range per tile,
+/// the same in the four) and indices (one index range per tile), sub-allocated by BufferArena. A tile's
 /// vertex range holds its live slots, then its split vertices, then its fan centres; its index
 /// range its triangles, then its fans' triangles, as absolute vertex numbers. Ranges get some
 /// slack (a quarter for vertices, an eighth for indices), so a tile that gains a few vertices
@@ -24,7 +24,9 @@
 /// Re-emitted vertices get their colours from the caller's colour function.
 ///
 /// Vertex attributes as GpuMesh binds them (gpu_mesh.h): 0 position, 1 normal, 2 colour (alpha
-/// 255 where the colour function painted it, 0 for the clay colour).
+/// 255 where the colour function painted it, 0 for the clay colour), 3 spacing (the longest edge
+/// at the vertex among its tile's triangles; 0 in slack, which points mode culls, so it draws
+/// back-to-back vertex ranges whole too).
 /// Threading: the GL context current at the first apply must be current on every call; one
 /// instance per context; not thread-safe.
 #pragma once
@@ -90,6 +92,9 @@ public:
     /// Draws every tile with the program and state in use: one glMultiDrawElements call; nothing
     /// when empty. Complexity: O(tiles) CPU for the call's arrays (kept), O(triangles) GPU.
     void draw() const;
+    /// Draws every vertex as a point (points mode): one glMultiDrawArrays call; nothing when
+    /// empty. Complexity: O(vertex ranges) CPU, O(vertices) GPU.
+    void drawPoints() const;
 
     /// The mesh as drawn, read back from the GPU (glGetBufferSubData): vertices of every tile's
     /// range, indices renumbered into them. For tests and debugging.
@@ -109,7 +114,7 @@ public:
     /// Axis-aligned bounds of the vertices (m, world); both zero when empty.
     const glm::vec3& boundsMin() const { return mBoundsMin; }
     const glm::vec3& boundsMax() const { return mBoundsMax; }
-    /// Elements the vertex and index buffers hold (used and free): their memory is 28 and 4
+    /// Elements the vertex and index buffers hold (used and free): their memory is 32 and 4
     /// bytes per element.
     std::size_t vertexCapacity() const { return mVertexArena.capacity(); }
     std::size_t indexCapacity() const { return mIndexArena.capacity(); }
@@ -144,8 +149,9 @@ private:
     bool setShare(uint64_t key, Tile& t, mesh::MeshTileShare&& share);
     /// Appends the tile's vertices (world) to the staging; sets its used count and bounds.
     void stageVertices(Tile& t);
-    /// Appends the tile's indices to the staging, in a larger index range when it outgrew its own.
-    void stageIndices(Tile& t);
+    /// Appends the tile's indices to the staging, in a larger index range when it outgrew its
+    /// own, and its vertex range's spacings; its vertices are staged from `firstVertex`.
+    void stageIndices(Tile& t, std::size_t firstVertex);
     void bindVertexArray();
     void refreshDrawList();
 
@@ -158,6 +164,8 @@ private:
     GLuint mBoundPositions = 0, mBoundIndices = 0;  ///< buffer names the vertex array holds
     std::vector<GLsizei> mDrawCounts;
     std::vector<const void*> mDrawOffsets;
+    std::vector<GLint> mPointFirsts;  ///< runs of vertex ranges back to back, for drawPoints
+    std::vector<GLsizei> mPointCounts;
     uint64_t mGeneration = 0;
     bool mSynced = false;
     glm::dvec3 mOriginWorld{0.0};
@@ -169,6 +177,7 @@ private:
     /// by range. Kept to reuse its capacity.
     std::vector<glm::vec3> mStagePositions, mStageNormals;
     std::vector<glm::u8vec4> mStageColours;
+    std::vector<float> mStageSpacings;  ///< per vertex range, slack included
     std::vector<uint32_t> mStageIndices;
 };
 
