@@ -4,6 +4,7 @@
 /// deltas, drawing, the panel.
 #include "app/sculpt_app.h"
 
+#include "app/cell_view.h"
 #include "app/commands.h"
 #include "app/device_open.h"
 #include "engine/engine.h"
@@ -137,6 +138,9 @@ private:
     void navigate();
     void sculpt();
     void updateMesh();
+    /// The cells view's boxes from the published snapshot, while the view is on and the mesh
+    /// changed since they were read (four times a second at most: O(leaf cells)).
+    void updateCellBoxes();
     void draw();
     void panel();
     void setTitle();
@@ -174,6 +178,10 @@ private:
     std::shared_ptr<const adf::ColourLayer> mColoursShown;
     std::size_t mTriangles = 0;
     std::size_t mCells = 0;
+    std::vector<render::CellBox> mCellBoxes;
+    std::size_t mBoundaryCells = 0;  ///< of the snapshot the boxes were read from
+    bool mCellBoxesStale = true;
+    Clock::time_point mCellBoxesRead{};
     Clock::time_point mCellsCounted{};
     int mExportUnit = 0;
     bool mFramed = false;
@@ -362,6 +370,7 @@ void SculptApp::handleKeys() {
                                                                                         : render::Projection::Perspective;
         else if (k.key == "kpdecimal" || k.key == "home") mFramed = false;
         else if (k.key == "w" && !ctrl) mLook.wireframe = !mLook.wireframe;
+        else if (k.key == "c" && !ctrl) mLook.cells = !mLook.cells;
         else if (k.key == "m" && !ctrl) mLook.shade = render::ShadeMode((int(mLook.shade) + 1) % IM_ARRAYSIZE(kShadeNames));
         else if (k.key == "escape") launch(mEngine->cancelStroke(), "cancel");
     }
@@ -478,6 +487,7 @@ void SculptApp::updateMesh() {
             return;
         }
         mTriangles = mRenderer.triangleCount();
+        mCellBoxesStale = true;
         if (Clock::now() - mCellsCounted > std::chrono::milliseconds(500)) {  // O(tiles): twice a second at most
             const auto guard = mReader->acquire();
             mCells = guard.adf().computeStats().cells;
@@ -494,6 +504,20 @@ void SculptApp::updateMesh() {
         if (layer || mColoursShown) mRenderer.recolour(paintFrom(layer));
         mColoursShown = std::move(layer);
     }
+}
+
+void SculptApp::updateCellBoxes() {
+    /// Boxes beyond this are thinned (cell_view.h): lines enough to read the cells' sizes, few
+    /// enough to leave the frame to the clay.
+    constexpr std::size_t kMaxCellBoxes = 60000;
+    if (!mLook.cells || !mCellBoxesStale || Clock::now() - mCellBoxesRead < std::chrono::milliseconds(250)) return;
+    {
+        const auto guard = mReader->acquire();
+        mBoundaryCells = collectBoundaryCellBoxes(guard.adf(), kMaxCellBoxes, mCellBoxes);
+    }
+    mRenderer.setCellBoxes(mCellBoxes);
+    mCellBoxesStale = false;
+    mCellBoxesRead = Clock::now();
 }
 
 void SculptApp::draw() {
@@ -577,6 +601,11 @@ void SculptApp::panel() {
     ImGui::Checkbox("Floor", &mLook.ground);
     ImGui::SameLine();
     if (ImGui::Checkbox("Ortho", &ortho)) mCamera.projection = ortho ? render::Projection::Orthographic : render::Projection::Perspective;
+    ImGui::Checkbox("Cells", &mLook.cells);
+    if (mLook.cells) {
+        ImGui::SameLine();
+        ImGui::Text("%zu of %zu surface cells drawn", mRenderer.cellBoxes().boxCount(), mBoundaryCells);
+    }
     ImGui::Separator();
     std::vector<double> ms(mFrameMs.begin(), mFrameMs.end());
     std::sort(ms.begin(), ms.end());
@@ -651,6 +680,7 @@ int SculptApp::run() {
         navigate();
         sculpt();
         updateMesh();
+        updateCellBoxes();
         draw();
         panel();
         mImGui.end();
@@ -662,6 +692,8 @@ int SculptApp::run() {
             pollLaunched();
             mEngine->sync().get();
             updateMesh();
+            mCellBoxesRead = {};  // the last frame shows the cells of the last snapshot
+            updateCellBoxes();
             draw();
             mImGui.drawAgain();
             screenshot(mOptions.screenshot);

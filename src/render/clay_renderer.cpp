@@ -37,7 +37,8 @@ ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
       mPoints(shaders.build({"points.vert", "points.frag", "clay_shading.frag"})),
       mWire(shaders.build({"clay.vert", "wire.frag"})),
       mGround(shaders.build({"ground.vert", "ground.frag"})),
-      mTool(shaders.build({"tool.vert", "tool.frag"})) {
+      mTool(shaders.build({"tool.vert", "tool.frag"})),
+      mCells(shaders.build({"cells.vert", "cells.frag"})) {
     glGenVertexArrays(1, &mEmptyVao);
 }
 
@@ -97,6 +98,21 @@ void ClayRenderer::drawMeshPoints() const {
         mTiled.drawPoints();
     else
         mMesh.drawPoints();
+}
+
+void ClayRenderer::drawCells(const glm::mat4& view, const glm::mat4& projection) const {
+    mCells.use();
+    mCells.set("uView", view);
+    mCells.set("uProjection", projection);
+    mCells.set("uLevelRange", glm::vec2(float(mCellBoxes.minLevel()), float(mCellBoxes.maxLevel())));
+    mCells.set("uAlpha", 0.85f);
+    // Depth tested: a cell straddles the surface, its edges outside the clay show.
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthFunc(GL_LEQUAL);
+    mCellBoxes.draw();
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
 }
 
 void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection,
@@ -189,6 +205,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
         glDepthFunc(GL_LESS);
         glDisable(GL_BLEND);
     }
+    if (settings.cells && mCellBoxes.boxCount() > 0) drawCells(view, projection);
     if (tool) drawTool(*tool, view, projection, settings.ground);
     glUseProgram(0);
     // Debug builds only: glGetError stalls some drivers (style: GL errors are bugs, asserted).

@@ -7,7 +7,8 @@
 ///
 /// Programs: clay.vert with clay.frag + clay_shading.frag (lit), matcap.frag (matcap) and
 /// wire.frag (overlay); points.vert with points.frag + clay_shading.frag (points); ground.vert
-/// with ground.frag (the optional floor), from a `ShaderLibrary`. Colours are sRGB
+/// with ground.frag (the optional floor); cells.vert with cells.frag (the cells debug view),
+/// from a `ShaderLibrary`. Colours are sRGB
 /// throughout the API; shading runs in linear light.
 ///
 /// Threading: the GL context current at construction must be current on every call; one
@@ -16,6 +17,7 @@
 
 #include "mesh/mesh_buffers.h"
 #include "render/camera.h"
+#include "render/cell_box_lines.h"
 #include "render/framebuffer.h"
 #include "render/gpu_mesh.h"
 #include "render/image.h"
@@ -26,6 +28,7 @@
 #include <glm/vec4.hpp>
 
 #include <optional>
+#include <span>
 #include <string_view>
 
 namespace kizamu::render {
@@ -38,6 +41,7 @@ enum class ShadeMode { Lit, Matcap, Points };
 struct RenderSettings {
     ShadeMode shade = ShadeMode::Lit;
     bool wireframe = false;  ///< triangle edges over the surface
+    bool cells = false;      ///< the boxes given to ClayRenderer::setCellBoxes, over the surface
     /// A floor under the model (z = its lowest point; Z up) with a soft contact shadow, drawn
     /// only while the eye is above it.
     bool ground = false;
@@ -88,6 +92,9 @@ public:
     /// Repaints every vertex of the tiled mesh. See TiledGpuMesh::recolour.
     void recolour(const VertexColourFunction& colour) { mTiled.recolour(colour); }
     const TiledGpuMesh& tiledMesh() const { return mTiled; }
+    /// Replaces the boxes the cells view draws (RenderSettings::cells). See CellBoxLines::upload.
+    void setCellBoxes(std::span<const CellBox> boxes) { mCellBoxes.upload(boxes); }
+    const CellBoxLines& cellBoxes() const { return mCellBoxes; }
     /// Of the mesh drawn (the tiled one after applyDelta, else setMesh's): triangles and bounds
     /// (m, world; both zero when empty).
     std::size_t triangleCount() const;
@@ -96,8 +103,8 @@ public:
 
     /// Clears and draws the mesh into the framebuffer bound now, over a viewport of
     /// width × height pixels already set by the caller.
-    /// Complexity: one draw call (plus one each for the wireframe and the ground), whatever the
-    ///             tiled mesh's tile count; O(triangles) on the GPU.
+    /// Complexity: one draw call (plus one each for the wireframe, the cells and the ground),
+    ///             whatever the tiled mesh's tile count; O(triangles) on the GPU.
     /// Threading: the context's thread. Memory: none.
     /// State: sets depth test, culling off, polygon mode and offset, blending, and the program;
     /// leaves depth test on, blending off, fill mode and no program bound.
@@ -118,10 +125,12 @@ private:
     bool meshEmpty() const { return mDrawsTiled ? mTiled.empty() : mMesh.empty(); }
     void drawMesh() const;
     void drawMeshPoints() const;
-    ShaderProgram mLit, mMatcap, mPoints, mWire, mGround, mTool;
+    void drawCells(const glm::mat4& view, const glm::mat4& projection) const;
+    ShaderProgram mLit, mMatcap, mPoints, mWire, mGround, mTool, mCells;
     GpuMesh mMesh;
     TiledGpuMesh mTiled;
     bool mDrawsTiled = false;  ///< which of the two holds the mesh drawn
+    CellBoxLines mCellBoxes;
     GLuint mEmptyVao = 0;  ///< the ground's draw reads no attributes, but core GL needs a VAO
     std::optional<Framebuffer> mTarget;
 };
