@@ -40,6 +40,9 @@ ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
       mTool(shaders.build({"tool.vert", "tool.frag"})),
       mCells(shaders.build({"cells.vert", "cells.frag"})) {
     glGenVertexArrays(1, &mEmptyVao);
+    GLfloat pointSizes[2] = {1.0f, 1.0f};
+    glGetFloatv(GL_POINT_SIZE_RANGE, pointSizes);
+    mMaxPointSize = pointSizes[1];
 }
 
 ClayRenderer::~ClayRenderer() {
@@ -182,6 +185,7 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
     surface.set("uOrthographic", ortho);
     if (points) {
         surface.set("uViewportHeight", float(height));
+        surface.set("uMaxPointSize", mMaxPointSize);
         glEnable(GL_PROGRAM_POINT_SIZE);
         drawMeshPoints();
         glDisable(GL_PROGRAM_POINT_SIZE);

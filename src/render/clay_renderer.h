@@ -131,7 +131,8 @@ private:
     TiledGpuMesh mTiled;
     bool mDrawsTiled = false;  ///< which of the two holds the mesh drawn
     CellBoxLines mCellBoxes;
-    GLuint mEmptyVao = 0;  ///< the ground's draw reads no attributes, but core GL needs a VAO
+    GLuint mEmptyVao = 0;
+    float mMaxPointSize = 1.0f;  ///< pixels: the driver's largest point (points mode)  ///< the ground's draw reads no attributes, but core GL needs a VAO
     std::optional<Framebuffer> mTarget;
 };
 
