@@ -143,11 +143,7 @@ protected:
         RenderSettings look;
         look.ground = true;
         const Image b = whole.renderToImage(camera, 320, 240, look);
-        const Image a = tiled.renderToImage(camera, 320, 240, look);
-        std::size_t n = 0;
-        for (int y = 0; y < a.height; ++y)
-            for (int x = 0; x < a.width; ++x) n += test::differs(a.at(x, y), b.at(x, y), 1) ? 1 : 0;
-        return n;
+        return test::countDiffering(tiled.renderToImage(camera, 320, 240, look), b, 1);
     }
 };
 
