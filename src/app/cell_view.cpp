@@ -7,7 +7,8 @@
 
 namespace kizamu::app {
 
-std::size_t collectBoundaryCellBoxes(const adf::Adf& adf, std::size_t cap, std::vector<render::CellBox>& out) {
+std::size_t collectBoundaryCellBoxes(const adf::Adf& adf, std::size_t cap,
+                                     std::vector<render::CellBox>& out) {
     out.clear();
     const adf::Domain& d = adf.domain();
     const double h = d.finestCellSize();

@@ -20,6 +20,7 @@ namespace kizamu::app {
 /// over the whole surface. Returns the count in all (Adf::Stats::boundaryCells).
 /// Complexity: O(nodes + leaf cells). Memory: 20 bytes per boundary cell in `out` until the cap
 /// thins it (its capacity is kept).
-std::size_t collectBoundaryCellBoxes(const adf::Adf& adf, std::size_t cap, std::vector<render::CellBox>& out);
+std::size_t collectBoundaryCellBoxes(const adf::Adf& adf, std::size_t cap,
+                                     std::vector<render::CellBox>& out);
 
 }  // namespace kizamu::app

@@ -27,11 +27,13 @@ void RangeAllocator::release(std::size_t offset, std::size_t count) {
     if (count == 0) return;
     assert(offset + count <= mCapacity && "RangeAllocator::release: a range beyond the capacity");
     auto next = mFree.lower_bound(offset);
-    assert((next == mFree.end() || next->first >= offset + count) && "RangeAllocator::release: the range overlaps a free one");
+    assert((next == mFree.end() || next->first >= offset + count) &&
+           "RangeAllocator::release: the range overlaps a free one");
     mFreeElements += count;
     if (next != mFree.begin()) {
         auto prev = std::prev(next);
-        assert(prev->first + prev->second <= offset && "RangeAllocator::release: the range overlaps a free one");
+        assert(prev->first + prev->second <= offset &&
+               "RangeAllocator::release: the range overlaps a free one");
         if (prev->first + prev->second == offset) {  // merge into the free range before
             offset = prev->first;
             count += prev->second;
@@ -103,11 +105,13 @@ void BufferArena::growTo(std::size_t capacity) {
         GLuint grown = 0;
         glGenBuffers(1, &grown);
         glBindBuffer(GL_COPY_WRITE_BUFFER, grown);
-        glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(capacity * b.elementBytes), nullptr, GL_DYNAMIC_DRAW);
+        glBufferData(GL_COPY_WRITE_BUFFER, GLsizeiptr(capacity * b.elementBytes), nullptr,
+                     GL_DYNAMIC_DRAW);
         if (b.name && old > 0) {
             // Every live range keeps its offset and its data: one copy of the whole old buffer.
             glBindBuffer(GL_COPY_READ_BUFFER, b.name);
-            glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0, GLsizeiptr(old * b.elementBytes));
+            glCopyBufferSubData(GL_COPY_READ_BUFFER, GL_COPY_WRITE_BUFFER, 0, 0,
+                                GLsizeiptr(old * b.elementBytes));
             mBytesCopied += old * b.elementBytes;
             glDeleteBuffers(1, &b.name);
         }
@@ -118,7 +122,8 @@ void BufferArena::growTo(std::size_t capacity) {
     mRanges.grow(capacity);
 }
 
-std::size_t BufferArena::write(std::size_t buffer, std::size_t offset, const void* data, std::size_t count) {
+std::size_t BufferArena::write(std::size_t buffer, std::size_t offset, const void* data,
+                               std::size_t count) {
     const Buffer& b = mBuffers[buffer];
     assert(offset + count <= mRanges.capacity() && "BufferArena::write: beyond the capacity");
     const std::size_t bytes = count * b.elementBytes;
@@ -126,7 +131,8 @@ std::size_t BufferArena::write(std::size_t buffer, std::size_t offset, const voi
     // Through GL_COPY_WRITE_BUFFER: writing an element buffer through GL_ELEMENT_ARRAY_BUFFER
     // would change the element buffer of whatever vertex array is bound now.
     glBindBuffer(GL_COPY_WRITE_BUFFER, b.name);
-    glBufferSubData(GL_COPY_WRITE_BUFFER, GLintptr(offset * b.elementBytes), GLsizeiptr(bytes), data);
+    glBufferSubData(GL_COPY_WRITE_BUFFER, GLintptr(offset * b.elementBytes), GLsizeiptr(bytes),
+                    data);
     glBindBuffer(GL_COPY_WRITE_BUFFER, 0);
     return bytes;
 }

@@ -107,7 +107,8 @@ void ClayRenderer::drawCells(const glm::mat4& view, const glm::mat4& projection)
     mCells.use();
     mCells.set("uView", view);
     mCells.set("uProjection", projection);
-    mCells.set("uLevelRange", glm::vec2(float(mCellBoxes.minLevel()), float(mCellBoxes.maxLevel())));
+    mCells.set("uLevelRange",
+               glm::vec2(float(mCellBoxes.minLevel()), float(mCellBoxes.maxLevel())));
     mCells.set("uAlpha", 0.85f);
     // Depth tested: a cell straddles the surface, its edges outside the clay show.
     glEnable(GL_BLEND);
@@ -176,7 +177,8 @@ void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
         glPolygonOffset(1.0f, 1.0f);
     }
     const bool points = settings.shade == ShadeMode::Points;
-    const ShaderProgram& surface = points ? mPoints : settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
+    const ShaderProgram& surface =
+        points ? mPoints : settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
     surface.use();
     surface.set("uView", view);
     surface.set("uProjection", projection);

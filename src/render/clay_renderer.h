@@ -98,8 +98,12 @@ public:
     /// Of the mesh drawn (the tiled one after applyDelta, else setMesh's): triangles and bounds
     /// (m, world; both zero when empty).
     std::size_t triangleCount() const;
-    const glm::vec3& boundsMin() const { return mDrawsTiled ? mTiled.boundsMin() : mMesh.boundsMin(); }
-    const glm::vec3& boundsMax() const { return mDrawsTiled ? mTiled.boundsMax() : mMesh.boundsMax(); }
+    const glm::vec3& boundsMin() const {
+        return mDrawsTiled ? mTiled.boundsMin() : mMesh.boundsMin();
+    }
+    const glm::vec3& boundsMax() const {
+        return mDrawsTiled ? mTiled.boundsMax() : mMesh.boundsMax();
+    }
 
     /// Clears and draws the mesh into the framebuffer bound now, over a viewport of
     /// width × height pixels already set by the caller.

@@ -26,9 +26,13 @@ enum VertexBuffer : std::size_t { kPositions = 0, kNormals = 1, kColours = 2, kS
 
 /// Vertices to reserve for `count`: a quarter more, so small growth stays in place (a vertex
 /// range that moves makes every tile naming it re-emit).
-std::size_t vertexSlack(std::size_t count) { return count == 0 ? 0 : count + count / 4 + 4; }
+std::size_t vertexSlack(std::size_t count) {
+    return count == 0 ? 0 : count + count / 4 + 4;
+}
 /// Indices to reserve for `count` (a multiple of 3): an eighth more, whole triangles.
-std::size_t indexSlack(std::size_t count) { return count == 0 ? 0 : count + 3 * (count / 24 + 2); }
+std::size_t indexSlack(std::size_t count) {
+    return count == 0 ? 0 : count + 3 * (count / 24 + 2);
+}
 
 void sortUnique(std::vector<uint64_t>& keys) {
     std::sort(keys.begin(), keys.end());
@@ -39,7 +43,8 @@ void addTo(std::unordered_map<uint64_t, std::vector<uint64_t>>& map, uint64_t fr
     map[from].push_back(to);
 }
 
-void removeFrom(std::unordered_map<uint64_t, std::vector<uint64_t>>& map, uint64_t from, uint64_t to) {
+void removeFrom(std::unordered_map<uint64_t, std::vector<uint64_t>>& map, uint64_t from,
+                uint64_t to) {
     auto it = map.find(from);
     if (it == map.end()) return;
     std::vector<uint64_t>& users = it->second;
@@ -115,13 +120,15 @@ void TiledGpuMesh::freeRanges(Tile& t) {
 
 const TiledGpuMesh::Tile& TiledGpuMesh::tileOf(const mesh::VertexAddress& a) const {
     auto it = mTiles.find(a.tile);
-    if (it == mTiles.end()) throw std::logic_error("tiled GPU mesh: an address names a tile the mesh lacks");
+    if (it == mTiles.end())
+        throw std::logic_error("tiled GPU mesh: an address names a tile the mesh lacks");
     return it->second;
 }
 
 uint32_t TiledGpuMesh::numberOf(const mesh::VertexAddress& a) const {
     const Tile& t = tileOf(a);
-    const std::size_t i = a.isSplit() ? t.share.alive.size() + (a.slot - mesh::VertexAddress::kSplitSlot) : a.slot;
+    const std::size_t i =
+        a.isSplit() ? t.share.alive.size() + (a.slot - mesh::VertexAddress::kSplitSlot) : a.slot;
     if (i >= t.number.size() || t.number[i] == UINT32_MAX)
         throw std::logic_error("tiled GPU mesh: an address names a free or missing slot");
     return uint32_t(t.vertices.offset) + t.number[i];
@@ -135,9 +142,11 @@ glm::vec3 TiledGpuMesh::latticeOf(const mesh::VertexAddress& a) const {
         return t.share.positions[a.slot];
     }
     const std::size_t s = a.slot - mesh::VertexAddress::kSplitSlot;
-    if (s >= t.share.splits.size()) throw std::logic_error("tiled GPU mesh: an address names a missing split vertex");
+    if (s >= t.share.splits.size())
+        throw std::logic_error("tiled GPU mesh: an address names a missing split vertex");
     const auto& [ea, eb] = t.share.splits[s];
-    if (ea.isSplit() || eb.isSplit()) throw std::logic_error("tiled GPU mesh: a split vertex's end is no live vertex");
+    if (ea.isSplit() || eb.isSplit())
+        throw std::logic_error("tiled GPU mesh: a split vertex's end is no live vertex");
     return 0.5f * (latticeOf(ea) + latticeOf(eb));
 }
 
@@ -173,10 +182,12 @@ void TiledGpuMesh::stageVertices(Tile& t) {
             nsum += normalOf(f.corners[i]);
         }
         mStagePositions.push_back(c / float(f.count));
-        mStageNormals.push_back(glm::dot(nsum, nsum) > 0.0f ? glm::normalize(nsum) : glm::vec3(0.0f, 0.0f, 1.0f));
+        mStageNormals.push_back(glm::dot(nsum, nsum) > 0.0f ? glm::normalize(nsum)
+                                                            : glm::vec3(0.0f, 0.0f, 1.0f));
     }
     t.vertices.used = mStagePositions.size() - first;
-    assert(t.vertices.used <= t.vertices.capacity && "TiledGpuMesh: a tile's vertices outgrew its range");
+    assert(t.vertices.used <= t.vertices.capacity &&
+           "TiledGpuMesh: a tile's vertices outgrew its range");
     t.boundsMin = t.boundsMax = t.vertices.used ? mStagePositions[first] : glm::vec3(0.0f);
     for (std::size_t i = first; i < mStagePositions.size(); ++i) {
         t.boundsMin = glm::min(t.boundsMin, mStagePositions[i]);
@@ -193,11 +204,12 @@ void TiledGpuMesh::stageIndices(Tile& t, std::size_t firstVertex) {
     float* spacing = mStageSpacings.data() + firstSpacing;
     const uint32_t base = uint32_t(t.vertices.offset);
     auto positionOf = [&](const mesh::VertexAddress& a, uint32_t number) {
-        return a.tile == s.key ? mStagePositions[firstVertex + (number - base)] : world(latticeOf(a));
+        return a.tile == s.key ? mStagePositions[firstVertex + (number - base)]
+                               : world(latticeOf(a));
     };
-    auto spread = [&](const uint32_t (&v)[3], const glm::vec3 (&p)[3], const bool (&local)[3]) {
-        const float longest =
-            std::max({glm::distance(p[0], p[1]), glm::distance(p[1], p[2]), glm::distance(p[2], p[0])});
+    auto spread = [&](const uint32_t(&v)[3], const glm::vec3(&p)[3], const bool(&local)[3]) {
+        const float longest = std::max(
+            {glm::distance(p[0], p[1]), glm::distance(p[1], p[2]), glm::distance(p[2], p[0])});
         for (int i = 0; i < 3; ++i)
             if (local[i]) spacing[v[i] - base] = std::max(spacing[v[i] - base], longest);
     };
@@ -239,7 +251,8 @@ void TiledGpuMesh::stageIndices(Tile& t, std::size_t firstVertex) {
     }
     // A vertex on none of this tile's triangles (they are its neighbours'): the tile's largest.
     if (t.vertices.used == 0) return;
-    const float fallback = std::max(*std::max_element(spacing, spacing + t.vertices.used), float(2.0 * mCellSize));
+    const float fallback =
+        std::max(*std::max_element(spacing, spacing + t.vertices.used), float(2.0 * mCellSize));
     for (std::size_t i = 0; i < t.vertices.used; ++i)
         if (spacing[i] == 0.0f) spacing[i] = fallback;
     // The slack as degenerate triangles: the whole range is drawn, so tiles that lie back to
@@ -277,7 +290,8 @@ bool TiledGpuMesh::setShare(uint64_t key, Tile& t, mesh::MeshTileShare&& share) 
     for (const mesh::MeshFan& f : s.fans)
         for (uint32_t i = 0; i < f.count; ++i) {
             name(f.corners[i]);
-            if (f.corners[i].isSplit() && f.corners[i].tile != key) t.splitOwners.push_back(f.corners[i].tile);
+            if (f.corners[i].isSplit() && f.corners[i].tile != key)
+                t.splitOwners.push_back(f.corners[i].tile);
         }
     sortUnique(t.references);
     sortUnique(t.splitOwners);
@@ -316,15 +330,21 @@ bool TiledGpuMesh::apply(mesh::MeshDelta&& delta, const VertexColourFunction& co
         freeRanges(it->second);
         mTiles.erase(it);
     }
+    std::vector<uint64_t> shared;
+    shared.reserve(delta.tiles.size());
     for (mesh::MeshTileShare& share : delta.tiles) {
         const uint64_t key = share.key;
+        shared.push_back(key);
         auto [it, made] = mTiles.try_emplace(key);
         if (!made) unlink(key, it->second);
         mLastApply.tilesMoved += setShare(key, it->second, std::move(share)) && !made ? 1 : 0;
         link(key, it->second);
-        reEmit.push_back(key);
     }
-    for (const mesh::MeshTileShare& share : delta.tiles) addReferencersOf(share.key);
+    // After every share is linked: the referencers of the old shares and of the new ones.
+    for (uint64_t key : shared) {
+        reEmit.push_back(key);
+        addReferencersOf(key);
+    }
     // Fan centres lie among split vertices, which lie between other tiles' vertices: a tile
     // whose fans use a re-emitted tile's split vertices is re-emitted too.
     for (std::size_t i = 0, n = reEmit.size(); i < n; ++i)
@@ -360,8 +380,10 @@ bool TiledGpuMesh::apply(mesh::MeshDelta&& delta, const VertexColourFunction& co
         bytes += mVertexArena.write(kPositions, v, mStagePositions.data() + s.firstVertex, n);
         bytes += mVertexArena.write(kNormals, v, mStageNormals.data() + s.firstVertex, n);
         bytes += mVertexArena.write(kColours, v, mStageColours.data() + s.firstVertex, n);
-        bytes += mVertexArena.write(kSpacings, v, mStageSpacings.data() + s.firstSpacing, t.vertices.capacity);
-        bytes += mIndexArena.write(0, t.indices.offset, mStageIndices.data() + s.firstIndex, t.indices.capacity);
+        bytes += mVertexArena.write(kSpacings, v, mStageSpacings.data() + s.firstSpacing,
+                                    t.vertices.capacity);
+        bytes += mIndexArena.write(0, t.indices.offset, mStageIndices.data() + s.firstIndex,
+                                   t.indices.capacity);
     }
     mLastApply.tilesReEmitted = staged.size();
     mLastApply.verticesWritten = mStagePositions.size();
@@ -384,11 +406,13 @@ void TiledGpuMesh::recolour(const VertexColourFunction& colour) {
     mStageColours.assign(mStagePositions.size(), glm::u8vec4(0));
     if (colour) colour(mStagePositions, mStageColours);
     for (const auto& [t, first] : staged)
-        mVertexArena.write(kColours, t->vertices.offset, mStageColours.data() + first, t->vertices.used);
+        mVertexArena.write(kColours, t->vertices.offset, mStageColours.data() + first,
+                           t->vertices.used);
 }
 
 void TiledGpuMesh::bindVertexArray() {
-    if (mVertexArena.name(kPositions) == mBoundPositions && mIndexArena.name(0) == mBoundIndices) return;
+    if (mVertexArena.name(kPositions) == mBoundPositions && mIndexArena.name(0) == mBoundIndices)
+        return;
     if (!mVao) glGenVertexArrays(1, &mVao);
     glBindVertexArray(mVao);
     struct Attribute {
@@ -426,7 +450,8 @@ void TiledGpuMesh::refreshDrawList() {
     std::vector<const Tile*> order;
     order.reserve(mTiles.size());
     for (const auto& [key, t] : mTiles) order.push_back(&t);
-    std::sort(order.begin(), order.end(), [](const Tile* a, const Tile* b) { return a->indices.offset < b->indices.offset; });
+    std::sort(order.begin(), order.end(),
+              [](const Tile* a, const Tile* b) { return a->indices.offset < b->indices.offset; });
     std::size_t end = 0;  // of the last range drawn
     for (const Tile* t : order) {
         mVertices += t->vertices.used;
@@ -441,11 +466,13 @@ void TiledGpuMesh::refreshDrawList() {
             mDrawCounts.back() += GLsizei(t->indices.capacity);
         } else {
             mDrawCounts.push_back(GLsizei(t->indices.capacity));
-            mDrawOffsets.push_back(reinterpret_cast<const void*>(t->indices.offset * sizeof(uint32_t)));
+            mDrawOffsets.push_back(
+                reinterpret_cast<const void*>(t->indices.offset * sizeof(uint32_t)));
         }
         end = t->indices.offset + t->indices.capacity;
     }
-    std::sort(order.begin(), order.end(), [](const Tile* a, const Tile* b) { return a->vertices.offset < b->vertices.offset; });
+    std::sort(order.begin(), order.end(),
+              [](const Tile* a, const Tile* b) { return a->vertices.offset < b->vertices.offset; });
     end = 0;
     for (const Tile* t : order) {
         if (t->vertices.capacity == 0) continue;
@@ -470,7 +497,8 @@ void TiledGpuMesh::draw() const {
 void TiledGpuMesh::drawPoints() const {
     if (mTriangles == 0) return;
     glBindVertexArray(mVao);
-    glMultiDrawArrays(GL_POINTS, mPointFirsts.data(), mPointCounts.data(), GLsizei(mPointCounts.size()));
+    glMultiDrawArrays(GL_POINTS, mPointFirsts.data(), mPointCounts.data(),
+                      GLsizei(mPointCounts.size()));
     glBindVertexArray(0);
 }
 

@@ -7,14 +7,17 @@
 /// instead of flattening a MeshMirror and uploading the whole mesh (GpuMesh). The vertices and
 /// triangles are those MeshMirror::flatten() gives, bit for bit, in another order.
 ///
-/// Layout. Five shared buffers: positions, normals, colours, spacings (one vertex range per tile,
-/// the same in the four) and indices (one index range per tile), sub-allocated by BufferArena. A tile's
-/// vertex range holds its live slots, then its split vertices, then its fan centres; its index
+/// Layout. Five shared buffers: positions, normals, colours, spacings (one vertex range per
+/// tile, the same in the four) and indices (one index range per tile), sub-allocated by
+/// BufferArena. A tile's vertex range holds its live slots, then its split vertices, then its
+/// fan centres; its index
 /// range its triangles, then its fans' triangles, as absolute vertex numbers. Ranges get some
 /// slack (a quarter for vertices, an eighth for indices), so a tile that gains a few vertices
 /// or triangles stays where it is. Index slack holds degenerate triangles, so each index range
 /// is drawn whole and tiles lying back to back are one range of the multi-draw: after a build
-/// all of them, after edits a few more, one for each hole that moved tiles left.
+/// all of them, after edits a few more, one for each hole that moved tiles left. Freed ranges
+/// are reused first fit; the buffers grow by doubling and never shrink; nothing compacts them
+/// but a reset delta, which lays every tile out afresh.
 ///
 /// What a delta re-emits (writes again, vertices and indices): the delta's tiles; every tile
 /// that references one of them or a removed tile (its triangles name their vertices by number,
@@ -56,7 +59,7 @@ using VertexColourFunction =
 
 /// What the last apply() did.
 struct TiledUploadStats {
-    std::size_t tilesInDelta = 0;   ///< shares and removals the delta held
+    std::size_t tilesInDelta = 0;    ///< shares and removals the delta held
     std::size_t tilesReEmitted = 0;  ///< tiles whose vertices and indices were written
     std::size_t tilesMoved = 0;      ///< tiles of the delta that outgrew their vertex range
     std::size_t verticesWritten = 0;
@@ -130,7 +133,7 @@ private:
         std::size_t plainVertices = 0;  ///< live slots
         std::size_t fanTriangles = 0;
         Range vertices, indices;
-        std::vector<uint64_t> references;  ///< other tiles its splits, triangles and fans name
+        std::vector<uint64_t> references;   ///< other tiles its splits, triangles and fans name
         std::vector<uint64_t> splitOwners;  ///< other tiles whose split vertices its fans use
         glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
     };

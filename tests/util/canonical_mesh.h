@@ -32,12 +32,14 @@ inline CanonicalMesh canonicalOf(const mesh::MeshBuffers& m) {
     }
     std::vector<uint32_t> order(n);
     for (uint32_t i = 0; i < n; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return bits[a] < bits[b]; });
+    std::sort(order.begin(), order.end(),
+              [&](uint32_t a, uint32_t b) { return bits[a] < bits[b]; });
     std::vector<uint32_t> rank(n);
     for (uint32_t i = 0; i < n; ++i) rank[order[i]] = i;
     for (uint32_t i : order) c.vertices.push_back(bits[i]);
     for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-        std::array<uint32_t, 3> r{rank[m.indices[t]], rank[m.indices[t + 1]], rank[m.indices[t + 2]]};
+        std::array<uint32_t, 3> r{rank[m.indices[t]], rank[m.indices[t + 1]],
+                                  rank[m.indices[t + 2]]};
         std::rotate(r.begin(), std::min_element(r.begin(), r.end()), r.end());
         c.triangles.push_back(r);
     }

@@ -50,12 +50,13 @@ public:
     std::size_t calls() const { return sCalls; }
 
 private:
-    static void GLAPIENTRY countMultiDrawElements(GLenum mode, const GLsizei* count, GLenum type, const void* const* indices,
-                                                  GLsizei drawCount) {
+    static void GLAPIENTRY countMultiDrawElements(GLenum mode, const GLsizei* count, GLenum type,
+                                                  const void* const* indices, GLsizei drawCount) {
         ++sCalls;
         sMultiDrawElements(mode, count, type, indices, drawCount);
     }
-    static void GLAPIENTRY countDrawElements(GLenum mode, GLsizei count, GLenum type, const void* indices) {
+    static void GLAPIENTRY countDrawElements(GLenum mode, GLsizei count, GLenum type,
+                                             const void* indices) {
         ++sCalls;
         sDrawElements(mode, count, type, indices);
     }
@@ -98,11 +99,15 @@ TEST(RangeAllocator, FirstFitCoalescesAndGrows) {
 
 /// A mesher over a snapshot edited by dabs, and the mirror its deltas keep (the reference).
 struct Edits {
-    Edits(const adf::Domain& d, AdfPtr start) : pool(2), domain(d), a(std::move(start)), mesher(&pool) { mesher.build(a); }
+    Edits(const adf::Domain& d, AdfPtr start)
+        : pool(2), domain(d), a(std::move(start)), mesher(&pool) {
+        mesher.build(a);
+    }
     /// A dab of radius `cells` finest cells on a vertex of the current mesh picked by `rng`.
     void dab(std::mt19937_64& rng, CsgOp op, double cells) {
         const MeshBuffers m = mesher.mesh();
-        const glm::vec3 p = m.positions[std::uniform_int_distribution<std::size_t>(0, m.positions.size() - 1)(rng)];
+        const glm::vec3 p =
+            m.positions[std::uniform_int_distribution<std::size_t>(0, m.positions.size() - 1)(rng)];
         a = adf::dabbed(a, op, glm::dvec3(p), cells * domain.finestCellSize(), &pool);
         mesher.update(a);
     }
@@ -128,11 +133,13 @@ protected:
         const MeshBuffers gpu = tiled.readBack();
         EXPECT_EQ(tiled.triangleCount(), flat.triangleCount());
         EXPECT_EQ(tiled.vertexCount(), flat.vertexCount());
-        EXPECT_TRUE(canonicalOf(gpu) == canonicalOf(flat)) << "the GPU's triangles differ from the flattened mirror's";
+        EXPECT_TRUE(canonicalOf(gpu) == canonicalOf(flat))
+            << "the GPU's triangles differ from the flattened mirror's";
     }
     /// Pixels where the tiled renderer's image and one of the flattened mirror differ by more
     /// than one level.
-    std::size_t differingPixels(ClayRenderer& tiled, ClayRenderer& whole, const mesh::MeshMirror& mirror) {
+    std::size_t differingPixels(ClayRenderer& tiled, ClayRenderer& whole,
+                                const mesh::MeshMirror& mirror) {
         const MeshBuffers flat = mirror.flatten();
         whole.setMesh(flat);
         EXPECT_EQ(tiled.boundsMin(), whole.boundsMin());
@@ -155,8 +162,9 @@ TEST_F(TiledGpuMeshTest, FollowsDabsAsTheFlattenedMirror) {
     d.maxLevel = 7;
     d.tileSpanLevels = 3;
     util::ThreadPool pool(2);
-    Edits e(d, adf::generate(*adf::makeTranslated(adf::makeRoundedBox({0.3, 0.25, 0.2}, 0.03), glm::dvec3(0.5)), d,
-                             adf::GenerationSettings{}, &pool));
+    Edits e(d, adf::generate(*adf::makeTranslated(adf::makeRoundedBox({0.3, 0.25, 0.2}, 0.03),
+                                                  glm::dvec3(0.5)),
+                             d, adf::GenerationSettings{}, &pool));
     ClayRenderer tiled(shaders()), whole(shaders());
     ASSERT_TRUE(tiled.applyDelta(e.take()));
     EXPECT_EQ(tiled.tiledMesh().lastApply().tilesReEmitted, tiled.tiledMesh().tileCount());
@@ -183,7 +191,8 @@ TEST_F(TiledGpuMeshTest, FollowsDabsAsTheFlattenedMirror) {
     EXPECT_GT(moved, 0u) << "no tile outgrew its range: the case is untested";
     EXPECT_GT(referencing, 0u) << "no tile was re-emitted for its references: the case is untested";
     EXPECT_EQ(tiled.tiledMesh().drawCallsPerDraw(), 1u);
-    std::printf("%zu draw ranges for %zu tiles\n", tiled.tiledMesh().drawRangeCount(), tiled.tiledMesh().tileCount());
+    std::printf("%zu draw ranges for %zu tiles\n", tiled.tiledMesh().drawRangeCount(),
+                tiled.tiledMesh().tileCount());
     EXPECT_LT(tiled.tiledMesh().drawRangeCount(), tiled.tiledMesh().tileCount() / 4);
     EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
 }
@@ -192,9 +201,10 @@ TEST_F(TiledGpuMeshTest, TilesCarvedAwayLeaveAndAResetRebuilds) {
     const adf::Domain d = adf::testPartDomain(8);
     const glm::dvec3 gone(0.3, 0.3, 0.3), kept(0.7, 0.7, 0.7);
     util::ThreadPool pool(2);
-    Edits e(d, adf::generate(*adf::makeCsg(CsgOp::Union, adf::makeTranslated(adf::makeSphere(0.06), gone),
-                                           adf::makeTranslated(adf::makeSphere(0.06), kept)),
-                             d, adf::GenerationSettings{}, &pool));
+    Edits e(d, adf::generate(
+                   *adf::makeCsg(CsgOp::Union, adf::makeTranslated(adf::makeSphere(0.06), gone),
+                                 adf::makeTranslated(adf::makeSphere(0.06), kept)),
+                   d, adf::GenerationSettings{}, &pool));
     TiledGpuMesh tiled;
     ASSERT_TRUE(tiled.apply(e.take()));
     const std::size_t tilesBefore = tiled.tileCount();
@@ -243,14 +253,16 @@ TEST_F(TiledGpuMeshTest, ASmallEditUploadsItsTilesOnly) {
     ASSERT_TRUE(tiled.apply(e.take()));
     const std::size_t wholeBytes = tiled.lastApply().bytesUploaded;
     EXPECT_GE(wholeBytes, tiled.vertexCount() * 32 + tiled.triangleCount() * 12);
-    EXPECT_LT(wholeBytes, tiled.vertexCount() * 34 + tiled.triangleCount() * 14) << "slack: spacings, an eighth of indices";
+    EXPECT_LT(wholeBytes, tiled.vertexCount() * 34 + tiled.triangleCount() * 14)
+        << "slack: spacings, an eighth of indices";
     std::mt19937_64 rng(7);
     for (int i = 0; i < 6; ++i) {
         e.dab(rng, i % 2 ? CsgOp::Union : CsgOp::Difference, 3.0);
         ASSERT_TRUE(tiled.apply(e.take()));
         const TiledUploadStats& s = tiled.lastApply();
-        std::printf("dab %d: %zu of %zu tiles re-emitted (%zu in the delta), %zu of %zu bytes\n", i, s.tilesReEmitted,
-                    tiled.tileCount(), s.tilesInDelta, s.bytesUploaded, wholeBytes);
+        std::printf("dab %d: %zu of %zu tiles re-emitted (%zu in the delta), %zu of %zu bytes\n", i,
+                    s.tilesReEmitted, tiled.tileCount(), s.tilesInDelta, s.bytesUploaded,
+                    wholeBytes);
         EXPECT_GT(s.bytesUploaded, 0u);
         EXPECT_LT(s.bytesUploaded * 10, wholeBytes) << "a small edit must not upload the mesh";
         EXPECT_LT(s.tilesReEmitted * 10, tiled.tileCount());
@@ -264,7 +276,8 @@ TEST_F(TiledGpuMeshTest, ColoursComeFromTheCallerForReEmittedVertices) {
     Edits e(d, adf::generate(*adf::makeTestPart(d), d, adf::testPartSettings(), &pool));
     // Red above the middle, unpainted below: a function of the position only, so every vertex
     // read back must carry it whichever apply wrote it last.
-    const VertexColourFunction redAbove = [](std::span<const glm::vec3> p, std::span<glm::u8vec4> c) {
+    const VertexColourFunction redAbove = [](std::span<const glm::vec3> p,
+                                             std::span<glm::u8vec4> c) {
         for (std::size_t i = 0; i < p.size(); ++i)
             if (p[i].z > 0.5f) c[i] = glm::u8vec4(255, 0, 0, 255);
     };
