@@ -151,6 +151,14 @@ int runRenderBench(const RenderBenchOptions& o) {
     const FrameFigures l12 = timeFrames(renderer, 12, o, fb, look);
     out.progress("the level-13 test part (about a million triangles)");
     const FrameFigures l13 = timeFrames(renderer, 13, o, fb, look);
+    // The same mesh in points mode (the fast global view): the renderer still holds it.
+    render::RenderSettings pointsLook = look;
+    pointsLook.shade = render::ShadeMode::Points;
+    const render::OrbitCamera l13Camera = framed(renderer, float(o.width) / float(o.height));
+    frame(renderer, l13Camera, fb, pointsLook);  // warm-up: llvmpipe compiles the program
+    std::vector<double> pointsMs;
+    for (int i = 0; i < o.frames; ++i) pointsMs.push_back(frame(renderer, l13Camera, fb, pointsLook));
+    const std::size_t l13Vertices = renderer.tiledMesh().vertexCount();
 
     // Sample to visible: dabs on the level-10 part through the engine, the window's loop here.
     out.progress("sample to visible, level 10");
@@ -227,6 +235,8 @@ int runRenderBench(const RenderBenchOptions& o) {
     out.add("render.frame_ms.level10", l10.ms, "ms", std::to_string(l10.triangles) + " triangles");
     out.add("render.frame_ms.1m_triangles", l13.ms, "ms", "the level-13 test part, " + std::to_string(l13.triangles) + " triangles");
     out.add("render.triangles.1m", double(l13.triangles), "triangles");
+    out.add("render.frame_ms.points.1m_triangles", median(pointsMs), "ms",
+            "the same part in points mode: " + std::to_string(l13Vertices) + " discs");
     out.add("render.frame_ms.level12", l12.ms, "ms", std::to_string(l12.triangles) + " triangles");
     out.add("render.draw_calls.level12", double(l12.drawCalls), "calls",
             "per frame, counted at the GL dispatch: the floor and the clay (" + std::to_string(l12.clayDrawCalls) +
