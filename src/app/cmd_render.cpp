@@ -4,6 +4,7 @@
 /// off screen (EGL without a display; Mesa's software renderer where there is no GPU).
 #include "adf/adf_file.h"
 #include "adf/generate.h"
+#include "app/cell_view.h"
 #include "app/commands.h"
 #include "app/progress.h"
 #include "app/render_output.h"
@@ -30,12 +31,17 @@ struct RenderCommandOptions {
     int level = 0;  ///< mesh input: remesh through an ADF at this level (0: as read)
     unsigned threads = 0;
     bool quiet = false;
+    bool cells = false;  ///< draw the boundary cells' boxes (the cells debug view)
     RenderOptions picture;
 };
 
+/// Boxes beyond this are thinned (cell_view.h): lines enough to read the cells' sizes.
+constexpr std::size_t kMaxCellBoxes = 200000;
+
 /// The mesh `o.in` names: an ADF or a session meshed with SurfaceNets, or a mesh file as read
-/// (or remeshed through a level-`o.level` ADF).
-mesh::MeshBuffers meshOf(const RenderCommandOptions& o, util::ThreadPool& pool) {
+/// (or remeshed through a level-`o.level` ADF). `adfOut` gets the ADF meshed (null for a mesh
+/// read as it is).
+mesh::MeshBuffers meshOf(const RenderCommandOptions& o, util::ThreadPool& pool, adf::AdfPtr& adfOut) {
     if (sculpt::isSessionDir(o.in) || isAdfPath(o.in)) {
         if (o.level != 0)
             throw FileError(o.in, "--level applies to a mesh input (an ADF has its own level)");
@@ -49,19 +55,24 @@ mesh::MeshBuffers meshOf(const RenderCommandOptions& o, util::ThreadPool& pool) 
             a = adf::loadAdf(o.in);
         }
         const ProgressReporter reporter("mesh", progressWanted(o.quiet));
+        adfOut = a;
         return mesh::meshAdf(a, &pool);
     }
     std::vector<std::string> warnings;
     mesh::MeshBuffers m = mesh::importMesh(o.in, &warnings);
     for (const std::string& w : warnings) std::fprintf(stderr, "warning: %s\n", w.c_str());
-    if (o.level == 0) return m;
+    if (o.level == 0) {
+        if (o.cells) throw FileError(o.in, "--cells needs an ADF: a .kza, a session, or a mesh with --level");
+        return m;
+    }
     // As `convert --level`: a closed, manifold remesh (the picture is framed to fit, so the
     // mesh's unit does not matter).
     adf::GenerationSettings settings;
     const adf::Domain d = mesh::domainAround(m, o.level, settings.bandCells + 2.0);
     const adf::SourcePtr source = mesh::makeMeshSource(m, &warnings);
     const ProgressReporter reporter("generate and mesh", progressWanted(o.quiet));
-    return mesh::meshAdf(adf::generate(*source, d, settings, &pool), &pool);
+    adfOut = adf::generate(*source, d, settings, &pool);
+    return mesh::meshAdf(adfOut, &pool);
 }
 
 }  // namespace
@@ -81,16 +92,27 @@ void addRenderCommand(CLI::App& app) {
     cmd->add_option("--level", o->level,
                     "Mesh input: remesh through an ADF at this level first (0: as read)")
         ->check(CLI::Range(0, 16));
+    cmd->add_flag("--cells", o->cells,
+                  "Draw the ADF's leaf cells the surface passes through as boxes over the clay, "
+                  "coloured by level (the cells debug view)");
     cmd->add_flag("--quiet", o->quiet, "No progress line on stderr (drawn only on a terminal)");
     cmd->add_option("--threads", o->threads, "Worker threads (0: one per CPU this process may use)")
         ->capture_default_str();
     cmd->callback([o] {
         util::ThreadPool pool(o->threads);
-        const mesh::MeshBuffers m = meshOf(*o, pool);
+        adf::AdfPtr a;
+        const mesh::MeshBuffers m = meshOf(*o, pool, a);
         std::printf("meshed %s: %zu vertices, %zu triangles\n", o->in.c_str(), m.vertexCount(),
                     m.triangleCount());
         if (m.triangleCount() == 0) throw FileError(o->in, "no triangles to render");
-        renderToPng(m, o->picture, o->out);
+        if (!o->cells) {
+            renderToPng(m, o->picture, o->out);
+            return;
+        }
+        std::vector<render::CellBox> boxes;
+        const std::size_t cells = collectBoundaryCellBoxes(*a, kMaxCellBoxes, boxes);
+        std::printf("cells: %zu boundary cells, %zu drawn\n", cells, boxes.size());
+        renderToPng(m, o->picture, o->out, &boxes);
     });
 }
 

@@ -112,6 +112,7 @@ void HeadsetMode::drawEyes(const render::ClayRenderer& renderer, const render::R
         render::ViewSetup v;
         v.view = eye.view * clayToSpace;
         v.projection = eye.projection;
+        v.viewportHeight = eye.size.y;
         v.eye = glm::vec3(spaceToClay.apply(eye.pose.position));
         m.session.acquireEye(i);
         renderer.draw(v, look, tool);

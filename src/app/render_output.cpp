@@ -52,8 +52,9 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& o) {
         ->check(CLI::IsMember({"iso", "front", "back", "left", "right", "top", "bottom"}))
         ->capture_default_str();
     cmd->add_option("--mode", o.mode,
-                    "Shading: lit clay, matcap, or wireframe (lit with the triangle edges)")
-        ->check(CLI::IsMember({"lit", "matcap", "wireframe"}))
+                    "Shading: lit clay, matcap, points (lit discs at the vertices, a fast global view), or "
+                    "wireframe (lit with the triangle edges)")
+        ->check(CLI::IsMember({"lit", "matcap", "points", "wireframe"}))
         ->capture_default_str();
     cmd->add_flag("--ortho", o.ortho, "Orthographic projection (default: perspective)");
     cmd->add_flag("--ground", o.ground, "A floor under the model with a soft contact shadow");
@@ -63,7 +64,8 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& o) {
 
 void checkRendererBuilt(const std::string&) {}
 
-void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::string& path) {
+void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::string& path,
+                 const std::vector<render::CellBox>* cells) {
     const auto t0 = std::chrono::steady_clock::now();
     render::OffscreenView v;
     const auto wh = parseSize(o.size);
@@ -73,6 +75,10 @@ void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::
     v.projection = o.ortho ? render::Projection::Orthographic : render::Projection::Perspective;
     render::applyModeName(o.mode, v.settings);
     v.settings.ground = o.ground;
+    if (cells) {
+        v.settings.cells = true;
+        v.cellBoxes = *cells;
+    }
     const render::Image image = render::renderMeshImage(m, v);
     render::writePng(path, image);
     const double ms =
@@ -89,7 +95,8 @@ void checkRendererBuilt(const std::string& path) {
         ": this kizamu was built without the renderer (KIZAMU_BUILD_RENDER=OFF)");
 }
 
-void renderToPng(const mesh::MeshBuffers&, const RenderOptions&, const std::string& path) {
+void renderToPng(const mesh::MeshBuffers&, const RenderOptions&, const std::string& path,
+                 const std::vector<render::CellBox>*) {
     checkRendererBuilt(path);
 }
 

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace CLI {
 class App;
@@ -15,6 +16,9 @@ class App;
 
 namespace kizamu::mesh {
 struct MeshBuffers;
+}
+namespace kizamu::render {
+struct CellBox;
 }
 
 namespace kizamu::app {
@@ -36,9 +40,11 @@ void addRenderOptions(CLI::App* cmd, RenderOptions& o);
 /// commands that render at the end of long work, to refuse before it.
 void checkRendererBuilt(const std::string& path);
 
-/// Renders `m` off screen as `o` asks and writes the PNG to `path`; prints what it wrote.
+/// Renders `m` off screen as `o` asks and writes the PNG to `path`; prints what it wrote. With
+/// `cells`, their boxes are drawn over the clay (the cells debug view, app/cell_view.h).
 /// @throw FileError when the PNG cannot be written; std::runtime_error when no GL context can
 ///        be had, a shader fails (naming its file and line), or the build has no renderer.
-void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::string& path);
+void renderToPng(const mesh::MeshBuffers& m, const RenderOptions& o, const std::string& path,
+                 const std::vector<render::CellBox>* cells = nullptr);
 
 }  // namespace kizamu::app

@@ -4,6 +4,7 @@
 /// deltas, drawing, the panel.
 #include "app/sculpt_app.h"
 
+#include "app/cell_view.h"
 #include "app/commands.h"
 #include "app/device_open.h"
 #include "app/headset_mode.h"
@@ -105,6 +106,7 @@ std::vector<std::string> interruptedSessions(const std::string& root) {
 
 const char* const kOpNames[] = {"Carve", "Add", "Build", "Heat gun", "Smooth", "Flatten", "Paint"};
 const char* const kShapeNames[] = {"Sphere", "Cube", "Cylinder"};
+const char* const kShadeNames[] = {"Lit", "Matcap", "Points"};  ///< render::ShadeMode's, in order
 const char* const kUnits[] = {"mm", "cm", "m"};  ///< an export's coordinates
 
 /// The median of `values` (0 when empty). Complexity: O(n log n).
@@ -182,6 +184,9 @@ private:
     void updateMesh();
     /// After a framing: the model moves into the area right of the panel and fits it.
     void frameRightOfPanel();
+    /// The cells view's boxes from the published snapshot, while the view is on and the mesh
+    /// changed since they were read (four times a second at most: O(leaf cells)).
+    void updateCellBoxes();
     void draw();
     void panel();
     void setTitle();
@@ -229,9 +234,14 @@ private:
     /// The stylus in the headset: its ticks drained, registration touches taken, its tool shown.
     void stylusInHeadset(const xr::SculptIntent& in);
     bool mScriptNeedsHeadsetWarned = false;
-    mesh::MeshMirror mMirror;
+    /// The colour layer the drawn mesh's colours were read from (null: unpainted).
+    std::shared_ptr<const adf::ColourLayer> mColoursShown;
     std::size_t mTriangles = 0;
     std::size_t mCells = 0;
+    std::vector<render::CellBox> mCellBoxes;
+    std::size_t mBoundaryCells = 0;  ///< of the snapshot the boxes were read from
+    bool mCellBoxesStale = true;
+    Clock::time_point mCellBoxesRead{};
     Clock::time_point mCellsCounted{};
     int mExportUnit = 0;
     bool mFramed = false;
@@ -248,6 +258,7 @@ private:
     /// Sample-to-visible latency (ms): the recent ones for the panel, every one for the summary.
     std::deque<double> mRecentLatencyMs;
     std::vector<double> mLatencyMs;
+    int64_t mAppliedSampleNs = 0;  ///< the newest sample time in the mesh deltas applied
     int64_t mShownSampleNs = 0;    ///< the newest sample time drawn so far
     int64_t mUnswappedSampleNs = 0;  ///< a newer one drawn this frame, not yet swapped; 0: none
     bool mDecimate = false;
@@ -345,8 +356,8 @@ void SculptApp::launch(std::future<engine::CommandResult> f, std::string what, s
 }
 
 void SculptApp::noteShownSample() {
-    if (mMirror.newestSampleNs() <= mShownSampleNs) return;
-    mShownSampleNs = mMirror.newestSampleNs();
+    if (mAppliedSampleNs <= mShownSampleNs) return;
+    mShownSampleNs = mAppliedSampleNs;
     mUnswappedSampleNs = mShownSampleNs;
 }
 
@@ -370,7 +381,7 @@ void SculptApp::pollLaunched() {
         if (r.ok && r.message.empty()) mStatus = it->what + ": done";
         if (r.ok && !it->sessionDir.empty()) {
             mSessionDir = it->sessionDir;
-            mMirror = mesh::MeshMirror();
+            mRenderer.requireFullMesh();
             mFramed = false;
             setTitle();
         }
@@ -486,7 +497,8 @@ void SculptApp::handleKeys() {
                                                                                         : render::Projection::Perspective;
         else if (k.key == "kpdecimal" || k.key == "home") mFramed = false;
         else if (k.key == "w" && !ctrl) mLook.wireframe = !mLook.wireframe;
-        else if (k.key == "m" && !ctrl) mLook.shade = mLook.shade == render::ShadeMode::Lit ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
+        else if (k.key == "c" && !ctrl) mLook.cells = !mLook.cells;
+        else if (k.key == "m" && !ctrl) mLook.shade = render::ShadeMode((int(mLook.shade) + 1) % IM_ARRAYSIZE(kShadeNames));
         else if (k.key == "escape") launch(mEngine->cancelStroke(), "cancel");
     }
 }
@@ -633,37 +645,57 @@ void SculptApp::sculpt() {
 }
 
 void SculptApp::updateMesh() {
-    std::optional<mesh::MeshDelta> delta = mEngine->takeMeshDelta();
-    if (!delta) return;
-    if (!mMirror.apply(std::move(*delta))) {
-        mEngine->requestFullMesh();
-        return;
-    }
-    mesh::MeshBuffers m = mMirror.flatten();
-    {
-        // Paint: the mirror carries shapes only; the colours are the published layer's at each
-        // vertex (the same lookup every export uses, mesh_colours.h).
-        const auto guard = mReader->acquire();
-        if (guard.adf().colours()) mesh::colourPoints(*guard.adf().colours(), m.positions, m.colours);
-    }
-    mTriangles = m.triangleCount();
-    if (Clock::now() - mCellsCounted > std::chrono::milliseconds(500)) {  // O(tiles): twice a second at most
-        const auto guard = mReader->acquire();
-        mCells = guard.adf().computeStats().cells;
-        mCellsCounted = Clock::now();
-    }
-    mRenderer.setMesh(m);
-    if (!mFramed && m.vertexCount() > 0) {
-        glm::vec3 lo(HUGE_VALF), hi(-HUGE_VALF);
-        for (const glm::vec3& p : m.positions) {
-            lo = glm::min(lo, p);
-            hi = glm::max(hi, p);
+    // Paint: the deltas carry shapes only; a vertex's colour is the published layer's at its
+    // position (the same lookup every export uses, mesh_colours.h), read for the vertices a
+    // delta re-emits, and for every vertex when the layer itself changed (a paint stroke).
+    auto paintFrom = [](std::shared_ptr<const adf::ColourLayer> layer) -> render::VertexColourFunction {
+        if (!layer) return {};
+        return [layer = std::move(layer)](std::span<const glm::vec3> positions, std::span<glm::u8vec4> colours) {
+            std::vector<glm::u8vec3> rgb;
+            mesh::colourPoints(*layer, positions, rgb);
+            for (std::size_t i = 0; i < rgb.size(); ++i) colours[i] = glm::u8vec4(rgb[i], 255);
+        };
+    };
+    std::shared_ptr<const adf::ColourLayer> layer = mReader->acquire().adf().colours();
+    if (std::optional<mesh::MeshDelta> delta = mEngine->takeMeshDelta()) {
+        const int64_t sampleNs = delta->newestSampleNs;
+        if (!mRenderer.applyDelta(std::move(*delta), paintFrom(layer))) {
+            mEngine->requestFullMesh();
+            return;
         }
-        const glm::ivec2 size = mWindow.windowSize();
-        if (mCamera.distance == 1.0f && mCamera.yawRad == 0.0f) mCamera.setView(render::ViewAxis::Iso);
-        mCamera.frame(lo, hi, float(size.x) / float(std::max(1, size.y)), 1.6f);
-        mFramed = true;
+        mAppliedSampleNs = std::max(mAppliedSampleNs, sampleNs);
+        mTriangles = mRenderer.triangleCount();
+        mCellBoxesStale = true;
+        if (Clock::now() - mCellsCounted > std::chrono::milliseconds(500)) {  // O(tiles): twice a second at most
+            const auto guard = mReader->acquire();
+            mCells = guard.adf().computeStats().cells;
+            mCellsCounted = Clock::now();
+        }
+        if (!mFramed && mTriangles > 0) {
+            const glm::ivec2 size = mWindow.windowSize();
+            if (mCamera.distance == 1.0f && mCamera.yawRad == 0.0f) mCamera.setView(render::ViewAxis::Iso);
+            mCamera.frame(mRenderer.boundsMin(), mRenderer.boundsMax(), float(size.x) / float(std::max(1, size.y)), 1.6f);
+            mFramed = true;
+        }
     }
+    if (layer != mColoursShown) {
+        if (layer || mColoursShown) mRenderer.recolour(paintFrom(layer));
+        mColoursShown = std::move(layer);
+    }
+}
+
+void SculptApp::updateCellBoxes() {
+    /// Boxes beyond this are thinned (cell_view.h): lines enough to read the cells' sizes, few
+    /// enough to leave the frame to the clay.
+    constexpr std::size_t kMaxCellBoxes = 60000;
+    if (!mLook.cells || !mCellBoxesStale || Clock::now() - mCellBoxesRead < std::chrono::milliseconds(250)) return;
+    {
+        const auto guard = mReader->acquire();
+        mBoundaryCells = collectBoundaryCellBoxes(guard.adf(), kMaxCellBoxes, mCellBoxes);
+    }
+    mRenderer.setCellBoxes(mCellBoxes);
+    mCellBoxesStale = false;
+    mCellBoxesRead = Clock::now();
 }
 
 void SculptApp::sculptInHeadset() {
@@ -904,14 +936,21 @@ void SculptApp::panel() {
     }
     ImGui::Text("session: %s", mSessionDir.empty() ? "in memory" : fs::path(mSessionDir).filename().c_str());
     ImGui::Separator();
-    bool matcap = mLook.shade == render::ShadeMode::Matcap, ortho = mCamera.projection == render::Projection::Orthographic;
-    if (ImGui::Checkbox("Matcap", &matcap)) mLook.shade = matcap ? render::ShadeMode::Matcap : render::ShadeMode::Lit;
+    bool ortho = mCamera.projection == render::Projection::Orthographic;
+    int shade = int(mLook.shade);
+    ImGui::SetNextItemWidth(80);
+    if (ImGui::Combo("##shade", &shade, kShadeNames, IM_ARRAYSIZE(kShadeNames))) mLook.shade = render::ShadeMode(shade);
     ImGui::SameLine();
     ImGui::Checkbox("Wire", &mLook.wireframe);
     ImGui::SameLine();
     ImGui::Checkbox("Floor", &mLook.ground);
     ImGui::SameLine();
     if (ImGui::Checkbox("Ortho", &ortho)) mCamera.projection = ortho ? render::Projection::Orthographic : render::Projection::Perspective;
+    ImGui::Checkbox("Cells", &mLook.cells);
+    if (mLook.cells) {
+        ImGui::SameLine();
+        ImGui::Text("%zu of %zu surface cells drawn", mRenderer.cellBoxes().boxCount(), mBoundaryCells);
+    }
     ImGui::Separator();
     ImGui::Text("frame %.1f ms (median of %zu)", median({mFrameMs.begin(), mFrameMs.end()}), mFrameMs.size());
     ImGui::Text("sample to visible %.1f ms (median of %zu)", median({mRecentLatencyMs.begin(), mRecentLatencyMs.end()}),
@@ -1034,6 +1073,7 @@ int SculptApp::run() {
         updateMesh();
         if (!framed && mFramed && !headset) frameRightOfPanel();
         noteShownSample();
+        updateCellBoxes();
         if (!headset) draw();
         panel();
         fileChosen();
@@ -1048,6 +1088,8 @@ int SculptApp::run() {
             mEngine->sync().get();
             updateMesh();
             noteShownSample();
+            mCellBoxesRead = {};  // the last frame shows the cells of the last snapshot
+            updateCellBoxes();
             if (headset && mHeadset->running()) {
                 mHeadset->beginFrame();
                 mImGui.begin(mHeadset->panelPointer());

@@ -30,12 +30,10 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-/// The loop's mesh side: the engine's deltas into the mirror, the mirror onto the GPU.
-bool takeDeltas(engine::Engine& e, mesh::MeshMirror& mirror, render::ClayRenderer& renderer) {
-    bool changed = false;
-    while (auto d = e.takeMeshDelta()) changed |= mirror.apply(std::move(*d));
-    if (changed) renderer.setMesh(mirror.flatten());
-    return changed;
+/// The loop's mesh side, as the window's: the engine's deltas onto the GPU tile by tile.
+void takeDeltas(engine::Engine& e, render::ClayRenderer& renderer) {
+    while (auto d = e.takeMeshDelta())
+        if (!renderer.applyDelta(std::move(*d), {})) e.requestFullMesh();
 }
 
 }  // namespace
@@ -80,15 +78,14 @@ int runXrBench(const XrBenchOptions& o) {
         std::fprintf(stderr, "kizamu bench xr: the runtime never made the session ready\n");
         return 1;
     }
-    mesh::MeshMirror mirror;
     e.sync().get();
-    takeDeltas(e, mirror, renderer);
+    takeDeltas(e, renderer);
 
     auto frame = [&] {
         headset.alive();
         headset.beginFrame();
         const auto t0 = Clock::now();
-        takeDeltas(e, mirror, renderer);
+        takeDeltas(e, renderer);
         headset.drawEyes(renderer, look, nullptr);
         headset.beginPanel();
         headset.endPanel();
@@ -104,8 +101,8 @@ int runXrBench(const XrBenchOptions& o) {
     std::vector<double> frames;
     for (int i = 0; i < o.edits + 1; ++i) {
         e.sync().get();
-        takeDeltas(e, mirror, renderer);
-        const uint64_t before = mirror.generation();
+        takeDeltas(e, renderer);
+        const uint64_t before = renderer.tiledMesh().generation();
         // The frame that reads the controller pushes its sample (SculptApp::sculptInHeadset).
         headset.alive();
         headset.beginFrame();
@@ -118,18 +115,18 @@ int runXrBench(const XrBenchOptions& o) {
         s.timeNs += 1000;
         e.samples(0).push(s);
         e.samples(0).flush();
-        takeDeltas(e, mirror, renderer);
+        takeDeltas(e, renderer);
         headset.drawEyes(renderer, look, nullptr);
         headset.beginPanel();
         headset.endPanel();
         headset.endFrame();
         int waited = 0;
         const auto t0 = Clock::now();
-        bool shown = mirror.generation() != before;
+        bool shown = renderer.tiledMesh().generation() != before;
         while (!shown && Clock::now() - t0 < std::chrono::seconds(5)) {
             frame();
             ++waited;
-            shown = mirror.generation() != before;
+            shown = renderer.tiledMesh().generation() != before;
         }
         if (!shown) continue;
         if (i > 0) frames.push_back(double(waited));  // the first dab also warms the engine's caches

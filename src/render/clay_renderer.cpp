@@ -20,6 +20,9 @@ bool applyModeName(std::string_view name, RenderSettings& settings) {
     } else if (name == "matcap") {
         settings.shade = ShadeMode::Matcap;
         settings.wireframe = false;
+    } else if (name == "points") {
+        settings.shade = ShadeMode::Points;
+        settings.wireframe = false;
     } else if (name == "wireframe") {
         settings.shade = ShadeMode::Lit;
         settings.wireframe = true;
@@ -30,29 +33,35 @@ bool applyModeName(std::string_view name, RenderSettings& settings) {
 }
 
 ClayRenderer::ClayRenderer(const ShaderLibrary& shaders)
-    : mLit(shaders.build({"clay.vert", "clay.frag"})),
+    : mLit(shaders.build({"clay.vert", "clay.frag", "clay_shading.frag"})),
       mMatcap(shaders.build({"clay.vert", "matcap.frag"})),
+      mPoints(shaders.build({"points.vert", "points.frag", "clay_shading.frag"})),
       mWire(shaders.build({"clay.vert", "wire.frag"})),
       mGround(shaders.build({"ground.vert", "ground.frag"})),
-      mTool(shaders.build({"tool.vert", "tool.frag"})) {
+      mTool(shaders.build({"tool.vert", "tool.frag"})),
+      mCells(shaders.build({"cells.vert", "cells.frag"})) {
     glGenVertexArrays(1, &mEmptyVao);
+    GLfloat pointSizes[2] = {1.0f, 1.0f};
+    glGetFloatv(GL_POINT_SIZE_RANGE, pointSizes);
+    mMaxPointSize = pointSizes[1];
 }
 
 ClayRenderer::~ClayRenderer() {
     if (mEmptyVao) glDeleteVertexArrays(1, &mEmptyVao);
 }
 
-ViewSetup ViewSetup::of(const OrbitCamera& camera, float aspect) {
+ViewSetup ViewSetup::of(const OrbitCamera& camera, int width, int height) {
     ViewSetup v;
     v.view = camera.viewMatrix();
-    v.projection = camera.projectionMatrix(aspect);
+    v.projection = camera.projectionMatrix(float(width) / float(std::max(height, 1)));
+    v.viewportHeight = std::max(height, 1);
     v.eye = camera.eye();
     v.orthographic = camera.projection == Projection::Orthographic;
     return v;
 }
 
 void ClayRenderer::drawGround(const ViewSetup& v, const RenderSettings& settings) const {
-    const glm::vec3 lo = mMesh.boundsMin(), hi = mMesh.boundsMax();
+    const glm::vec3 lo = boundsMin(), hi = boundsMax();
     // Seen from below, the floor would hide the model: it is drawn only from above.
     if (v.eye.z <= lo.z) return;
     const glm::mat4& view = v.view;
@@ -77,6 +86,49 @@ void ClayRenderer::drawGround(const ViewSetup& v, const RenderSettings& settings
 
 void ClayRenderer::setMesh(const mesh::MeshBuffers& m) {
     mMesh.upload(m);
+    mTiled = TiledGpuMesh();
+    mDrawsTiled = false;
+}
+
+bool ClayRenderer::applyDelta(mesh::MeshDelta&& delta, const VertexColourFunction& colour) {
+    if (!mTiled.apply(std::move(delta), colour)) return false;
+    if (!mDrawsTiled) mMesh = GpuMesh();
+    mDrawsTiled = true;
+    return true;
+}
+
+std::size_t ClayRenderer::triangleCount() const {
+    return mDrawsTiled ? mTiled.triangleCount() : mMesh.triangleCount();
+}
+
+void ClayRenderer::drawMesh() const {
+    if (mDrawsTiled)
+        mTiled.draw();
+    else
+        mMesh.draw();
+}
+
+void ClayRenderer::drawMeshPoints() const {
+    if (mDrawsTiled)
+        mTiled.drawPoints();
+    else
+        mMesh.drawPoints();
+}
+
+void ClayRenderer::drawCells(const glm::mat4& view, const glm::mat4& projection) const {
+    mCells.use();
+    mCells.set("uView", view);
+    mCells.set("uProjection", projection);
+    mCells.set("uLevelRange",
+               glm::vec2(float(mCellBoxes.minLevel()), float(mCellBoxes.maxLevel())));
+    mCells.set("uAlpha", 0.85f);
+    // Depth tested: a cell straddles the surface, its edges outside the clay show.
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+    glDepthFunc(GL_LEQUAL);
+    mCellBoxes.draw();
+    glDepthFunc(GL_LESS);
+    glDisable(GL_BLEND);
 }
 
 void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const glm::mat4& projection,
@@ -88,7 +140,7 @@ void ClayRenderer::drawTool(const ToolMark& tool, const glm::mat4& view, const g
     mTool.set("uNormal", tool.normal);
     mTool.set("uRadius", tool.radius);
     // The floor's height as drawGround puts it (a hair above, so the spot wins the depth test).
-    const float floorZ = mMesh.boundsMin().z;
+    const float floorZ = boundsMin().z;
     mTool.set("uFloorZ", floorZ);
     glBindVertexArray(mEmptyVao);
     glEnable(GL_BLEND);
@@ -133,7 +185,7 @@ void ClayRenderer::drawToolBody(const ToolMark& tool, const glm::mat4& view, con
 
 void ClayRenderer::draw(const OrbitCamera& camera, int width, int height,
                         const RenderSettings& settings, const ToolMark* tool) const {
-    draw(ViewSetup::of(camera, float(width) / float(std::max(height, 1))), settings, tool);
+    draw(ViewSetup::of(camera, width, height), settings, tool);
 }
 
 void ClayRenderer::draw(const ViewSetup& v, const RenderSettings& settings, const ToolMark* tool) const {
@@ -141,7 +193,7 @@ void ClayRenderer::draw(const ViewSetup& v, const RenderSettings& settings, cons
     glClearColor(bg.r, bg.g, bg.b, 1.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    if (mMesh.empty()) return;
+    if (meshEmpty()) return;
 
     const glm::mat4& view = v.view;
     const glm::mat4& projection = v.projection;
@@ -159,14 +211,24 @@ void ClayRenderer::draw(const ViewSetup& v, const RenderSettings& settings, cons
         glEnable(GL_POLYGON_OFFSET_FILL);
         glPolygonOffset(1.0f, 1.0f);
     }
-    const ShaderProgram& surface = settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
+    const bool points = settings.shade == ShadeMode::Points;
+    const ShaderProgram& surface =
+        points ? mPoints : settings.shade == ShadeMode::Matcap ? mMatcap : mLit;
     surface.use();
     surface.set("uView", view);
     surface.set("uProjection", projection);
     surface.set("uNormalView", glm::mat3(view));
     surface.set("uClaySrgb", settings.claySrgb);
     surface.set("uOrthographic", ortho);
-    mMesh.draw();
+    if (points) {
+        surface.set("uViewportHeight", float(v.viewportHeight));
+        surface.set("uMaxPointSize", mMaxPointSize);
+        glEnable(GL_PROGRAM_POINT_SIZE);
+        drawMeshPoints();
+        glDisable(GL_PROGRAM_POINT_SIZE);
+    } else {
+        drawMesh();
+    }
     glDisable(GL_POLYGON_OFFSET_FILL);
 
     if (settings.wireframe) {
@@ -179,11 +241,12 @@ void ClayRenderer::draw(const ViewSetup& v, const RenderSettings& settings, cons
         glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
         glDepthFunc(GL_LEQUAL);
         glPolygonMode(GL_FRONT_AND_BACK, GL_LINE);
-        mMesh.draw();
+        drawMesh();
         glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
         glDepthFunc(GL_LESS);
         glDisable(GL_BLEND);
     }
+    if (settings.cells && mCellBoxes.boxCount() > 0) drawCells(view, projection);
     if (tool) drawTool(*tool, view, projection, settings.ground);
     if (tool && tool->body != ToolBody::None) drawToolBody(*tool, view, projection);
     glUseProgram(0);

@@ -31,6 +31,18 @@ mesh::MeshBuffers::Buffer<glm::vec3> computeVertexNormals(const mesh::MeshBuffer
     return n;
 }
 
+std::vector<float> computeVertexSpacings(const mesh::MeshBuffers& m) {
+    std::vector<float> spacing(m.positions.size(), 0.0f);
+    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+        const uint32_t v[3] = {m.indices[t], m.indices[t + 1], m.indices[t + 2]};
+        const float longest = std::max({glm::distance(m.positions[v[0]], m.positions[v[1]]),
+                                        glm::distance(m.positions[v[1]], m.positions[v[2]]),
+                                        glm::distance(m.positions[v[2]], m.positions[v[0]])});
+        for (uint32_t i : v) spacing[i] = std::max(spacing[i], longest);
+    }
+    return spacing;
+}
+
 GpuMesh::GpuMesh(GpuMesh&& other) noexcept {
     *this = std::move(other);
 }
@@ -43,7 +55,9 @@ GpuMesh& GpuMesh::operator=(GpuMesh&& other) noexcept {
         mNormals = std::exchange(other.mNormals, 0);
         mColours = std::exchange(other.mColours, 0);
         mIndices = std::exchange(other.mIndices, 0);
+        mSpacings = std::exchange(other.mSpacings, 0);
         mIndexCount = std::exchange(other.mIndexCount, 0);
+        mVertexCount = std::exchange(other.mVertexCount, 0);
         mHasColours = other.mHasColours;
         mBoundsMin = other.mBoundsMin;
         mBoundsMax = other.mBoundsMax;
@@ -57,10 +71,10 @@ GpuMesh::~GpuMesh() {
 
 void GpuMesh::release() noexcept {
     if (mVao) glDeleteVertexArrays(1, &mVao);
-    for (GLuint* b : {&mPositions, &mNormals, &mColours, &mIndices})
+    for (GLuint* b : {&mPositions, &mNormals, &mColours, &mIndices, &mSpacings})
         if (*b) glDeleteBuffers(1, b);
-    mVao = mPositions = mNormals = mColours = mIndices = 0;
-    mIndexCount = 0;
+    mVao = mPositions = mNormals = mColours = mIndices = mSpacings = 0;
+    mIndexCount = mVertexCount = 0;
 }
 
 void GpuMesh::upload(const mesh::MeshBuffers& m) {
@@ -108,11 +122,17 @@ void GpuMesh::upload(const mesh::MeshBuffers& m) {
         glDisableVertexAttribArray(attrib::kColour);
     }
 
+    const std::vector<float> spacings = computeVertexSpacings(m);
+    arrayBuffer(mSpacings, spacings.data(), spacings.size() * sizeof(float));
+    glEnableVertexAttribArray(attrib::kSpacing);
+    glVertexAttribPointer(attrib::kSpacing, 1, GL_FLOAT, GL_FALSE, sizeof(float), nullptr);
+
     glGenBuffers(1, &mIndices);
     glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, mIndices);  // recorded in the vertex array
     glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.indices.size() * sizeof(uint32_t)),
                  m.indices.data(), GL_STATIC_DRAW);
     mIndexCount = m.indices.size();
+    mVertexCount = m.positions.size();
     glBindVertexArray(0);
     glBindBuffer(GL_ARRAY_BUFFER, 0);
 }
@@ -124,6 +144,14 @@ void GpuMesh::draw() const {
     // set it for every draw of an unpainted mesh.
     if (!mHasColours) glVertexAttrib4f(attrib::kColour, 0.0f, 0.0f, 0.0f, 0.0f);
     glDrawElements(GL_TRIANGLES, GLsizei(mIndexCount), GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+}
+
+void GpuMesh::drawPoints() const {
+    if (mIndexCount == 0) return;
+    glBindVertexArray(mVao);
+    if (!mHasColours) glVertexAttrib4f(attrib::kColour, 0.0f, 0.0f, 0.0f, 0.0f);
+    glDrawArrays(GL_POINTS, 0, GLsizei(mVertexCount));
     glBindVertexArray(0);
 }
 

@@ -4,7 +4,8 @@
 /// buffers and an index buffer, drawn with one call.
 ///
 /// Vertex attributes (the shaders' `layout(location = N)`): 0 position (m, world), 1 normal
-/// (unit), 2 colour (sRGB bytes, normalised; alpha 255 where painted). A mesh without normals
+/// (unit), 2 colour (sRGB bytes, normalised; alpha 255 where painted), 3 spacing (m: the longest
+/// edge at the vertex, the size of its disc in points mode). A mesh without normals
 /// gets area-weighted vertex normals; a mesh without colours gets the constant attribute
 /// (0, 0, 0, 0), which the shaders read as "unpainted: the clay colour".
 ///
@@ -17,6 +18,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstddef>
+#include <vector>
 
 namespace kizamu::render {
 
@@ -24,6 +26,7 @@ namespace attrib {
 inline constexpr GLuint kPosition = 0;
 inline constexpr GLuint kNormal = 1;
 inline constexpr GLuint kColour = 2;
+inline constexpr GLuint kSpacing = 3;
 }  // namespace attrib
 
 /// Owned by its renderer; move-only; not thread-safe.
@@ -37,12 +40,14 @@ public:
     ~GpuMesh();
 
     /// Replaces the GPU copy with `m` (whole buffers). Precondition: m.valid().
-    /// Complexity: O(vertices + triangles) upload (plus O(triangles) for missing normals).
-    /// Threading: a current GL context. Memory: 28 bytes per vertex and 12 per triangle on the
+    /// Complexity: O(vertices + triangles) upload and spacing, plus O(triangles) for missing
+    /// normals. Threading: a current GL context. Memory: 32 bytes per vertex and 12 per triangle on the
     /// GL side; a temporary normal array when `m` has none.
     void upload(const mesh::MeshBuffers& m);
     /// Draws every triangle with the program and state in use. Nothing when empty.
     void draw() const;
+    /// Draws every vertex as a point (points mode) with the program and state in use.
+    void drawPoints() const;
 
     bool empty() const { return mIndexCount == 0; }
     std::size_t triangleCount() const { return mIndexCount / 3; }
@@ -55,7 +60,8 @@ private:
     void release() noexcept;
     GLuint mVao = 0;
     GLuint mPositions = 0, mNormals = 0, mColours = 0, mIndices = 0;
-    std::size_t mIndexCount = 0;
+    GLuint mSpacings = 0;
+    std::size_t mIndexCount = 0, mVertexCount = 0;
     bool mHasColours = false;
     glm::vec3 mBoundsMin{0.0f}, mBoundsMax{0.0f};
 };
@@ -64,5 +70,10 @@ private:
 /// corners). A vertex on no triangle gets (0, 0, 1).
 /// Complexity: O(vertices + triangles). Threading: any. Memory: the returned array.
 mesh::MeshBuffers::Buffer<glm::vec3> computeVertexNormals(const mesh::MeshBuffers& m);
+
+/// Per vertex, the longest edge of the triangles on it (m); 0 for a vertex on no triangle
+/// (points mode draws none there).
+/// Complexity: O(vertices + triangles). Threading: any. Memory: the returned array.
+std::vector<float> computeVertexSpacings(const mesh::MeshBuffers& m);
 
 }  // namespace kizamu::render

@@ -16,6 +16,7 @@ Image renderMeshImage(const mesh::MeshBuffers& m, const OffscreenView& view) {
         // The renderer's GL objects go before the context does.
         ClayRenderer renderer(shaders);
         renderer.setMesh(m);
+        renderer.setCellBoxes(view.cellBoxes);
         OrbitCamera camera;
         camera.projection = view.projection;
         camera.setView(view.view);

@@ -10,6 +10,7 @@
 #include "render/image.h"
 
 #include <filesystem>
+#include <span>
 
 namespace kizamu::render {
 
@@ -19,6 +20,8 @@ struct OffscreenView {
     ViewAxis view = ViewAxis::Iso;
     Projection projection = Projection::Perspective;
     RenderSettings settings;
+    /// The cells view's boxes (drawn where settings.cells); the caller keeps them alive.
+    std::span<const CellBox> cellBoxes;
     /// Empty: ShaderLibrary::defaultDirectory().
     std::filesystem::path shaderDirectory;
 };

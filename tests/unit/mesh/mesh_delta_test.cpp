@@ -9,6 +9,7 @@
 #include "adf/lattice.h"
 #include "adf/test_part.h"
 #include "mesh/surface_nets.h"
+#include "tests/util/canonical_mesh.h"
 #include "tests/util/dabbed.h"
 #include "tests/util/random_shape.h"
 #include "util/thread_pool.h"
@@ -30,36 +31,7 @@ using mesh::MeshDelta;
 using mesh::MeshMirror;
 using mesh::SurfaceMesher;
 
-/// A mesh compared canonically: vertices as the bits of (position, normal), sorted; triangles
-/// as rows of those ranks rotated to start at the smallest (orientation kept), sorted.
-struct Canonical {
-    std::vector<std::array<uint32_t, 6>> vertices;
-    std::vector<std::array<uint32_t, 3>> triangles;
-    bool operator==(const Canonical&) const = default;
-};
-
-Canonical canonicalOf(const MeshBuffers& m) {
-    Canonical c;
-    const std::size_t n = m.positions.size();
-    std::vector<std::array<uint32_t, 6>> bits(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        std::memcpy(&bits[i][0], &m.positions[i], 12);
-        std::memcpy(&bits[i][3], &m.normals[i], 12);
-    }
-    std::vector<uint32_t> order(n);
-    for (uint32_t i = 0; i < n; ++i) order[i] = i;
-    std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return bits[a] < bits[b]; });
-    std::vector<uint32_t> rank(n);
-    for (uint32_t i = 0; i < n; ++i) rank[order[i]] = i;
-    for (uint32_t i : order) c.vertices.push_back(bits[i]);
-    for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
-        std::array<uint32_t, 3> r{rank[m.indices[t]], rank[m.indices[t + 1]], rank[m.indices[t + 2]]};
-        std::rotate(r.begin(), std::min_element(r.begin(), r.end()), r.end());
-        c.triangles.push_back(r);
-    }
-    std::sort(c.triangles.begin(), c.triangles.end());
-    return c;
-}
+using test::canonicalOf;
 
 /// The test part at `level`, meshed, with a mirror fed by the mesher's first (reset) delta.
 struct Session {

@@ -155,6 +155,58 @@ TEST_F(ClayRenderTest, ModesDrawDifferently) {
                 0.01 * double(countNot(a, bg, 2)));
 }
 
+TEST_F(ClayRenderTest, PointsCoverAboutTheLitMeshsPixels) {
+    // The level-8 test part (adaptive: large triangles on its flat faces, small ones on its
+    // features), and a level-7 rounded box (faces of a few large triangles, large discs), whole
+    // (setMesh) and tiled (applyDelta), from two sides and in both projections.
+    util::ThreadPool pool(2);
+    const adf::Domain d = adf::testPartDomain(8);
+    adf::Domain boxDomain;
+    boxDomain.maxLevel = 7;
+    for (int part = 0; part < 2; ++part) {
+        SCOPED_TRACE(part == 0 ? "test part" : "rounded box");
+        mesh::SurfaceMesher mesher(&pool);
+        mesher.build(part == 0 ? adf::generate(*adf::makeTestPart(d), d, adf::testPartSettings(), &pool)
+                               : adf::generate(*adf::makeTranslated(adf::makeRoundedBox({0.3, 0.3, 0.3}, 0.02), glm::dvec3(0.5)),
+                                               boxDomain, adf::GenerationSettings{}, &pool));
+        ClayRenderer whole(shaders()), tiled(shaders());
+        whole.setMesh(mesher.mesh());
+        ASSERT_TRUE(tiled.applyDelta(mesher.takeDelta()));
+        RenderSettings lit, points;
+        ASSERT_TRUE(applyModeName("points", points));
+        EXPECT_EQ(points.shade, ShadeMode::Points);
+        const glm::u8vec4 bg = backgroundOf(lit.backgroundSrgb);
+        for (ClayRenderer* r : {&whole, &tiled})
+            for (ViewAxis axis : {ViewAxis::Iso, ViewAxis::Top})
+                for (Projection p : {Projection::Perspective, Projection::Orthographic}) {
+                    SCOPED_TRACE(std::string(r == &whole ? "whole" : "tiled") + (axis == ViewAxis::Iso ? " iso" : " top") +
+                                 (p == Projection::Perspective ? " perspective" : " orthographic"));
+                    OrbitCamera camera;
+                    camera.projection = p;
+                    camera.setView(axis);
+                    camera.frame(r->boundsMin(), r->boundsMax(), 4.0f / 3.0f);
+                    const Image a = r->renderToImage(camera, 640, 480, lit);
+                    const Image b = r->renderToImage(camera, 640, 480, points);
+                    std::size_t covered = 0, missed = 0, extra = 0, shadedAlike = 0;
+                    for (int y = 0; y < a.height; ++y)
+                        for (int x = 0; x < a.width; ++x) {
+                            const bool inA = differs(a.at(x, y), bg, 2), inB = differs(b.at(x, y), bg, 2);
+                            covered += inA;
+                            missed += inA && !inB;
+                            extra += inB && !inA;
+                            shadedAlike += inA && inB && !differs(a.at(x, y), b.at(x, y), 24);
+                        }
+                    std::printf("%zu pixels covered: points miss %zu, add %zu; %zu shaded alike\n", covered, missed, extra,
+                                shadedAlike);
+                    EXPECT_GT(covered, 640u * 480u / 8);
+                    EXPECT_LT(double(missed), 0.03 * double(covered)) << "holes between the discs";
+                    EXPECT_LT(double(extra), 0.06 * double(covered)) << "discs beyond the silhouette";
+                    EXPECT_GT(double(shadedAlike), 0.8 * double(covered)) << "points are lit unlike the clay";
+                }
+    }
+    EXPECT_EQ(glGetError(), GLenum(GL_NO_ERROR));
+}
+
 TEST_F(ClayRenderTest, GroundShowsFromAboveOnly) {
     ClayRenderer renderer(shaders());
     renderer.setMesh(test::icosphere(0.1f, 4));

@@ -48,6 +48,15 @@ inline std::size_t countNot(const render::Image& image, const glm::u8vec4& colou
     return n;
 }
 
+/// How many pixels of two images of the same size differ by more than `tolerance`.
+inline std::size_t countDiffering(const render::Image& a, const render::Image& b, int tolerance) {
+    std::size_t n = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x)
+            n += differs(a.at(x, y), b.at(x, y), tolerance) ? 1 : 0;
+    return n;
+}
+
 /// The RenderSettings background as the 8-bit value the framebuffer holds.
 inline glm::u8vec4 backgroundOf(const glm::vec3& srgb) {
     return glm::u8vec4(glm::u8vec3(glm::round(srgb * 255.0f)), 255);
