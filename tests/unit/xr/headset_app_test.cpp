@@ -64,6 +64,14 @@ std::string carve() {
     return e + controller(40, "right", "\"trigger\": 0.0") + controller(41, "right", position(0.0, 0.0, 1.0));
 }
 
+/// The same groove, with the tool held still at its start for a quarter of a second or more
+/// first: a stylus carves at its proxy's removal rate, so its dent there is deep at any frame rate.
+std::string carveHoldingFirst() {
+    std::string e = controller(2, "right", position(-0.04, -0.15, -0.284)) + controller(6, "right", "\"trigger\": 1.0");
+    for (int i = 0; i <= 30; ++i) e += controller(22 + i, "right", position(-0.04 + 0.08 * i / 30.0, -0.15, -0.284));
+    return e + controller(54, "right", "\"trigger\": 0.0") + controller(55, "right", position(0.0, 0.0, 1.0));
+}
+
 struct XrRun {
     int status = -1;
     std::string output, events;
@@ -299,8 +307,8 @@ TEST_F(HeadsetAppTest, AStylusRegisteredInTheHeadsetCarvesWhereTheClayIsSeen) {
     // where the controller alone starts it (it carves at the proxy's removal rate, so its
     // groove is shorter than the controller's sweep).
     const XrRun untouched = sculpt("untouched", "");
-    const XrRun alone = sculpt("alone", carve());
-    const XrRun stylus = sculpt("stylus", carve(), "--device sim", config);
+    const XrRun alone = sculpt("alone", carveHoldingFirst());
+    const XrRun stylus = sculpt("stylus", carveHoldingFirst(), "--device sim", config);
     ASSERT_EQ(stylus.status, 0) << stylus.output;
     const Difference a = difference(untouched.left, alone.left), b = difference(untouched.left, stylus.left);
     ASSERT_GT(b.count, 100) << "the stylus carved nothing\n" << stylus.output;
