@@ -322,7 +322,9 @@ TEST_F(TiledGpuMeshTest, OneDrawCallAtLevelTwelve) {
     camera.setView(ViewAxis::Iso);
     camera.frame(renderer.boundsMin(), renderer.boundsMax(), 1.0f);
     RenderSettings look;
-    Image image;
+    // A first frame resolves libepoxy's entry points: the counter must wrap the driver's
+    // functions, not epoxy's first-call stubs (which rewrite the pointer the counter replaced).
+    Image image = renderer.renderToImage(camera, 128, 128, look);
     {
         const DrawCallCounter counter;
         image = renderer.renderToImage(camera, 128, 128, look);
