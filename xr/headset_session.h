@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file headset_session.h
-/// @brief An OpenXR session drawing with the desktop window's OpenGL context: the instance
+/// @brief An XrSession drawing with the desktop window's OpenGL context: the instance
 /// (XR_KHR_opengl_enable; XR_EXT_conformance_automation where the runtime has it), the head-
-/// mounted system, the session bound to the desktop window's GLX context, a reference space, one
-/// swapchain per eye and one for the panel quad, the session's state machine and the frame loop.
+/// mounted system, the XrSession bound to the desktop window's GLX context, a reference space, one
+/// swapchain per eye and one for the panel quad, the XrSession's state machine and the frame loop.
 ///
-/// Lifecycle (the specification's): created → IDLE → READY (this begins the session) →
-/// SYNCHRONIZED → VISIBLE → FOCUSED; STOPPING (this ends the session) → IDLE → EXITING, or
+/// Lifecycle (the specification's): created → IDLE → READY (this begins the XrSession) →
+/// SYNCHRONIZED → VISIBLE → FOCUSED; STOPPING (this ends the XrSession) → IDLE → EXITING, or
 /// LOSS_PENDING: pollEvents() then returns false and the caller stops using it. Frames are
 /// paced by xrWaitFrame: beginFrame() blocks until the runtime wants the next one.
 /// Threading: the UI thread, with the window's GL context current, for every call. Not copyable.
@@ -50,7 +50,7 @@ struct FrameTiming {
 
 class HeadsetSession {
 public:
-    /// Starts the instance, system and session with the GLX context current on this thread (the
+    /// Starts the instance, system and XrSession with the GLX context current on this thread (the
     /// desktop window's).
     /// @throw XrFailure ("xrCreateInstance: XR_ERROR_RUNTIME_UNAVAILABLE" where no runtime is
     ///        installed, and so on), std::runtime_error when the runtime lacks OpenGL
@@ -59,8 +59,8 @@ public:
     HeadsetSession(const HeadsetSession&) = delete;
     HeadsetSession& operator=(const HeadsetSession&) = delete;
 
-    /// Handles the runtime's events (state changes begin and end the session). Returns false
-    /// once the session is over (EXITING, LOSS_PENDING, or the instance lost).
+    /// Handles the runtime's events (state changes begin and end the XrSession). Returns false
+    /// once the XrSession is over (EXITING, LOSS_PENDING, or the instance lost).
     bool pollEvents();
     /// Between xrBeginSession and xrEndSession: the frame loop runs.
     bool running() const { return mRunning; }

@@ -46,7 +46,7 @@ XrResult findAttachedAction(Runtime& rt, const SessionObject& s, XrAction action
     return XR_SUCCESS;
 }
 
-/// The session's state of `action` for `subactionPath` after the last sync (inactive before).
+/// The XrSession's state of `action` for `subactionPath` after the last sync (inactive before).
 ActionValue actionValue(const SessionObject& s, XrAction action, XrPath subactionPath) {
     const auto it = s.actionValues.find({action, subactionPath});
     return it == s.actionValues.end() ? ActionValue{} : it->second;
@@ -104,7 +104,7 @@ bool sameValue(const ActionValue& a, const ActionValue& b) {
            a.vectorValue.x == b.vectorValue.x && a.vectorValue.y == b.vectorValue.y;
 }
 
-/// The checks every use of an action on a session makes: the session, the action with its set
+/// The checks every use of an action on an XrSession makes: the XrSession, the action with its set
 /// attached to it (XR_ERROR_ACTIONSET_NOT_ATTACHED), its type (XR_ERROR_ACTION_TYPE_MISMATCH)
 /// and the subaction path.
 XrResult findActionUse(Runtime& rt, XrSession session, XrAction action, XrPath subactionPath,
@@ -397,9 +397,9 @@ XrResult xrGetActionStatePose(XrSession session, const XrActionStateGetInfo* get
                     [](const ActionValue&) { return 0; });
 }
 
-/// XR_ERROR_ACTIONSET_NOT_ATTACHED for a set not attached to the session;
+/// XR_ERROR_ACTIONSET_NOT_ATTACHED for a set not attached to the XrSession;
 /// XR_ERROR_PATH_UNSUPPORTED for an active subaction path that is not a top-level user path;
-/// XR_SESSION_NOT_FOCUSED (and every action inactive) when the session is not FOCUSED.
+/// XR_SESSION_NOT_FOCUSED (and every action inactive) when the XrSession is not FOCUSED.
 XrResult xrSyncActions(XrSession session, const XrActionsSyncInfo* syncInfo) {
     return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
         std::map<XrActionSet, XrPath> active;  // set -> subaction filter (XR_NULL_PATH: all)

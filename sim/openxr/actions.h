@@ -13,7 +13,7 @@
 
 namespace kizamu::xrsim {
 
-/// The input component `path` of the session's devices (bool as 0/1; 0 when never set). A
+/// The input component `path` of the XrSession's devices (bool as 0/1; 0 when never set). A
 /// click never set reads its sibling value as value > 0.5, and a value never set reads its
 /// sibling click.
 float readInput(const SessionObject& session, const std::string& path);
@@ -22,7 +22,7 @@ float readInput(const SessionObject& session, const std::string& path);
 /// that is not among the action's subaction paths; XR_SUCCESS for XR_NULL_PATH.
 XrResult checkSubactionPath(const Runtime& rt, const ActionObject& action, XrPath path);
 
-/// The sources `action` is bound to in the session's current interaction profile, resolved
+/// The sources `action` is bound to in the XrSession's current interaction profile, resolved
 /// by the shorthand rules (interaction_profiles.h), whose top-level path is `subactionPath`
 /// (any with XR_NULL_PATH).
 std::vector<std::string> boundSources(Runtime& rt, const SessionObject& session, XrAction action,

@@ -38,7 +38,7 @@ void destroySession(Runtime& rt, XrSession handle) {
 /// XR_ERROR_SYSTEM_INVALID for another system; XR_ERROR_GRAPHICS_DEVICE_INVALID without an
 /// XrGraphicsBindingOpenGLXlibKHR in `next` (or without XR_KHR_opengl_enable);
 /// XR_ERROR_GRAPHICS_REQUIREMENTS_CALL_MISSING before xrGetOpenGLGraphicsRequirementsKHR;
-/// XR_ERROR_LIMIT_REACHED when the instance has a session already. The binding's Display and
+/// XR_ERROR_LIMIT_REACHED when the instance has an XrSession already. The binding's Display and
 /// context are not used: swapchain images are made in whatever GL context is current.
 XrResult xrCreateSession(XrInstance instance, const XrSessionCreateInfo* createInfo,
                          XrSession* session) {
@@ -63,8 +63,8 @@ XrResult xrCreateSession(XrInstance instance, const XrSessionCreateInfo* createI
     return XR_SUCCESS;
 }
 
-/// Writes the capture PNGs (when $KIZAMU_XRSIM_CAPTURE is set), then destroys the session, its
-/// spaces and swapchains. Works on a lost session too.
+/// Writes the capture PNGs (when $KIZAMU_XRSIM_CAPTURE is set), then destroys the XrSession, its
+/// spaces and swapchains. Works on a lost XrSession too.
 XrResult xrDestroySession(XrSession session) {
     Runtime& rt = runtime();
     std::lock_guard lock(rt.mutex);
@@ -103,7 +103,7 @@ XrResult xrEndSession(XrSession session) {
     });
 }
 
-/// XR_ERROR_SESSION_NOT_RUNNING when not running; else the session goes down to STOPPING.
+/// XR_ERROR_SESSION_NOT_RUNNING when not running; else the XrSession goes down to STOPPING.
 XrResult xrRequestExitSession(XrSession session) {
     return onSession(session, [&](Runtime& rt, SessionObject& s) -> XrResult {
         if (!s.running) return XR_ERROR_SESSION_NOT_RUNNING;

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file session_lock.h
 /// @brief One writer per journal directory, and a trace of a writer that died: DIR/lock, held
-/// with an advisory lock (flock) while a writing sculpt::Session has DIR open, removed on close.
+/// with an advisory lock (flock) while DIR is open for writing, removed on close.
 ///
 /// Two processes appending to one journal would interleave records; the second writer to open
 /// DIR gets a clear error instead ("open in another Kizamu, pid N"). The kernel drops a flock
